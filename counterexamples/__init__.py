@@ -1,0 +1,1 @@
+"""Hypothesis strategies, one module per kind of random object (installed as inertiaproof.counterexamples)."""

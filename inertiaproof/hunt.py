@@ -1,0 +1,70 @@
+"""Hypothesis hunts for counterexamples, run from a check (not from pytest).
+
+``hunt(strategy, margin, ctx, label=...)`` draws examples, evaluates
+``margin(example)`` (relative; > 0 means the statement holds there, NaN means
+"not applicable, skip"), steers toward the boundary with ``target(-margin)``
+and stops at the first margin below ``-tolerance``, which Hypothesis then
+shrinks. The seed comes from the run's ``--seed`` and the label, so a hunt is
+deterministic for a given seed; the ci profile keeps no example database.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+class _Violation(Exception):
+    pass
+
+
+@dataclass
+class Hunt:
+    label: str
+    examples: int = 0
+    worst_margin: float = np.inf  # smallest margin seen over all examples
+    worst_example: object = None
+    violation: object = None  # the shrunk example whose margin is below -tolerance
+    violation_margin: float | None = None
+    margins: list = field(default_factory=list)
+
+    def summary(self):
+        """Plain data for evidence."""
+        from .result import quantity
+
+        return {
+            "examples": quantity(self.examples, "count", "examples drawn by Hypothesis"),
+            "smallest_margin": quantity(self.worst_margin, "sampled",
+                                        "smallest margin over the examples: an upper estimate of the infimum"),
+        }
+
+
+def hunt(strategy, margin, ctx, *, label, tolerance=0.0, **settings_overrides):
+    """Search ``strategy`` for an example with margin < -tolerance; returns a :class:`Hunt`."""
+    from hypothesis import assume, given, seed, target
+
+    state = Hunt(label)
+
+    def prop(example):
+        value = float(margin(example))
+        assume(np.isfinite(value))
+        state.examples += 1
+        state.margins.append(value)
+        if value < state.worst_margin:
+            state.worst_margin, state.worst_example = value, example
+        target(-value, label=label)
+        if value < -tolerance:
+            state.violation, state.violation_margin = example, value
+            raise _Violation(value)
+
+    digest = hashlib.sha256(f"{ctx.seed}:{label}".encode()).digest()
+    test = seed(int.from_bytes(digest[:8], "little"))(
+        ctx.hypothesis_settings(derandomize=False, **settings_overrides)(given(strategy)(prop))
+    )
+    try:
+        test()
+    except _Violation:
+        pass  # state.violation holds the last (shrunk) failing example
+    return state

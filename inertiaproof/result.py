@@ -1,0 +1,118 @@
+"""The one result type that every check returns and every consumer reads.
+
+A :class:`Result` answers one catalog ID with a :class:`Verdict` and its
+evidence. Numbers in evidence say what they are: build them with
+:func:`quantity`, whose ``kind`` is one of :data:`KINDS`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from enum import Enum
+
+import numpy as np
+
+
+class Verdict(str, Enum):
+    HOLDS = "HOLDS"
+    VIOLATED = "VIOLATED"
+    INCONCLUSIVE = "INCONCLUSIVE"
+
+    def __str__(self):
+        return self.value
+
+
+KINDS = {
+    "exact": "computed exactly (rational or symbolic arithmetic)",
+    "value": "a computed value, accurate to round-off",
+    "paper_constant": "the constant as the paper states it",
+    "certified_constant": "the sharpest constant the suite certifies",
+    "upper_bound": "a certified upper bound of the true value",
+    "lower_bound": "a certified lower bound of the true value",
+    "sampled": "the extreme over samples: a one-sided estimate of an inf or sup",
+    "estimate": "an estimate without a guaranteed side",
+    "residual": "the size of what should vanish",
+    "margin": "distance from the boundary of the statement (positive = holds)",
+    "tolerance": "the numerical resolution a margin is compared with",
+    "error_probability": "probability that a randomised test passed although the statement is false",
+    "ratio": "a ratio of two of the other numbers",
+    "count": "a count",
+    "seconds": "wall time in seconds",
+}
+
+
+def quantity(value, kind, note=None, unit=None):
+    """A number in evidence that says what it is."""
+    if kind not in KINDS:
+        raise ValueError(f"unknown quantity kind {kind!r}; one of {sorted(KINDS)}")
+    q = {"value": _plain(value), "kind": kind}
+    if note:
+        q["note"] = note
+    if unit:
+        q["unit"] = unit
+    return q
+
+
+def _plain(x):
+    """JSON-ready copies of numpy scalars and arrays; non-finite floats become strings."""
+    if isinstance(x, dict):
+        return {str(k): _plain(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_plain(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _plain(x.tolist())
+    if isinstance(x, (np.bool_, bool)):
+        return bool(x)
+    if isinstance(x, (np.integer, int)):
+        return int(x)
+    if isinstance(x, (np.floating, float)):
+        x = float(x)
+        return x if math.isfinite(x) else ("inf" if x > 0 else "-inf" if x < 0 else "nan")
+    if isinstance(x, Enum):
+        return x.value
+    return x
+
+
+@dataclass
+class Result:
+    id: str  # catalog ID, e.g. "Thm2"
+    verdict: Verdict
+    summary: str  # one line a person reads first
+    evidence: dict = field(default_factory=dict)
+    counterexample: dict | None = None  # replayable; see inertiaproof.replay
+    runtime_s: float = 0.0
+    seed: int | None = None
+    profile: str | None = None
+    scene: str | None = None
+    artifacts: list = field(default_factory=list)  # data files written next to results.json
+    check: str | None = None  # the registered check's name (id, or id:variant)
+
+    def __post_init__(self):
+        self.verdict = Verdict(self.verdict)
+
+    def to_json(self):
+        return _plain(asdict(self))
+
+    @classmethod
+    def from_json(cls, data):
+        return cls(**{k: data[k] for k in cls.__dataclass_fields__ if k in data})
+
+
+def decide(margin, tolerance):
+    """HOLDS when margin > tolerance, VIOLATED when margin < -tolerance, else INCONCLUSIVE."""
+    if margin > tolerance:
+        return Verdict.HOLDS
+    if margin < -tolerance:
+        return Verdict.VIOLATED
+    return Verdict.INCONCLUSIVE
+
+
+def combine(verdicts):
+    """VIOLATED if any is, else INCONCLUSIVE if any is, else HOLDS."""
+    verdicts = [Verdict(v) for v in verdicts]
+    if Verdict.VIOLATED in verdicts:
+        return Verdict.VIOLATED
+    if Verdict.INCONCLUSIVE in verdicts:
+        return Verdict.INCONCLUSIVE
+    return Verdict.HOLDS

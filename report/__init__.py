@@ -1,0 +1,1 @@
+"""The HTML and LaTeX report (installed as inertiaproof.report)."""

@@ -1,0 +1,1 @@
+"""Symbolic re-derivations with SymPy (installed as inertiaproof.symbolic)."""
