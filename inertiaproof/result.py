@@ -3,6 +3,23 @@
 A :class:`Result` answers one catalog ID with a :class:`Verdict` and its
 evidence. Numbers in evidence say what they are: build them with
 :func:`quantity`, whose ``kind`` is one of :data:`KINDS`.
+
+Evidence keys the report plots (use them wherever the data fits):
+
+- ``"bracket"``: an extreme estimated two-sidedly, ``{"quantity": "inf_q
+  lambda_min(M)", "lower": quantity, "upper": quantity, "convergence":
+  [[seconds, lower, upper], ...]}``; plotted as bracket width against run time.
+- ``"constants"``: a bound's constants side by side, ``{"paper": quantity
+  (paper_constant), "certified": quantity (certified_constant), "observed":
+  quantity (sampled or a bracket side)}``; plotted as tightness per bound.
+- ``"hunt"``: a Hypothesis hunt, ``{"examples": quantity, "smallest_margin":
+  quantity, "margins": [floats]}``; plotted as a histogram of margins.
+- ``"series"``: any other curve, ``{"title", "x_label", "y_label", "x_log",
+  "y_log", "lines": {name: [[x, y], ...]}}``.
+- data files in ``Result.artifacts`` (written with ``Context.write_data``)
+  for tables too large for results.json, e.g. ``data/work_precision.json``
+  (rows: scene, method, rtol, seconds, error) and ``data/stability.json``
+  (rows: scene, method, status, seconds, steps, note).
 """
 
 from __future__ import annotations
