@@ -126,7 +126,7 @@ def spatial_inertia_inverse(z):
     """Phi from Z(Phi); the mass is the mean of the translational diagonal."""
     z = np.asarray(z, dtype=float)
     m = np.trace(z[..., :3, :3], axis1=-2, axis2=-1) / 3.0
-    s = 0.5 * (np.swapaxes(z[..., 3:, :3], -1, -2) - z[..., :3, 3:])  # = S(h)
+    s = 0.5 * (z[..., 3:, :3] - z[..., :3, 3:])  # = S(h)
     h = np.stack([s[..., 2, 1], s[..., 0, 2], s[..., 1, 0]], -1)
     return pack(m, h, z[..., 3:, 3:])
 

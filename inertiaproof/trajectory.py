@@ -67,7 +67,7 @@ class Profile:
             k * k * 0.5 * np.pi**2 * np.cos(np.pi * x) * inside
 
     def rate_bound(self):
-        """sup_t |s'(t)| (exact for the ramps; infinite for a growing exponential on [0, inf))."""
+        """sup |s'(t)| over t >= start (exact; infinite for a growing exponential on an unbounded span)."""
         peak = {"constant": 0.0, "linear": 1.0, "smoothstep": 1.5, "smootherstep": 1.875, "cosine": np.pi / 2}
         if self.shape == "exp":
             return abs(self.rate) if self.rate <= 0 else np.inf

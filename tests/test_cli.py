@@ -1,0 +1,111 @@
+"""The run/replay/list contract: exit codes, results.json, JUnit, counterexample files, scene selection."""
+
+import json
+import xml.etree.ElementTree as ET
+
+import pytest
+
+from inertiaproof import cli, registry
+from inertiaproof.registry import CheckSpec, load_checks
+from inertiaproof.result import Result, Verdict
+
+SCENE = """
+name = "two links"
+[chain]
+convention = "standard"
+[[chain.joint]]
+type = "revolute"
+a = 1.0
+[[chain.joint]]
+type = "revolute"
+a = 0.5
+[[body]]
+mass = 1.0
+com = [-0.5, 0, 0]
+inertia = [0.01, 0.1, 0.1, 0, 0, 0]
+[[body]]
+mass = 0.5
+com = [-0.25, 0, 0]
+inertia = [0.005, 0.02, 0.02, 0, 0, 0]
+"""
+
+
+@pytest.fixture
+def violating_check(monkeypatch):
+    """A registered check that always finds a counterexample, with its replayer."""
+    load_checks()
+
+    def fn(ctx):
+        return Result("Thm2", Verdict.VIOLATED, "alpha1 exceeded", {"margin": -1.0},
+                      counterexample={"kind": "test-kind", "data": {"x": 1}})
+
+    monkeypatch.setitem(registry.CHECKS, "Thm2:test", CheckSpec("Thm2", "Thm2:test", fn, frozenset()))
+    monkeypatch.setitem(registry.REPLAYERS, "test-kind",
+                        lambda data, ctx: Result("Thm2", Verdict.VIOLATED, f"replayed x={data['x']}"))
+
+
+def test_run_writes_results_and_junit(tmp_path, capsys):
+    code = cli.main(["run", "--only", "EQ-geom", "--out", str(tmp_path), "--junit", str(tmp_path / "j.xml"), "--quiet"])
+    assert code == 0
+    doc = json.loads((tmp_path / "results.json").read_text())
+    assert doc["schema"] == "inertiaproof.results/1"
+    assert doc["summary"] == {"HOLDS": 1, "VIOLATED": 0, "INCONCLUSIVE": 0}
+    (entry,) = doc["checks"]
+    assert {"id", "verdict", "runtime_s", "evidence", "summary", "check"} <= set(entry)
+    assert entry["id"] == "EQ-geom" and entry["verdict"] == "HOLDS"
+    case = ET.parse(tmp_path / "j.xml").getroot().find("testcase")
+    assert case.get("name") == "EQ-geom" and case.find("failure") is None
+    assert "EQ-geom" in capsys.readouterr().out
+
+
+def test_violated_exits_1_and_saves_a_replayable_counterexample(tmp_path, violating_check, capsys):
+    cx = tmp_path / "cx"
+    code = cli.main(["run", "--only", "Thm2:test", "--out", str(tmp_path), "--counterexamples", str(cx), "--quiet",
+                     "--junit", str(tmp_path / "j.xml")])
+    assert code == 1
+    (saved,) = cx.glob("Thm2-*.json")
+    assert json.loads(saved.read_text())["kind"] == "test-kind"
+    assert ET.parse(tmp_path / "j.xml").getroot().find("testcase/failure") is not None
+    assert f"inertiaproof replay {saved}" in capsys.readouterr().out
+    assert cli.main(["replay", str(saved)]) == 1
+    assert "replayed x=1" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["run", "--only", "NOPE"], "unknown check ID NOPE"),
+    (["run", "--scene", "/nonexistent.toml"], "cannot read scene file"),
+    (["replay", "/nonexistent.json"], "cannot read"),
+    (["inertia", "/nonexistent.csv"], "cannot read"),
+])
+def test_bad_input_is_one_line_and_exit_2(argv, message, capsys, tmp_path):
+    assert cli.main(argv + (["--out", str(tmp_path)] if argv[0] == "run" else [])) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("inertiaproof: error:") and message in err and "\n" not in err
+
+
+def test_replay_rejects_a_file_that_is_not_a_counterexample(tmp_path, capsys):
+    path = tmp_path / "x.json"
+    path.write_text('{"hello": 1}')
+    assert cli.main(["replay", str(path)]) == 2
+    assert "not an inertiaproof counterexample" in capsys.readouterr().err
+
+
+def test_scene_run_leaves_out_paper_level_checks_with_a_reason(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text(SCENE)
+    assert cli.main(["run", "--scene", str(scene), "--out", str(tmp_path), "--quiet"]) == 0
+    doc = json.loads((tmp_path / "results.json").read_text())
+    reasons = {s["check"]: s["reason"] for s in doc["skipped"]}
+    assert "runs without --scene" in reasons["EQ-geom"]
+    assert "left out:" in capsys.readouterr().out
+
+
+def test_inertia_command_classifies_rows(tmp_path, capsys):
+    path = tmp_path / "rows.csv"
+    path.write_text("name,mass,com_x,com_y,com_z,ixx,iyy,izz,ixy,iyz,ixz\n"
+                    "box,1,0,0,0,0.1,0.1,0.1,0,0,0\n"
+                    "bad,1,0,0,0,1,1,3,0,0,0\n")
+    assert cli.main(["inertia", str(path), "--json"]) == 1
+    rows = json.loads(capsys.readouterr().out)
+    assert [r["verdict"] for r in rows] == ["consistent", "inconsistent"]
+    assert "triangle inequality" in rows[1]["reason"]
