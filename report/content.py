@@ -1,0 +1,285 @@
+"""The results document (results.json plus data files) as a report :class:`~report.model.Document`.
+
+Reading order: what failed, the summary and a table of every result, the
+bounds at a glance, then one section per catalog ID in the paper's order
+(statement, verdict, counterexample, evidence, plots), the gate, and how to
+read the numbers.
+"""
+
+from __future__ import annotations
+
+import re
+import shlex
+
+from inertiaproof import catalog
+from inertiaproof.result import KINDS, combine
+
+from . import datafiles, evidence
+from . import numbers as fmt
+from .model import Badge, Bullets, Code, Column, Document, Link, Notice, Paragraph, Section, Text, cell, code
+
+NOT_RUN = "NOT RUN"
+TITLE = "inertiaproof report"
+PAPER = ("Kaufmann & Reger, On robotic manipulators with time-dependent inertial parameters: "
+         "from physical consistency to boundedness of the mass matrix")
+
+
+def build(doc, data=None):
+    """The Document of a results document and its data files ({artifact: rows or problem})."""
+    data = data or {}
+    figs = evidence.Figures()
+    checks = doc["checks"]
+    keys = _keys(checks)
+    grouped = {}
+    for r in checks:
+        grouped.setdefault(r["id"], []).append(r)
+    entries = list(catalog.ENTRIES) + [e for e in catalog.EXTRAS if e.id in grouped]
+    unknown = [i for i in grouped if i not in catalog.BY_ID]
+    verdicts = {i: combine(r["verdict"] for r in rs).value for i, rs in grouped.items()}
+
+    sections = [_summary(doc, grouped, verdicts, keys, unknown)]
+    overview = _constants_overview(checks, figs)
+    if overview:
+        sections.append(overview)
+    for number, name in catalog.SECTIONS.items():
+        children = tuple(_result_section(e.id, e, grouped.get(e.id, []), doc, keys, figs, data, overview)
+                         for e in catalog.ENTRIES if e.section == number)
+        sections.append(Section(f"sec-{number}", (Text(f"Section {number}: {name}"),), children=children))
+    extras = [_result_section(e.id, e, grouped[e.id], doc, keys, figs, data, overview)
+              for e in entries if e.section not in catalog.SECTIONS]
+    extras += [_result_section(i, None, grouped[i], doc, keys, figs, data, overview) for i in unknown]
+    if extras:
+        sections.append(Section("sec-beyond", (Text("Beyond the paper"),), children=tuple(extras)))
+    sections.append(_legend())
+    return Document(TITLE, PAPER, tuple(sections))
+
+
+def _summary(doc, grouped, verdicts, keys, unknown):
+    checks = doc["checks"]
+    blocks = []
+    violated = [r for r in checks if r["verdict"] == "VIOLATED"]
+    inconclusive = [r for r in checks if r["verdict"] == "INCONCLUSIVE"]
+    if violated:
+        blocks.append(Notice("VIOLATED", f"What failed: {len(violated)} check{'s' if len(violated) != 1 else ''} "
+                             "found a counterexample", (Bullets(tuple(_failure(r, keys) for r in violated)),)))
+    if inconclusive:
+        blocks.append(Notice("INCONCLUSIVE", f"Inconclusive: {len(inconclusive)} check"
+                             f"{'s' if len(inconclusive) != 1 else ''} could not decide",
+                             (Bullets(tuple(_brief(r, keys) for r in inconclusive)),)))
+    if not violated and not inconclusive:
+        blocks.append(Notice("HOLDS", "Nothing failed", (Paragraph((Text(
+            f"All {len(checks)} checks that ran hold." if checks else "No check ran."),)),)))
+    paper = [verdicts.get(e.id, NOT_RUN) for e in catalog.ENTRIES]
+    counts = {v: paper.count(v) for v in ("HOLDS", "VIOLATED", "INCONCLUSIVE", NOT_RUN)}
+    by_check = {v: sum(r["verdict"] == v for r in checks) for v in ("HOLDS", "VIOLATED", "INCONCLUSIVE")}
+    blocks.append(Paragraph((
+        Text(f"Of the {len(paper)} results of the paper, "),
+        Text(f"{counts['HOLDS']} hold, {counts['VIOLATED']} violated, {counts['INCONCLUSIVE']} inconclusive, "
+             f"{counts[NOT_RUN]} not run", "strong"),
+        Text(f". {len(checks)} checks ran ({by_check['HOLDS']} HOLDS, {by_check['VIOLATED']} VIOLATED, "
+             f"{by_check['INCONCLUSIVE']} INCONCLUSIVE) in {fmt.seconds(doc.get('runtime_s'))}; "
+             f"{len(doc.get('skipped') or [])} left out."),
+    )))
+    blocks.append(_glance(grouped, verdicts, unknown))
+    blocks.append(_run_table(doc))
+    if doc.get("skipped"):
+        blocks.append(evidence.table((Column("check", 0.3), Column("why it was left out", 0.7)),
+                                     [(cell(code(str(s.get("check", "?")))), cell(str(s.get("reason", ""))))
+                                      for s in doc["skipped"]], "Left out of this run"))
+    return Section("summary", (Text("Summary"),), tuple(blocks))
+
+
+def _glance(grouped, verdicts, unknown):
+    rows = []
+    ids = [e.id for e in catalog.ENTRIES + catalog.EXTRAS if e.id in grouped or e in catalog.ENTRIES] + unknown
+    for i in ids:
+        entry = catalog.BY_ID.get(i)
+        results = grouped.get(i, [])
+        time = sum(fmt.to_float(r.get("runtime_s")) or 0.0 for r in results)
+        rows.append((cell(Link(i, _section_key(i), "code")), cell(entry.label if entry else "not in the catalog"),
+                     cell(Badge(verdicts.get(i, NOT_RUN))), cell(code(str(len(results)))),
+                     cell(code(fmt.seconds(time) if results else "-"))))
+    columns = (Column("ID", 0.17), Column("paper", 0.47), Column("verdict", 0.16), Column("checks", 0.08, "r"),
+               Column("time", 0.12, "r"))
+    return evidence.table(columns, rows, "Every result at a glance", limit=None)
+
+
+def _run_table(doc):
+    scene = doc.get("scene")
+    rows = [("profile", str(doc.get("profile"))), ("seed", str(doc.get("seed"))),
+            ("scene", str(scene) if scene else "none: the built-in robots"),
+            ("total run time", fmt.seconds(doc.get("runtime_s")))]
+    rows += [(f"version of {k}", str(v)) for k, v in (doc.get("versions") or {}).items()]
+    return evidence.table((Column("", 0.3), Column("", 0.7)), [(cell(k), cell(code(v))) for k, v in rows], "The run")
+
+
+def _failure(r, keys):
+    parts = [Link(r.get("check") or r["id"], keys[id(r)], "code"), Text(": " + str(r.get("summary", "")))]
+    cx = r.get("counterexample") or {}
+    if cx.get("file"):
+        parts += [Text(". Counterexample "), code(str(cx["file"])), Text("; replay: "), code(_replay(cx["file"]))]
+    elif cx:
+        parts.append(Text(". Counterexample in the section (not saved to a file)."))
+    return tuple(parts)
+
+
+def _brief(r, keys):
+    return (Link(r.get("check") or r["id"], keys[id(r)], "code"), Text(": " + str(r.get("summary", ""))))
+
+
+def _replay(path):
+    return f"inertiaproof replay {shlex.quote(str(path))}"
+
+
+def _constants_overview(checks, figs):
+    points = []
+    for r in checks:
+        found, _, _, _ = evidence.split(r.get("evidence"))
+        points += evidence.constants_points(found["constants"], r.get("check") or r["id"], r["verdict"] == "VIOLATED")
+    if not points:
+        return None
+    figure = figs.new("constants", {"bounds": points},
+                      "Each bound's constants on one axis: the paper's constant, the sharpest constant the suite "
+                      "certifies, and the observed worst case. For an upper bound the paper's constant should lie "
+                      "to the right of the observed worst case, for a lower bound to the left; the gap is the "
+                      "conservatism. Bounds of VIOLATED results are labelled in red.")
+    text = Paragraph((Text("How conservative the paper's constants are, bound by bound. The tables in each "
+                           "section give the numbers and the ratios."),))
+    return Section("bounds", (Text("Bounds at a glance"),), (text, figure))
+
+
+def _result_section(result_id, entry, results, doc, keys, figs, data, overview):
+    verdict = combine(r["verdict"] for r in results).value if results else NOT_RUN
+    label = entry.label if entry else "not in the catalog"
+    title = (Text(result_id, "code"), Text(f": {label} "), Badge(verdict))
+    blocks = [Paragraph((Text("Statement: ", "strong"),
+                         Text(entry.statement if entry else "a result this version of the report does not know.")))]
+    children = []
+    if not results:
+        reasons = [s for s in doc.get("skipped") or [] if str(s.get("check", "")).split(":")[0] == result_id]
+        blocks.append(Paragraph((Text("Not run in this run.", "em"),)))
+        for s in reasons:
+            blocks.append(Paragraph((Text("Left out: "), code(str(s.get("check"))), Text(": " + str(s.get("reason", ""))))))
+    elif len(results) == 1 and keys[id(results[0])] == _section_key(result_id):
+        blocks += _result_blocks(results[0], figs, data, overview)
+    else:
+        for r in results:
+            children.append(Section(keys[id(r)], (Text(r.get("check") or r["id"], "code"), Text(" "), Badge(r["verdict"])),
+                                    tuple(_result_blocks(r, figs, data, overview)), result_id=None, verdict=r["verdict"]))
+    if result_id == "gate" and results:
+        blocks.insert(1, _gate_paragraph(results))
+    return Section(_section_key(result_id), title, tuple(blocks), tuple(children), result_id=result_id, verdict=verdict)
+
+
+def _result_blocks(r, figs, data, overview):
+    name = r.get("check") or r["id"]
+    blocks = [Paragraph((Text("Finding: ", "strong"), Text(str(r.get("summary", ""))))),
+              Paragraph((Text("Check "), code(name), Text(f", {fmt.seconds(r.get('runtime_s'))}, seed "
+                                                           f"{r.get('seed')}, profile {r.get('profile')}, scene "
+                                                           f"{r.get('scene') or 'built-in'}."),))]
+    if r.get("counterexample"):
+        blocks += _counterexample(r["counterexample"])
+    found, rows, tables, texts = evidence.split(r.get("evidence"))
+    if found["bracket"]:
+        blocks.append(evidence.bracket_table(found["bracket"]))
+        figure = evidence.bracket_figure(found["bracket"], figs, name)
+        if figure:
+            blocks.append(figure)
+    if found["constants"]:
+        blocks.append(evidence.constants_table(found["constants"], name, overview.blocks[-1] if overview else None))
+    if found["hunt"]:
+        blocks += evidence.hunt_blocks(found["hunt"], figs, name)
+    blocks += evidence.series_figures(found["series"], figs, name)
+    blocks += evidence.generic_blocks(rows, tables, texts)
+    for artifact in r.get("artifacts") or []:
+        if isinstance(artifact, str):
+            blocks += datafiles.blocks(artifact, data.get(artifact, f"{artifact}: not read"), figs, name)
+    return blocks
+
+
+def _counterexample(cx):
+    kind = str(cx.get("kind", "?"))
+    if cx.get("file"):
+        lead = Paragraph((Text("Counterexample", "strong"), Text(f" (kind {kind}), saved to "), code(str(cx["file"])),
+                          Text(". Replay it with:")))
+        out = [lead, Code(_replay(cx["file"]))]
+    else:
+        out = [Paragraph((Text("Counterexample", "strong"), Text(f" (kind {kind}); not saved to a file, so it "
+                                                                   "cannot be replayed."),))]
+    return out + [Code(evidence.json_text(cx.get("data")), "its data")]
+
+
+def _gate_paragraph(results):
+    names, changed = [], []
+    for r in results:
+        for record in _records(r.get("evidence")):
+            name = str(record.get("name") or record.get("derivation") or "?")
+            names.append(name)
+            status = str(record.get("status", "")).lower()
+            if record.get("changed") is True or status in ("changed", "new", "missing", "stale"):
+                changed.append(name)
+    if not names:
+        return Paragraph((Text("The gate's evidence names no derivations.", "em"),))
+    inlines = [Text("Fingerprinted: ", "strong"), Text(f"{len(names)} derivations ("), *_names(names), Text("). ")]
+    if changed:
+        inlines += [Text(f"Changed since the lockfile: {len(changed)} (", "strong"), *_names(changed), Text(").", "strong")]
+    else:
+        inlines.append(Text("None changed since the lockfile.", "strong"))
+    return Paragraph(tuple(inlines))
+
+
+def _records(x):
+    if isinstance(x, list):
+        if x and all(isinstance(v, dict) and ("name" in v or "derivation" in v) for v in x):
+            yield from x
+            return
+        for v in x:
+            yield from _records(v)
+    elif isinstance(x, dict):
+        for v in x.values():
+            yield from _records(v)
+
+
+def _names(names):
+    out = []
+    for i, n in enumerate(names):
+        out += ([Text(", ")] if i else []) + [code(n)]
+    return out
+
+
+def _legend():
+    rows = [(cell(code(k)), cell(v)) for k, v in KINDS.items()]
+    rows.append((cell(code(NOT_RUN)), cell("the catalog ID had no check in this run")))
+    text = Paragraph((Text("Every number in the evidence says what kind of number it is. A margin is positive when "
+                           "the statement holds; a sampled extreme is only a one-sided estimate of an inf or sup, "
+                           "a bracket (lower and upper) encloses it."),))
+    return Section("kinds", (Text("How to read the numbers"),),
+                   (text, evidence.table((Column("kind", 0.25), Column("meaning", 0.75)), rows, "Kinds of numbers")))
+
+
+def _section_key(result_id):
+    return "r-" + _slug(result_id)
+
+
+def _keys(checks):
+    """{id(result): anchor}: the ID's section for a lone result named like its ID, else a key per check."""
+    counts = {}
+    for r in checks:
+        counts[r["id"]] = counts.get(r["id"], 0) + 1
+    keys, used = {}, set()
+    for r in checks:
+        name = r.get("check") or r["id"]
+        if counts[r["id"]] == 1 and name == r["id"]:
+            key = _section_key(r["id"])
+        else:
+            key = "c-" + _slug(name)
+            base, n = key, 2
+            while key in used:
+                key, n = f"{base}-{n}", n + 1
+        used.add(key)
+        keys[id(r)] = key
+    return keys
+
+
+def _slug(text):
+    return re.sub(r"[^A-Za-z0-9]+", "-", text).strip("-") or "x"

@@ -1,0 +1,282 @@
+"""A result's evidence as report blocks: the plotted conventions of inertiaproof.result, everything else generically.
+
+Conventions (any depth): ``bracket``, ``constants``, ``hunt``, ``series``.
+Everything else becomes a table of what / value / kind / note, sub-tables for
+lists of records, and code blocks for long text.
+"""
+
+from __future__ import annotations
+
+import json
+
+from . import numbers as fmt
+from .model import Code, Column, Figure, Table, Text, cell, code
+
+CONVENTIONS = ("bracket", "constants", "hunt", "series")
+MAX_ROWS = 40
+LONG_TEXT = 160
+
+
+class Figures:
+    """Hands out figure numbers and keys in reading order."""
+
+    def __init__(self):
+        self.made = []
+
+    def new(self, kind, data, caption):
+        figure = Figure(f"fig-{len(self.made) + 1}", len(self.made) + 1, kind, data, caption)
+        self.made.append(figure)
+        return figure
+
+
+def split(evidence):
+    """(conventions {name: [(path, value)]}, rows, tables, texts) of an evidence dict."""
+    found = {name: [] for name in CONVENTIONS}
+    rows, tables, texts = [], [], []
+
+    def walk(x, path):
+        key = path[-1] if path else None
+        if key in CONVENTIONS and isinstance(x, dict) and _valid(key, x):
+            found[key].append((path[:-1], x))
+        elif fmt.is_quantity(x):
+            rows.append((path, fmt.quantity(x), x["kind"], str(x.get("note") or "")))
+        elif isinstance(x, str) and (len(x) > LONG_TEXT or "\n" in x):
+            texts.append((path, x))
+        elif _records(x):
+            tables.append((path, x))
+        elif isinstance(x, dict) and x:
+            for k, v in x.items():
+                walk(v, path + (str(k),))
+        elif isinstance(x, list) and any(isinstance(v, (dict, list)) for v in x) and not _numeric(x):
+            for i, v in enumerate(x):
+                walk(v, path[:-1] + (f"{path[-1] if path else ''}[{i}]",))
+        else:
+            rows.append((path, fmt.value(x), "", ""))
+
+    walk(evidence or {}, ())
+    return found, rows, tables, texts
+
+
+def generic_blocks(rows, tables, texts):
+    blocks = []
+    if rows:
+        blocks.append(table(
+            (Column("what", 0.27), Column("value", 0.3), Column("kind", 0.14), Column("note", 0.29)),
+            [(cell(code(_label(p))), cell(_value_inline(v)), cell(k), cell(n)) for p, v, k, n in rows],
+            "Evidence"))
+    for path, records in tables:
+        blocks.append(records_table(records, _label(path)))
+    for path, text in texts:
+        blocks.append(Code(text, _label(path)))
+    return blocks
+
+
+def records_table(records, caption):
+    """A list of flat dicts, or a dict of flat dicts (named rows), as a table."""
+    if isinstance(records, dict):
+        records = [{"name": name, **row} for name, row in records.items()]
+    keys = []
+    for row in records:
+        keys.extend(k for k in row if k not in keys)
+    keys = keys[:8]
+    width = 1.0 / len(keys)
+    columns = tuple(Column(k, width, "r" if _numeric_column(records, k) else "l") for k in keys)
+    rows = [tuple(cell(_value_inline(fmt.value(row[k])) if k in row else "") for k in keys) for row in records]
+    return table(columns, rows, caption)
+
+
+def bracket_table(brackets):
+    rows = []
+    for path, b in brackets:
+        lower, upper = b.get("lower"), b.get("upper")
+        width = _difference(upper, lower)
+        rows.append((cell(str(b.get("quantity") or _label(path) or "extreme")), _side(lower), _side(upper),
+                     cell(code(width)), cell(code(str(len(b.get("convergence") or []))))))
+    return table((Column("extreme", 0.3), Column("lower", 0.2, "r"), Column("upper", 0.2, "r"),
+                   Column("width", 0.14, "r"), Column("points", 0.16, "r")), rows,
+                  "Brackets: the true extreme lies between lower and upper")
+
+
+def bracket_figure(brackets, figs, result_name):
+    lines = []
+    unit = None
+    for path, b in brackets:
+        points = []
+        for point in b.get("convergence") or []:
+            if isinstance(point, list) and len(point) == 3:
+                s, lo, up = (fmt.to_float(v) for v in point)
+                if None not in (s, lo, up):
+                    points.append([s, up - lo])
+        if points:
+            lines.append({"label": str(b.get("quantity") or _label(path)), "points": points})
+            unit = unit or _unit(b.get("lower")) or _unit(b.get("upper"))
+    if not lines:
+        return None
+    return figs.new("bracket", {"lines": lines, "unit": unit},
+                    f"{result_name}: width of the bracket (upper minus lower) against the run time spent narrowing it.")
+
+
+def constants_table(constants, name, figure=None):
+    rows = []
+    for path, c in constants:
+        observed = c.get("observed")
+        rows.append((cell(code(_label(path) or name)), _side(c.get("paper"), "paper_constant"),
+                     _side(c.get("certified"), "certified_constant"),
+                     _side(observed), cell(code(fmt.ratio(c.get("paper"), observed))),
+                     cell(code(fmt.ratio(c.get("certified"), observed)))))
+    caption = "Constants of the bound; a ratio near 1 means a tight constant"
+    if figure is not None:
+        caption += f" (all bounds: Figure {figure.number})"
+    return table((Column("bound", 0.16), Column("paper", 0.18, "r"), Column("certified", 0.18, "r"),
+                   Column("observed", 0.18, "r"), Column("paper / observed", 0.15, "r"),
+                   Column("certified / observed", 0.15, "r")), rows, caption)
+
+
+def constants_points(constants, name, violated=False):
+    """Rows of the constants figure: label, paper, certified, observed (floats or None), violated."""
+    out = []
+    for path, c in constants:
+        label = name if not path else f"{name} {_label(path)}"
+        out.append({"label": label, **{k: fmt.to_float(c.get(k)) for k in ("paper", "certified", "observed")},
+                    "violated": violated})
+    return out
+
+
+def hunt_blocks(hunts, figs, result_name):
+    rows, series, unit = [], [], None
+    for path, h in hunts:
+        margins = [m for m in (fmt.to_float(v) for v in h.get("margins") or []) if m is not None]
+        negative = sum(m < 0 for m in margins)
+        rows.append((cell(code(_label(path) or "hunt")), cell(code(fmt.value(h.get("examples", len(margins))))),
+                     cell(code(fmt.value(h["smallest_margin"]) if "smallest_margin" in h else "n/a")),
+                     cell(code(str(len(margins)))), cell(code(str(negative)))))
+        if margins:
+            series.append({"label": _label(path) or result_name, "margins": margins})
+            unit = unit or _unit(h.get("smallest_margin"))
+    blocks = [table((Column("hunt", 0.28), Column("examples", 0.16, "r"), Column("smallest margin", 0.24, "r"),
+                      Column("margins", 0.16, "r"), Column("negative", 0.16, "r")), rows,
+                     "Hypothesis hunts: margin = distance from the boundary of the statement (positive = holds)")]
+    if series:
+        blocks.append(figs.new("hunt", {"hunts": series, "unit": unit},
+                               f"{result_name}: margins of the examples the hunt tried (positive = the statement holds)."))
+    return blocks
+
+
+def series_figures(series, figs, result_name):
+    out = []
+    for path, s in series:
+        title = str(s.get("title") or _label(path) or "series")
+        out.append(figs.new("series", s, f"{result_name}: {title}."))
+    return out
+
+
+def json_text(data, max_lines=60):
+    """Indented JSON with short lists of scalars kept on one line."""
+    lines = _json_lines(data, 0)
+    if len(lines) > max_lines:
+        lines = lines[:max_lines] + [f"... ({len(lines) - max_lines} more lines in the file)"]
+    return "\n".join(lines)
+
+
+def _json_lines(x, depth):
+    pad = " " * depth
+    flat = json.dumps(x, ensure_ascii=False)
+    if not isinstance(x, (dict, list)) or not x or len(flat) <= 72:
+        return [pad + flat]
+    if isinstance(x, list) and not any(isinstance(v, (dict, list)) for v in x):
+        return [pad + "["] + _wrapped([json.dumps(v, ensure_ascii=False) for v in x], pad + " ") + [pad + "]"]
+    opening, closing = ("{", "}") if isinstance(x, dict) else ("[", "]")
+    items = list(x.items()) if isinstance(x, dict) else [(None, v) for v in x]
+    lines = [pad + opening]
+    for i, (key, value) in enumerate(items):
+        inner = _json_lines(value, depth + 1)
+        if key is not None:
+            inner[0] = f"{pad} {json.dumps(key, ensure_ascii=False)}: {inner[0].lstrip()}"
+        if i < len(items) - 1:
+            inner[-1] += ","
+        lines += inner
+    return lines + [pad + closing]
+
+
+def _wrapped(items, pad, width=72):
+    lines, line = [], ""
+    for i, item in enumerate(items):
+        item += "," if i < len(items) - 1 else ""
+        if line and len(pad) + len(line) + 1 + len(item) > width:
+            lines.append(pad + line)
+            line = item
+        else:
+            line = f"{line} {item}" if line else item
+    return lines + [pad + line]
+
+
+def table(columns, rows, caption, limit=MAX_ROWS):
+    rows = list(rows)
+    if limit is not None and len(rows) > limit:
+        more = len(rows) - limit
+        rows = rows[:limit] + [(cell(Text(f"... and {more} more rows, not shown", "em")),)
+                                  + tuple(cell() for _ in columns[1:])]
+    return Table(tuple(columns), tuple(rows), caption)
+
+
+def _valid(key, x):
+    if key == "series":
+        lines = x.get("lines")
+        return isinstance(lines, dict) and all(isinstance(v, list) for v in lines.values())
+    if key == "hunt":
+        return isinstance(x.get("margins", []), list)
+    if key == "bracket":
+        return "lower" in x or "upper" in x
+    return any(k in x for k in ("paper", "certified", "observed"))
+
+
+def _flat(row):
+    return isinstance(row, dict) and not set(row) & set(CONVENTIONS) and all(
+        fmt.is_quantity(v) or not isinstance(v, (dict, list)) or _numeric(v) for v in row.values())
+
+
+def _records(x):
+    if isinstance(x, list):
+        return len(x) >= 1 and all(isinstance(r, dict) and r and _flat(r) for r in x) and not all(
+            fmt.is_quantity(r) for r in x)
+    if isinstance(x, dict) and len(x) >= 2 and not fmt.is_quantity(x) and not set(x) & set(CONVENTIONS):
+        return all(isinstance(r, dict) and r and not fmt.is_quantity(r) and _flat(r) for r in x.values())
+    return False
+
+
+def _numeric(x):
+    if isinstance(x, list):
+        return all(_numeric(v) for v in x)
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+def _numeric_column(records, key):
+    values = [r[key] for r in records if key in r]
+    return bool(values) and all(fmt.to_float(v) is not None for v in values)
+
+
+def _label(path):
+    return " / ".join(path)
+
+
+def _value_inline(text):
+    return code(text) if text[:1].isdigit() or text[:1] in "-[" or text in fmt.NON_FINITE else Text(text)
+
+
+def _side(q, expected_kind=None):
+    if q is None:
+        return cell("n/a")
+    if fmt.is_quantity(q):
+        if q["kind"] == expected_kind:
+            return cell(code(fmt.quantity(q)))
+        return cell(code(fmt.quantity(q)), Text(f" {q['kind']}", "em"))
+    return cell(code(fmt.value(q)))
+
+
+def _unit(q):
+    return q.get("unit") if fmt.is_quantity(q) else None
+
+
+def _difference(upper, lower):
+    u, l = fmt.to_float(upper), fmt.to_float(lower)
+    return "n/a" if u is None or l is None else fmt.number(u - l)
