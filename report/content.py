@@ -99,7 +99,7 @@ def _glance(grouped, verdicts, unknown):
         rows.append((cell(Link(i, _section_key(i), "code")), cell(entry.label if entry else "not in the catalog"),
                      cell(Badge(verdicts.get(i, NOT_RUN))), cell(code(str(len(results)))),
                      cell(code(fmt.seconds(time) if results else "-"))))
-    columns = (Column("ID", 0.17), Column("paper", 0.47), Column("verdict", 0.16), Column("checks", 0.08, "r"),
+    columns = (Column("ID", 0.19), Column("paper", 0.43), Column("verdict", 0.16), Column("checks", 0.1, "r"),
                Column("time", 0.12, "r"))
     return evidence.table(columns, rows, "Every result at a glance", limit=None)
 

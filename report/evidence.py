@@ -92,8 +92,8 @@ def bracket_table(brackets):
         width = _difference(upper, lower)
         rows.append((cell(str(b.get("quantity") or _label(path) or "extreme")), _side(lower), _side(upper),
                      cell(code(width)), cell(code(str(len(b.get("convergence") or []))))))
-    return table((Column("extreme", 0.3), Column("lower", 0.2, "r"), Column("upper", 0.2, "r"),
-                   Column("width", 0.14, "r"), Column("points", 0.16, "r")), rows,
+    return table((Column("extreme", 0.28), Column("lower", 0.2, "r"), Column("upper", 0.2, "r"),
+                   Column("width", 0.18, "r"), Column("points", 0.14, "r")), rows,
                   "Brackets: the true extreme lies between lower and upper")
 
 

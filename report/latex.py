@@ -15,16 +15,15 @@ from importlib import resources
 from .model import Badge, Bullets, Code, Figure, Link, Notice, Paragraph, Table, Text
 
 FIGURES = "report-figures.pdf"
-LONG_TOKEN = 14
+LONG_TOKEN = {False: 14, True: 8}
 BREAK_AFTER = set("/_-.,:;=")
 SECTIONS = ("section", "subsection", "subsubsection", "paragraph")
 
-ROMAN = {"\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "$": r"\$", "&": r"\&", "#": r"\#", "%": r"\%",
+ROMAN = {"\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "$": r"{\ttfamily\char36}", "&": r"\&", "#": r"\#", "%": r"\%",
          "_": r"{\ttfamily\char95}", "^": r"{\ttfamily\char94}", "~": r"{\ttfamily\char126}", "<": r"\textless{}",
-         ">": r"\textgreater{}", "|": r"\textbar{}", '"': r"{\ttfamily\char34}", "'": r"\textquotesingle{}",
-         "`": r"\textasciigrave{}", "-": "-{}"}
+         ">": r"\textgreater{}", "|": r"\textbar{}", '"': r"{\ttfamily\char34}", "'": "'{}", "`": "`{}", "-": "-{}"}
 TYPEWRITER = {c: rf"\char{ord(c)}{{}}" for c in "\\{}$&#%_^~<>|\""}
-TYPEWRITER.update({"'": r"\textquotesingle{}", "`": r"\textasciigrave{}", "-": "-{}", "!": "!{}", "?": "?{}"})
+TYPEWRITER.update({"'": r"\char13{}", "`": r"\char18{}", "-": "-{}", "!": "!{}", "?": "?{}"})
 SYMBOLS = {"\u2264": r"\le", "\u2265": r"\ge", "\u2260": r"\ne", "\u2248": r"\approx", "\u00d7": r"\times",
            "\u00b7": r"\cdot", "\u2212": "-", "\u2192": r"\to", "\u221e": r"\infty", "\u221a": r"\surd",
            "\u00b1": r"\pm", "\u2016": r"\|", "\u2208": r"\in", "\u2211": r"\sum", "\u2202": r"\partial",
@@ -46,7 +45,7 @@ ACCENTS = {"\u0300": "`", "\u0301": "'", "\u0302": "^", "\u0303": "~", "\u0308":
 
 def render(document):
     preamble = resources.files(__package__).joinpath("preamble.tex").read_text(encoding="utf-8")
-    out = [preamble, f"\\hypersetup{{pdftitle={{{_pdf_string(document.title)}}}}}", r"\begin{document}",
+    out = [preamble, f"\\hypersetup{{pdftitle={{{_pdf_string(document.title)}}}}}", r"\begin{document}", r"\raggedright",
            r"\begin{center}", rf"{{\LARGE\bfseries {escape(document.title)}\par}}\smallskip",
            rf"{{\itshape {escape(document.subtitle)}\par}}", r"\end{center}"]
     for section in document.sections:
@@ -65,7 +64,7 @@ def escape(text, code=False):
         if token.isspace():
             pieces.append(" ")
             continue
-        if len(token) > LONG_TOKEN:
+        if len(token) > LONG_TOKEN[code]:
             pieces.append("".join(_char(c, table, code) + (r"\allowbreak{}" if c in BREAK_AFTER else r"\bk{}")
                                   for c in token[:-1]) + _char(token[-1], table, code))
         else:
@@ -131,7 +130,8 @@ def _table(table):
     head = " & ".join(rf"\textbf{{{escape(c.title)}}}" for c in table.columns) + r" \\"
     lines = [rf"\begin{{longtable}}{{@{{}}{spec}@{{}}}}"]
     if table.caption:
-        lines.append(rf"\multicolumn{{{n}}}{{@{{}}p{{\linewidth}}@{{}}}}{{\textbf{{{escape(table.caption)}}}}} \\")
+        lines.append(rf"\multicolumn{{{n}}}{{@{{}}p{{\dimexpr\linewidth-2\tabcolsep\relax}}@{{}}}}"
+                     rf"{{\textbf{{{escape(table.caption)}}}}} \\")
     if any(c.title for c in table.columns):
         lines += [r"\toprule", head, r"\midrule", r"\endfirsthead", r"\toprule", head, r"\midrule", r"\endhead"]
     else:

@@ -12,7 +12,9 @@ check, long check names and long numbers.
 from __future__ import annotations
 
 import json
+import os
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -226,3 +228,26 @@ def write(out_dir):
 
 if __name__ == "__main__":
     print(write(sys.argv[1] if len(sys.argv) > 1 else "out/fixture"))
+
+
+_BUILT = {}
+
+
+def built(tmp_path_factory):
+    """The fixture's report, built once per session (with report.pdf when latexmk is installed): (folder, seconds)."""
+    if "full" not in _BUILT:
+        from inertiaproof.report.cli import build
+
+        out = write(tmp_path_factory.mktemp("report-full"))
+        start = time.perf_counter()
+        build(out)
+        _BUILT["full"] = (out, time.perf_counter() - start)
+    return _BUILT["full"]
+
+
+def artifacts_dir():
+    """Where the report tests keep what a person may want to look at ($INERTIAPROOF_ARTIFACTS or artifacts/report)."""
+    root = os.environ.get("INERTIAPROOF_ARTIFACTS") or Path(__file__).resolve().parents[1] / "artifacts"
+    path = Path(root) / "report"
+    path.mkdir(parents=True, exist_ok=True)
+    return path

@@ -1,0 +1,111 @@
+"""The LaTeX report compiled to PDF, read back as a person would: pages, text, fonts, nothing past the margins."""
+
+import json
+import re
+import shutil
+import subprocess
+
+import pytest
+import report_fixture
+
+from inertiaproof import catalog
+from inertiaproof.report import typeset
+
+pytestmark = [
+    pytest.mark.latex,
+    pytest.mark.skipif(not typeset.available(), reason="latexmk/pdflatex not installed (CI installs texlive-latex-* "
+                                                       "and latexmk)"),
+    pytest.mark.skipif(shutil.which("pdftotext") is None, reason="pdftotext not installed (Debian: poppler-utils)"),
+]
+A4_WIDTH_PT = 595.28
+MARGIN_PT = 56.69
+
+
+@pytest.fixture(scope="module")
+def pdf(tmp_path_factory):
+    out, _ = report_fixture.built(tmp_path_factory)
+    path = out / "report.pdf"
+    assert path.is_file(), "the report build made no report.pdf although latexmk is installed"
+    shutil.copy(path, report_fixture.artifacts_dir() / "report.pdf")
+    return path
+
+
+def run(*command):
+    return subprocess.run(command, capture_output=True, text=True, check=True, timeout=60).stdout
+
+
+def pages(path, mode="-layout"):
+    """The text of each page: -layout as it looks, -raw in the order it was typeset (table cells whole)."""
+    return run("pdftotext", mode, str(path), "-").split("\f")[:-1]
+
+
+def squeeze(text):
+    return re.sub(r"\s+", "", text)
+
+
+def test_pages_and_reading_order(pdf):
+    info = run("pdfinfo", str(pdf))
+    count = int(re.search(r"Pages:\s+(\d+)", info).group(1))
+    assert 10 <= count <= 24, count
+    text = pages(pdf)
+    assert len(text) == count
+    first = text[0]
+    assert "inertiaproof report" in first and "What failed: 1 check found a counterexample" in first
+    assert first.index("What failed") < first.index("Every result at a glance")
+    assert squeeze(f"inertiaproof replay {report_fixture.VIOLATED_FILE}") in squeeze(first)
+    whole = "\n".join(text)
+    order = ["Summary", "Bounds at a glance", "Section 2: Physical consistency", "Section 3: The generalized robotics",
+             "Section 4: Structural properties", "Beyond the paper", "How to read the numbers"]
+    positions = [whole.index(heading) for heading in order]
+    assert positions == sorted(positions)
+    assert "How to read the numbers" in text[-1]
+
+
+def test_every_id_verdict_and_figure(pdf):
+    whole = "\n".join(pages(pdf))
+    flat = squeeze("\n".join(pages(pdf, "-raw")))
+    for entry in catalog.ENTRIES:
+        assert squeeze(f"{entry.id}: {entry.label}") in flat, entry.id
+    for verdict in ("HOLDS", "VIOLATED", "INCONCLUSIVE"):
+        assert verdict in whole
+    numbers = [int(n) for n in re.findall(r"Figure (\d+)\.", whole)]
+    assert numbers == list(range(1, max(numbers) + 1)) and len(numbers) >= 12
+    assert "run time spent narrowing [s]" in whole and "observed worst case" in whole
+
+
+def test_hostile_strings_print_as_themselves(pdf):
+    flat = squeeze("\n".join(pages(pdf, "-raw")))
+    in_code = json.dumps(report_fixture.HOSTILE, ensure_ascii=False)
+    assert squeeze(in_code) in flat
+    in_prose = squeeze(report_fixture.HOSTILE).replace("'", "\u2019").replace("`", "\u2018")
+    assert in_prose in flat
+    assert squeeze(report_fixture.LONG_EXACT) in flat
+
+
+def test_fonts_are_vector_and_figures_truetype(pdf):
+    fonts = run("pdffonts", str(pdf))
+    assert "Type 3" not in fonts
+    assert re.search(r"DejaVuSans\s+CID TrueType", fonts)
+
+
+def test_nothing_runs_past_the_margins(pdf):
+    boxes = run("pdftotext", "-bbox", str(pdf), "-")
+    words = re.findall(r'<word xMin="([\d.]+)" yMin="[\d.]+" xMax="([\d.]+)" yMax="[\d.]+">(.*?)</word>', boxes)
+    assert len(words) > 2000
+    outside = [(w, float(a), float(b)) for a, b, w in words
+               if float(a) < MARGIN_PT - 1 or float(b) > A4_WIDTH_PT - MARGIN_PT + 1]
+    assert not outside, outside[:10]
+
+
+def test_first_page_shows_the_failure_in_red(pdf):
+    from PIL import Image
+
+    if shutil.which("pdftoppm") is None:
+        pytest.skip("pdftoppm not installed (Debian: poppler-utils)")
+    stem = report_fixture.artifacts_dir() / "report-page"
+    run("pdftoppm", "-r", "60", "-f", "1", "-l", "1", "-singlefile", "-png", str(pdf), str(stem))
+    image = Image.open(f"{stem}.png").convert("RGB")
+    width, height = image.size
+    red = sum(count for count, (r, g, b) in image.crop((0, 0, width, height // 2)).getcolors(1 << 20)
+              if r > 140 and g < 80 and b < 70)
+    assert red > 200, "no red 'What failed' rule and title in the top half of page 1"
