@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import re
 import shlex
+from dataclasses import dataclass
 
 from inertiaproof import catalog
 from inertiaproof.result import KINDS, combine
@@ -24,63 +25,71 @@ PAPER = ("Kaufmann & Reger, On robotic manipulators with time-dependent inertial
          "from physical consistency to boundedness of the mass matrix")
 
 
+@dataclass
+class _Run:
+    doc: dict  # the results document
+    data: dict  # {artifact: rows or a one-line problem}
+    keys: dict  # {id(result): anchor}
+    figs: evidence.Figures
+    bounds_figure: object = None  # the constants overview, when there is one
+
+
 def build(doc, data=None):
     """The Document of a results document and its data files ({artifact: rows or problem})."""
-    data = data or {}
-    figs = evidence.Figures()
-    checks = doc["checks"]
-    keys = _keys(checks)
+    run = _Run(doc, data or {}, _keys(doc["checks"]), evidence.Figures())
     grouped = {}
-    for r in checks:
+    for r in doc["checks"]:
         grouped.setdefault(r["id"], []).append(r)
-    entries = list(catalog.ENTRIES) + [e for e in catalog.EXTRAS if e.id in grouped]
+    extras = [e for e in catalog.EXTRAS if e.id in grouped]
     unknown = [i for i in grouped if i not in catalog.BY_ID]
     verdicts = {i: combine(r["verdict"] for r in rs).value for i, rs in grouped.items()}
 
-    sections = [_summary(doc, grouped, verdicts, keys, unknown)]
-    overview = _constants_overview(checks, figs)
+    sections = [_summary(run, grouped, verdicts, [e.id for e in extras] + unknown)]
+    overview = _constants_overview(run)
     if overview:
         sections.append(overview)
     for number, name in catalog.SECTIONS.items():
-        children = tuple(_result_section(e.id, e, grouped.get(e.id, []), doc, keys, figs, data, overview)
+        children = tuple(_result_section(run, e.id, e, grouped.get(e.id, []))
                          for e in catalog.ENTRIES if e.section == number)
         sections.append(Section(f"sec-{number}", (Text(f"Section {number}: {name}"),), children=children))
-    extras = [_result_section(e.id, e, grouped[e.id], doc, keys, figs, data, overview)
-              for e in entries if e.section not in catalog.SECTIONS]
-    extras += [_result_section(i, None, grouped[i], doc, keys, figs, data, overview) for i in unknown]
-    if extras:
-        sections.append(Section("sec-beyond", (Text("Beyond the paper"),), children=tuple(extras)))
+    beyond = [_result_section(run, e.id, e, grouped[e.id]) for e in extras]
+    beyond += [_result_section(run, i, None, grouped[i]) for i in unknown]
+    if beyond:
+        sections.append(Section("sec-beyond", (Text("Beyond the paper"),), children=tuple(beyond)))
     sections.append(_legend())
     return Document(TITLE, PAPER, tuple(sections))
 
 
-def _summary(doc, grouped, verdicts, keys, unknown):
+def _summary(run, grouped, verdicts, beyond):
+    doc, keys = run.doc, run.keys
     checks = doc["checks"]
     blocks = []
     violated = [r for r in checks if r["verdict"] == "VIOLATED"]
     inconclusive = [r for r in checks if r["verdict"] == "INCONCLUSIVE"]
-    if violated:
-        blocks.append(Notice("VIOLATED", f"What failed: {len(violated)} check{'s' if len(violated) != 1 else ''} "
-                             "found a counterexample", (Bullets(tuple(_failure(r, keys) for r in violated)),)))
-    if inconclusive:
-        blocks.append(Notice("INCONCLUSIVE", f"Inconclusive: {len(inconclusive)} check"
-                             f"{'s' if len(inconclusive) != 1 else ''} could not decide",
-                             (Bullets(tuple(_brief(r, keys) for r in inconclusive)),)))
-    if not violated and not inconclusive:
-        blocks.append(Notice("HOLDS", "Nothing failed", (Paragraph((Text(
-            f"All {len(checks)} checks that ran hold." if checks else "No check ran."),)),)))
     paper = [verdicts.get(e.id, NOT_RUN) for e in catalog.ENTRIES]
     counts = {v: paper.count(v) for v in ("HOLDS", "VIOLATED", "INCONCLUSIVE", NOT_RUN)}
+    if violated:
+        blocks.append(Notice("VIOLATED", f"What failed: {_count(len(violated), 'check')} found a counterexample",
+                             (Bullets(tuple(_failure(r, keys) for r in violated)),)))
+    if inconclusive:
+        blocks.append(Notice("INCONCLUSIVE", f"Inconclusive: {_count(len(inconclusive), 'check')} could not decide",
+                             (Bullets(tuple(_brief(r, keys) for r in inconclusive)),)))
+    if not violated and not inconclusive:
+        ran = "No check ran." if not checks else (
+            "The one check that ran holds." if len(checks) == 1 else f"All {len(checks)} checks that ran hold.")
+        if counts[NOT_RUN]:
+            ran += f" {counts[NOT_RUN]} of the {len(paper)} results of the paper were not run."
+        blocks.append(Notice("HOLDS", "Nothing failed", (Paragraph((Text(ran),)),)))
     by_check = {v: sum(r["verdict"] == v for r in checks) for v in ("HOLDS", "VIOLATED", "INCONCLUSIVE")}
     blocks.append(Paragraph((
         Text(f"Of the {len(paper)} results of the paper, "),
         Text(f"{counts['HOLDS']} hold, {counts['VIOLATED']} violated, {counts['INCONCLUSIVE']} inconclusive, "
              f"{counts[NOT_RUN]} not run", "strong"),
-        Text(f". {len(checks)} checks ran ({by_check['HOLDS']} HOLDS, {by_check['VIOLATED']} VIOLATED, "
+        Text(f". {_count(len(checks), 'check')} ran ({by_check['HOLDS']} HOLDS, {by_check['VIOLATED']} VIOLATED, "
              f"{by_check['INCONCLUSIVE']} INCONCLUSIVE) in {fmt.seconds(doc.get('runtime_s'))}; "
              f"{len(doc.get('skipped') or [])} left out."),
     )))
-    blocks.append(_glance(grouped, verdicts, unknown))
+    blocks.append(_glance(grouped, verdicts, beyond))
     blocks.append(_run_table(doc))
     if doc.get("skipped"):
         blocks.append(evidence.table((Column("check", 0.3), Column("why it was left out", 0.7)),
@@ -89,10 +98,13 @@ def _summary(doc, grouped, verdicts, keys, unknown):
     return Section("summary", (Text("Summary"),), tuple(blocks))
 
 
-def _glance(grouped, verdicts, unknown):
+def _count(n, noun):
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
+def _glance(grouped, verdicts, beyond):
     rows = []
-    ids = [e.id for e in catalog.ENTRIES + catalog.EXTRAS if e.id in grouped or e in catalog.ENTRIES] + unknown
-    for i in ids:
+    for i in [e.id for e in catalog.ENTRIES] + beyond:
         entry = catalog.BY_ID.get(i)
         results = grouped.get(i, [])
         time = sum(fmt.to_float(r.get("runtime_s")) or 0.0 for r in results)
@@ -110,7 +122,8 @@ def _run_table(doc):
             ("scene", str(scene) if scene else "none: the built-in robots"),
             ("total run time", fmt.seconds(doc.get("runtime_s")))]
     rows += [(f"version of {k}", str(v)) for k, v in (doc.get("versions") or {}).items()]
-    return evidence.table((Column("", 0.3), Column("", 0.7)), [(cell(k), cell(code(v))) for k, v in rows], "The run")
+    return evidence.table((Column("", 0.3), Column("", 0.7)), [(cell(k), cell(code(v))) for k, v in rows],
+                          "The run")
 
 
 def _failure(r, keys):
@@ -131,14 +144,15 @@ def _replay(path):
     return f"inertiaproof replay {shlex.quote(str(path))}"
 
 
-def _constants_overview(checks, figs):
+def _constants_overview(run):
     points = []
-    for r in checks:
+    for r in run.doc["checks"]:
         found, _, _, _ = evidence.split(r.get("evidence"))
-        points += evidence.constants_points(found["constants"], r.get("check") or r["id"], r["verdict"] == "VIOLATED")
+        points += evidence.constants_points(found["constants"], r.get("check") or r["id"],
+                                            r["verdict"] == "VIOLATED")
     if not points:
         return None
-    figure = figs.new("constants", {"bounds": points},
+    figure = run.bounds_figure = run.figs.new("constants", {"bounds": points},
                       "Each bound's constants on one axis: the paper's constant, the sharpest constant the suite "
                       "certifies, and the observed worst case. For an upper bound the paper's constant should lie "
                       "to the right of the observed worst case, for a lower bound to the left; the gap is the "
@@ -148,52 +162,54 @@ def _constants_overview(checks, figs):
     return Section("bounds", (Text("Bounds at a glance"),), (text, figure))
 
 
-def _result_section(result_id, entry, results, doc, keys, figs, data, overview):
+def _result_section(run, result_id, entry, results):
     verdict = combine(r["verdict"] for r in results).value if results else NOT_RUN
     label = entry.label if entry else "not in the catalog"
     title = (Text(result_id, "code"), Text(f": {label} "), Badge(verdict))
-    blocks = [Paragraph((Text("Statement: ", "strong"),
-                         Text(entry.statement if entry else "a result this version of the report does not know.")))]
+    statement = entry.statement if entry else "a result this version of the report does not know."
+    blocks = [Paragraph((Text("Statement: ", "strong"), Text(statement)))]
+    if result_id == "gate" and results:
+        blocks.append(_gate_paragraph(results))
     children = []
     if not results:
-        reasons = [s for s in doc.get("skipped") or [] if str(s.get("check", "")).split(":")[0] == result_id]
         blocks.append(Paragraph((Text("Not run in this run.", "em"),)))
-        for s in reasons:
-            blocks.append(Paragraph((Text("Left out: "), code(str(s.get("check"))), Text(": " + str(s.get("reason", ""))))))
-    elif len(results) == 1 and keys[id(results[0])] == _section_key(result_id):
-        blocks += _result_blocks(results[0], figs, data, overview)
+        for s in run.doc.get("skipped") or []:
+            if str(s.get("check", "")).split(":")[0] == result_id:
+                blocks.append(Paragraph((Text("Left out: "), code(str(s.get("check"))),
+                                         Text(": " + str(s.get("reason", ""))))))
+    elif len(results) == 1 and run.keys[id(results[0])] == _section_key(result_id):
+        blocks += _result_blocks(run, results[0])
     else:
         for r in results:
-            children.append(Section(keys[id(r)], (Text(r.get("check") or r["id"], "code"), Text(" "), Badge(r["verdict"])),
-                                    tuple(_result_blocks(r, figs, data, overview)), result_id=None, verdict=r["verdict"]))
-    if result_id == "gate" and results:
-        blocks.insert(1, _gate_paragraph(results))
-    return Section(_section_key(result_id), title, tuple(blocks), tuple(children), result_id=result_id, verdict=verdict)
+            title_r = (Text(r.get("check") or r["id"], "code"), Text(" "), Badge(r["verdict"]))
+            children.append(Section(run.keys[id(r)], title_r, tuple(_result_blocks(run, r)), verdict=r["verdict"]))
+    return Section(_section_key(result_id), title, tuple(blocks), tuple(children), result_id=result_id,
+                   verdict=verdict)
 
 
-def _result_blocks(r, figs, data, overview):
+def _result_blocks(run, r):
     name = r.get("check") or r["id"]
+    scene = f", scene {r['scene']}" if r.get("scene") else ""
+    facts = f": {fmt.seconds(r.get('runtime_s'))}, seed {r.get('seed')}, profile {r.get('profile')}{scene}."
     blocks = [Paragraph((Text("Finding: ", "strong"), Text(str(r.get("summary", ""))))),
-              Paragraph((Text("Check "), code(name), Text(f", {fmt.seconds(r.get('runtime_s'))}, seed "
-                                                           f"{r.get('seed')}, profile {r.get('profile')}, scene "
-                                                           f"{r.get('scene') or 'built-in'}."),))]
+              Paragraph((Text("Check "), code(name), Text(facts)))]
     if r.get("counterexample"):
         blocks += _counterexample(r["counterexample"])
     found, rows, tables, texts = evidence.split(r.get("evidence"))
     if found["bracket"]:
         blocks.append(evidence.bracket_table(found["bracket"]))
-        figure = evidence.bracket_figure(found["bracket"], figs, name)
+        figure = evidence.bracket_figure(found["bracket"], run.figs, name)
         if figure:
             blocks.append(figure)
     if found["constants"]:
-        blocks.append(evidence.constants_table(found["constants"], name, overview.blocks[-1] if overview else None))
+        blocks.append(evidence.constants_table(found["constants"], name, run.bounds_figure))
     if found["hunt"]:
-        blocks += evidence.hunt_blocks(found["hunt"], figs, name)
-    blocks += evidence.series_figures(found["series"], figs, name)
+        blocks += evidence.hunt_blocks(found["hunt"], run.figs, name)
+    blocks += evidence.series_figures(found["series"], run.figs, name)
     blocks += evidence.generic_blocks(rows, tables, texts)
     for artifact in r.get("artifacts") or []:
         if isinstance(artifact, str):
-            blocks += datafiles.blocks(artifact, data.get(artifact, f"{artifact}: not read"), figs, name)
+            blocks += datafiles.blocks(artifact, run.data.get(artifact, f"{artifact}: not read"), run.figs, name)
     return blocks
 
 
@@ -222,7 +238,8 @@ def _gate_paragraph(results):
         return Paragraph((Text("The gate's evidence names no derivations.", "em"),))
     inlines = [Text("Fingerprinted: ", "strong"), Text(f"{len(names)} derivations ("), *_names(names), Text("). ")]
     if changed:
-        inlines += [Text(f"Changed since the lockfile: {len(changed)} (", "strong"), *_names(changed), Text(").", "strong")]
+        inlines += [Text(f"Changed since the lockfile: {len(changed)} (", "strong"), *_names(changed),
+                    Text(").", "strong")]
     else:
         inlines.append(Text("None changed since the lockfile.", "strong"))
     return Paragraph(tuple(inlines))

@@ -23,7 +23,7 @@ def blocks(name, content, figs, result_name):
     stem = PurePosixPath(name).name
     intro = Paragraph((Text("Data file "), code(name), Text(".")))
     if isinstance(content, dict):
-        found, rows, tables, texts = evidence.split(content)
+        _, rows, tables, texts = evidence.split(content)
         return [intro] + evidence.generic_blocks(rows, tables, texts)
     if stem.startswith("work_precision"):
         return [intro] + work_precision(content, figs, result_name)
@@ -57,7 +57,8 @@ def work_precision(rows, figs, result_name):
                            table, "Integrators: work against precision")]
     if scenes:
         out.append(figs.new("work_precision", {"scenes": scenes},
-                            f"{result_name}: error against run time for each integrator (tighter tolerances to the right); "
+                            f"{result_name}: error against run time for each integrator "
+                            "(tighter tolerances to the right); "
                             "lower and further left is better."))
     return out
 

@@ -15,6 +15,7 @@ from .model import Code, Column, Figure, Table, Text, cell, code
 CONVENTIONS = ("bracket", "constants", "hunt", "series")
 MAX_ROWS = 40
 LONG_TEXT = 160
+MAX_TEXT_LINES = 80
 
 
 class Figures:
@@ -67,8 +68,16 @@ def generic_blocks(rows, tables, texts):
     for path, records in tables:
         blocks.append(records_table(records, _label(path)))
     for path, text in texts:
-        blocks.append(Code(text, _label(path)))
+        blocks.append(Code(_clip(text), _label(path)))
     return blocks
+
+
+def _clip(text):
+    lines = text.splitlines()
+    if len(lines) <= MAX_TEXT_LINES and len(text) <= 100 * MAX_TEXT_LINES:
+        return text
+    kept = "\n".join(lines[:MAX_TEXT_LINES])[: 100 * MAX_TEXT_LINES]
+    return f"{kept}\n... ({len(text) - len(kept)} more characters in results.json)"
 
 
 def records_table(records, caption):
@@ -158,7 +167,8 @@ def hunt_blocks(hunts, figs, result_name):
                      "Hypothesis hunts: margin = distance from the boundary of the statement (positive = holds)")]
     if series:
         blocks.append(figs.new("hunt", {"hunts": series, "unit": unit},
-                               f"{result_name}: margins of the examples the hunt tried (positive = the statement holds)."))
+                               f"{result_name}: margins of the examples the hunt tried "
+                               "(positive = the statement holds)."))
     return blocks
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from html import escape
 from importlib import resources
 
-from .model import Badge, Bullets, Code, Figure, Link, Notice, Paragraph, Section, Table, Text
+from .model import Badge, Bullets, Code, Figure, Link, Notice, Paragraph, Table, Text
 
 TAGS = {"code": "code", "strong": "strong", "em": "em"}
 

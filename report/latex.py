@@ -19,7 +19,8 @@ LONG_TOKEN = {False: 14, True: 8}
 BREAK_AFTER = set("/_-.,:;=")
 SECTIONS = ("section", "subsection", "subsubsection", "paragraph")
 
-ROMAN = {"\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "$": r"{\ttfamily\char36}", "&": r"\&", "#": r"\#", "%": r"\%",
+ROMAN = {"\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "$": r"{\ttfamily\char36}", "&": r"\&", "#": r"\#",
+         "%": r"\%",
          "_": r"{\ttfamily\char95}", "^": r"{\ttfamily\char94}", "~": r"{\ttfamily\char126}", "<": r"\textless{}",
          ">": r"\textgreater{}", "|": r"\textbar{}", '"': r"{\ttfamily\char34}", "'": "'{}", "`": "`{}", "-": "-{}"}
 TYPEWRITER = {c: rf"\char{ord(c)}{{}}" for c in "\\{}$&#%_^~<>|\""}
@@ -45,7 +46,8 @@ ACCENTS = {"\u0300": "`", "\u0301": "'", "\u0302": "^", "\u0303": "~", "\u0308":
 
 def render(document):
     preamble = resources.files(__package__).joinpath("preamble.tex").read_text(encoding="utf-8")
-    out = [preamble, f"\\hypersetup{{pdftitle={{{_pdf_string(document.title)}}}}}", r"\begin{document}", r"\raggedright",
+    out = [preamble, f"\\hypersetup{{pdftitle={{{_pdf_string(document.title)}}}}}", r"\begin{document}",
+           r"\raggedright",
            r"\begin{center}", rf"{{\LARGE\bfseries {escape(document.title)}\par}}\smallskip",
            rf"{{\itshape {escape(document.subtitle)}\par}}", r"\end{center}"]
     for section in document.sections:

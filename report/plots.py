@@ -40,6 +40,7 @@ LINE = 0.17  # inches per line of label text
 TICK = 0.09
 PAD = 0.08
 LEGEND = 0.3
+MAX_POINTS = 500
 DECADES = 20.0
 SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079")
 
@@ -73,6 +74,19 @@ def _inline(text, caption):
     return text.replace("<svg ", f'<svg role="img" aria-label="{label}" ', 1).strip()
 
 
+def thin(points, most=MAX_POINTS):
+    """At most about ``most`` [x, y] points: the lowest and highest y of each run of neighbours (no extreme lost)."""
+    if len(points) <= most:
+        return points
+    size = math.ceil(2 * len(points) / most)
+    kept = []
+    for start in range(0, len(points), size):
+        bucket = points[start:start + size]
+        low, high = min(bucket, key=lambda p: p[1]), max(bucket, key=lambda p: p[1])
+        kept += sorted({id(low): low, id(high): high}.values(), key=lambda p: p[0])
+    return kept
+
+
 def draw(figure):
     from matplotlib.figure import Figure
 
@@ -84,7 +98,7 @@ def draw(figure):
 def bracket(fig, data):
     ax = fig.add_subplot()
     for line in data["lines"]:
-        points = sorted(line["points"])
+        points = thin(sorted(line["points"]))
         ax.plot([p[0] for p in points], [p[1] for p in points], marker="o", label=_short(line["label"], 60))
     unit = f" [{data['unit']}]" if data.get("unit") else ""
     _scale(ax, "x", [p[0] for line in data["lines"] for p in line["points"]])
@@ -152,7 +166,7 @@ def series(fig, data):
     xs, ys = [], []
     for name, points in data["lines"].items():
         points = [p for p in points if isinstance(p, list) and len(p) == 2 and all(_finite(v) for v in p)]
-        points = [p for p in points if (p[0] > 0 or not logs["x"]) and (p[1] > 0 or not logs["y"])]
+        points = thin([p for p in points if (p[0] > 0 or not logs["x"]) and (p[1] > 0 or not logs["y"])])
         ax.plot([p[0] for p in points], [p[1] for p in points], marker="o", label=_short(str(name), 50))
         xs += [p[0] for p in points]
         ys += [p[1] for p in points]
@@ -204,7 +218,8 @@ def stability(fig, data):
 
     for i, method in enumerate(methods):
         ok = [p for p in points if p["method"] == method and p["ok"]]
-        ax.scatter([p["seconds"] for p in ok], [y(p) for p in ok], color=f"C{i % 10}", label=_short(method, 30), zorder=3)
+        ax.scatter([p["seconds"] for p in ok], [y(p) for p in ok], color=f"C{i % 10}", label=_short(method, 30),
+                   zorder=3)
     failed = [p for p in points if not p["ok"]]
     if failed:
         ax.scatter([p["seconds"] for p in failed], [y(p) for p in failed], color=RED, marker="X", s=60, zorder=4,

@@ -81,7 +81,8 @@ def _results(rng):
     add("EQ-schur", "HOLDS", "f > 0 and the Schur test agree on 60 random Phi, 12 near the boundary", {
         "hunt": _hunt(np.abs(rng.normal(0.5, 0.4, 60)) + 1e-3),
         "disagreements": quantity(0, "count")}, check="EQ-schur:numeric")
-    add("EQ-translation", "HOLDS", "Sigma_CoM = tr(I_CoM)/2 I3 - I_CoM exactly", {"nonzero_entries": quantity(0, "exact")})
+    add("EQ-translation", "HOLDS", "Sigma_CoM = tr(I_CoM)/2 I3 - I_CoM exactly",
+        {"nonzero_entries": quantity(0, "exact")})
     add("EQ-triangle", "INCONCLUSIVE", "boundary case: margin 3.1e-17 is below the resolution 2.2e-16", {
         "margin": quantity(3.1e-17, "margin", "smallest strict-triangle slack over the hunt", "kg m^2"),
         "tolerance": quantity(2.2e-16, "tolerance", "eps * ||I_CoM||"),
@@ -89,7 +90,8 @@ def _results(rng):
     add("Def1/Thm1-suff", "HOLDS", "300 random densities with a 3-D carrier all give f(Phi) > 0", {
         "hunt": _hunt(10.0 ** rng.uniform(-6, 1, 300)),
         "error_probability": quantity(1e-12, "error_probability",
-                                      "Schwartz-Zippel: probability the randomised identity test passed although false")},
+                                      "Schwartz-Zippel: probability the randomised identity test passed "
+                                      "although false")},
         runtime=2.4)
     add("Thm1-nec", "HOLDS", "uniform solid ellipsoids reproduce 60 random Phi with f > 0", {
         "moment_residual": quantity(2.7e-15, "residual", "max |Phi(ellipsoid) - Phi|", "kg m^2"),
@@ -107,7 +109,8 @@ def _results(rng):
         "largest_n": quantity(3, "count")}, check="GRE:abstract", runtime=26.1)
     add("GRE", "HOLDS", "2R and 3R chains: both sides expand to the same polynomials", {
         "chains": ["2R", "3R"], "nonzero_entries": quantity(0, "exact")}, check="GRE:concrete", runtime=3.3)
-    add("GRE-F", "HOLDS", "F(q, Theta, Thetadot) = M(q, Thetadot) symbolically", {"nonzero_entries": quantity(0, "exact")})
+    add("GRE-F", "HOLDS", "F(q, Theta, Thetadot) = M(q, Thetadot) symbolically",
+        {"nonzero_entries": quantity(0, "exact")})
     add("GRE-physics", "HOLDS", "the GRE matches a multibody model with a prescribed moving mass to 3e-9", {
         "max_deviation": quantity(3.2e-9, "residual", "max |qdd(GRE) - qdd(multibody)| over the trajectory", "rad/s^2"),
         "tolerance": quantity(1e-7, "tolerance")},
@@ -179,7 +182,8 @@ def _results(rng):
 def _work_precision():
     rows = []
     for scene, scale in (("trolley-2R", 1.0), ("payload-7R", 3.0)):
-        for method, order, cost in (("RK45", 5, 1.0), ("DOP853", 8, 1.6), ("Radau", 5, 6.0), ("GRE-symplectic", 2, 0.4)):
+        methods = (("RK45", 5, 1.0), ("DOP853", 8, 1.6), ("Radau", 5, 6.0), ("GRE-symplectic", 2, 0.4))
+        for method, order, cost in methods:
             for k, rtol in enumerate([1e-3, 1e-5, 1e-7, 1e-9, 1e-11]):
                 seconds = cost * scale * 0.002 * (1e-3 / rtol) ** (1.0 / order)
                 rows.append({"scene": scene, "method": method, "rtol": rtol, "seconds": round(seconds, 6),
