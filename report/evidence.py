@@ -117,7 +117,7 @@ def bracket_figure(brackets, figs, result_name):
                 if None not in (s, lo, up):
                     points.append([s, up - lo])
         if points:
-            lines.append({"label": str(b.get("quantity") or _label(path)), "points": points})
+            lines.append({"label": str(b.get("quantity") or _label(path) or "extreme"), "points": points})
             unit = unit or _unit(b.get("lower")) or _unit(b.get("upper"))
     if not lines:
         return None

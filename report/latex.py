@@ -22,7 +22,8 @@ SECTIONS = ("section", "subsection", "subsubsection", "paragraph")
 ROMAN = {"\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "$": r"{\ttfamily\char36}", "&": r"\&", "#": r"\#",
          "%": r"\%",
          "_": r"{\ttfamily\char95}", "^": r"{\ttfamily\char94}", "~": r"{\ttfamily\char126}", "<": r"\textless{}",
-         ">": r"\textgreater{}", "|": r"\textbar{}", '"': r"{\ttfamily\char34}", "'": "'{}", "`": "`{}", "-": "-{}"}
+         ">": r"\textgreater{}", "|": r"\textbar{}", '"': r"{\ttfamily\char34}", "'": "'{}", "`": "`{}", "-": "-{}",
+         "!": "!{}", "?": "?{}"}
 TYPEWRITER = {c: rf"\char{ord(c)}{{}}" for c in "\\{}$&#%_^~<>|\""}
 TYPEWRITER.update({"'": r"\char13{}", "`": r"\char18{}", "-": "-{}", "!": "!{}", "?": "?{}"})
 SYMBOLS = {"\u2264": r"\le", "\u2265": r"\ge", "\u2260": r"\ne", "\u2248": r"\approx", "\u00d7": r"\times",
@@ -78,7 +79,7 @@ def _char(c, table, code):
     if c in table:
         return table[c]
     if c.isascii():
-        return c
+        return c if c.isprintable() else " "
     if c in SYMBOLS:
         return rf"\ensuremath{{{SYMBOLS[c]}}}"
     if c in TEXT:
@@ -146,7 +147,7 @@ def _table(table):
 
 
 def _code(block):
-    lines = block.text.split("\n")
+    lines = block.text.splitlines() or [""]
     body = "\\\\\n".join(r"\mbox{}" + _code_line(line) for line in lines)
     caption = rf"{{\small\itshape {escape(block.caption)}}}\par\nopagebreak" "\n" if block.caption else ""
     return f"{caption}\\begin{{codeblock}}\n{body}\n\\end{{codeblock}}"

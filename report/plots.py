@@ -105,7 +105,7 @@ def bracket(fig, data):
     _scale(ax, "y", [p[1] for line in data["lines"] for p in line["points"]])
     ax.set_xlabel("run time spent narrowing [s]")
     ax.set_ylabel(f"bracket width (upper - lower){unit}")
-    ax.legend(loc="best")
+    _legend(ax, loc="best")
     _fit(fig)
 
 
@@ -133,7 +133,7 @@ def constants(fig, data):
     ax.set_ylim(len(bounds) - 0.5, -0.5)
     ax.grid(False, axis="y")
     ax.set_xlabel("value of the constant (units of each bound)")
-    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=3)
+    _legend(ax, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=3)
     _fit(fig, legend_above=True)
 
 
@@ -156,7 +156,7 @@ def hunt(fig, data):
     unit = f" [{data['unit']}]" if data.get("unit") else ""
     ax.set_xlabel(f"margin{unit}" + (" (log scale)" if log else ""))
     ax.set_ylabel("examples")
-    ax.legend(loc="best")
+    _legend(ax, loc="best")
     _fit(fig)
 
 
@@ -175,8 +175,7 @@ def series(fig, data):
             _log(ax, axis, values)
     ax.set_xlabel(str(data.get("x_label", "")))
     ax.set_ylabel(str(data.get("y_label", "")))
-    if data["lines"]:
-        ax.legend(loc="best")
+    _legend(ax, loc="best")
     _fit(fig)
 
 
@@ -201,7 +200,7 @@ def work_precision(fig, data):
         ax.set_ylabel("error")
     for ax in axes.flat[len(scenes):]:
         ax.set_visible(False)
-    axes.flat[0].legend(loc="best")
+    _legend(axes.flat[0], loc="best")
     _fit(fig)
 
 
@@ -232,12 +231,17 @@ def stability(fig, data):
     ax.set_ylim(len(scenes) - 0.5, -0.5)
     ax.grid(False, axis="y")
     ax.set_xlabel("run time [s]")
-    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=min(4, len(methods) + 1))
+    _legend(ax, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=min(4, len(methods) + 1))
     _fit(fig, legend_above=True)
 
 
 DRAW = {"bracket": bracket, "constants": constants, "hunt": hunt, "series": series,
         "work_precision": work_precision, "stability": stability}
+
+
+def _legend(ax, **kwargs):
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(**kwargs)
 
 
 def _scale(ax, axis, values):
@@ -252,10 +256,12 @@ def _scale(ax, axis, values):
 def _log(ax, axis, values):
     from matplotlib import ticker
 
+    positive = [v for v in values if v > 0]
+    if not positive:
+        return
     getattr(ax, f"set_{axis}scale")("log")
     target = getattr(ax, f"{axis}axis")
-    positive = [v for v in values if v > 0]
-    decades = math.log10(max(positive) / min(positive)) if positive else 0
+    decades = math.log10(max(positive) / min(positive))
     target.set_major_locator(ticker.LogLocator(base=10, numticks=12))
     target.set_major_formatter(ticker.FuncFormatter(_power))
     if decades < 1.5:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -52,6 +53,6 @@ def _first_error(log):
     except OSError:
         return "no log written"
     for line in lines:
-        if line.startswith("!") or ":" in line and " error" in line.lower() and line.split(":", 2)[1].isdigit():
+        if line.startswith("!") or re.match(r"\S+\.tex:\d+: ", line):
             return line.strip()
     return "see the log"

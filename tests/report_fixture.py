@@ -23,6 +23,7 @@ from inertiaproof.result import Result, Verdict, quantity
 
 HOSTILE = ("</pre></code><script>alert(\"x\")</script> a<b && c>d 'single' \"double\" C:\\path\\to \\end{document} "
            "$x^2$ 100% a_b #1 {brace} ^caret ~tilde `tick` -- --- lambda=λ")
+ASCII = "".join(map(chr, range(32, 127)))
 LONG_CHECK = "Asm3/Thm5:scene:ur5-with-a-sliding-trolley-and-a-passenger-on-the-forearm-moving-at-2m-per-s"
 LONG_EXACT = "340282366920938463463374607431768211457/18446744073709551616000000000000000001"
 VIOLATED_FILE = "counterexamples/found/Thm4-3f9c2a1b7e.json"
@@ -160,10 +161,11 @@ def _results(rng):
         "constants": _constants(389.2, 455.0, 412.7),
         "margin": quantity(-23.5, "margin", "chi - sigma_max(M(q, Thetadot))"),
         "tolerance": quantity(1e-9, "tolerance"),
-        "note": HOSTILE},
+        "note": HOSTILE,
+        "every_ascii_character": ASCII},
         counterexample={"kind": "bound", "file": VIOLATED_FILE,
                         "data": {"id": "Thm4", "q": [0.3, -1.2, 2.9], "t": 1.75, "chain": "3R <planar> & \"friends\"",
-                                 "comment": HOSTILE}})
+                                 "comment": HOSTILE, "ascii": ASCII}})
     add("EQ-acc", "HOLDS", "||J^T Q^T Psidot|| <= dPsi* sup sigma_max(QJ) with ratio 0.62", {
         "constants": _constants(3.1, 2.4, 1.93, "N m")})
     add("Asm3/Thm5", "HOLDS", "sigma_max(H) <= sqrt(6N) Psi* max_p ... with ratio 0.18", {

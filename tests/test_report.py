@@ -5,17 +5,20 @@ import json
 import re
 import subprocess
 import sys
+import warnings
 from html.parser import HTMLParser
 
 import pytest
 import report_fixture
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from inertiaproof import catalog, cli, registry
 from inertiaproof.registry import CheckSpec, load_checks
-from inertiaproof.report import content, evidence, latex, load
+from inertiaproof.report import content, evidence, html, latex, load
 from inertiaproof.report.cli import build
 from inertiaproof.report.model import Notice
-from inertiaproof.result import Result, Verdict
+from inertiaproof.result import KINDS, Result, Verdict
 
 
 @pytest.fixture(scope="module")
@@ -212,3 +215,67 @@ def test_run_report_on_a_real_failing_run(tmp_path, capsys, violating_check):
     assert sections["EQ-geom"] == "HOLDS" and sections["Thm2"] == "VIOLATED" and sections["Thm4"] == "NOT RUN"
     tex = (out / "report.tex").read_text()
     assert tex.index("What failed") < tex.index("Every result at a glance")
+
+
+def quantity_of(value, kind="value"):
+    return {"value": value, "kind": kind}
+
+
+DEGENERATE = [
+    {"id": "Rem2", "verdict": "HOLDS", "summary": "equal margins",
+     "evidence": {"hunt": {"smallest_margin": quantity_of(1.0, "margin"), "margins": [1.0, 1.0, 1.0]}}},
+    {"id": "EQ-schur", "check": "EQ-schur:a", "verdict": "VIOLATED", "summary": "negative and junk margins",
+     "evidence": {"hunt": {"margins": [-1e-3, 0.5, 2, "nan", None]}}},
+    {"id": "EQ-schur", "check": "EQ-schur:b", "verdict": "HOLDS", "summary": "no margins",
+     "evidence": {"hunt": {"margins": []}}},
+    {"id": "Def2", "verdict": "HOLDS", "summary": "bracket closes to zero",
+     "evidence": {"bracket": {"lower": quantity_of(1.0), "convergence": [[0.1, 0.0, 2.0], [0.2, 1.0, 1.0], [1]]}}},
+    {"id": "Thm3", "verdict": "HOLDS", "summary": "odd constants",
+     "evidence": {"constants": {"paper": quantity_of("inf"), "certified": quantity_of(-2.0), "observed": 0}}},
+    {"id": "CX-sphere", "verdict": "HOLDS", "summary": "series with junk on log axes",
+     "evidence": {"series": {"x_log": True, "y_log": True, "lines": {"a": [[-1, 2], [0, 0], [1, 1]], "b": [],
+                                                                    "c": [[1, "x"], [2]]}}}},
+    {"id": "GRE-physics", "verdict": "HOLDS", "summary": "bad data files", "evidence": {},
+     "artifacts": ["data/work_precision.json", "data/stability.json", "data/other.json", "data/broken.json"]},
+]
+
+
+def test_degenerate_plot_data_still_makes_a_report(tmp_path):
+    (tmp_path / "data").mkdir()
+    (tmp_path / "data" / "work_precision.json").write_text(json.dumps(
+        [{"scene": "s", "method": "m", "seconds": 0, "error": 0}, {"method": "m", "seconds": 1, "error": "nan"}]))
+    (tmp_path / "data" / "stability.json").write_text(json.dumps({"rows": [{"scene": "a", "status": "failed"}]}))
+    (tmp_path / "data" / "other.json").write_text(json.dumps({"nested": {"a": {"b": 1}, "c": {"b": 2}}}))
+    (tmp_path / "data" / "broken.json").write_text("{nope")
+    doc = {"schema": "inertiaproof.results/1", "checks": DEGENERATE}
+    (tmp_path / "results.json").write_text(json.dumps(doc))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        build(tmp_path, pdf=False)
+    page = (tmp_path / "report.html").read_text()
+    assert "data/broken.json: not JSON" in page
+    assert page.count('<figure class="plot"') >= 6
+
+
+text = st.text(st.characters(codec="utf-8", exclude_categories=("Cs",)), max_size=30)
+json_values = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.floats(allow_nan=False, allow_infinity=False) | text
+    | st.builds(quantity_of, st.floats(allow_nan=False) | text, st.sampled_from(sorted(KINDS))),
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(text, inner, max_size=4), max_leaves=20)
+
+
+@settings(max_examples=40, deadline=None)
+@given(evidence=st.dictionaries(text, json_values, max_size=5), summary=text, note=text)
+def test_any_evidence_renders_escaped(evidence, summary, note):
+    doc = {"schema": "inertiaproof.results/1", "checks": [
+        {"id": "Prop1", "check": "Prop1:" + note, "verdict": "INCONCLUSIVE", "summary": summary,
+         "evidence": evidence, "counterexample": {"kind": note, "data": evidence, "file": note}}]}
+    document = content.build(doc, {})
+    svgs = {f.key: "<svg></svg>" for f in document.figures()}
+    page = parse(html.render(document, svgs))
+    assert "script" not in [t for t, _ in page.tags]
+    assert " ".join(summary.split()) in " ".join("".join(page.text).split())
+    tex = latex.render(document)
+    body = re.sub(r"\\[{}]", "", tex[tex.index(r"\begin{document}"):])
+    assert tex.count(r"\begin{") == tex.count(r"\end{") and body.count("{") == body.count("}")
+    assert not re.search(r"[\x00-\x08\x0b-\x1f\x7f]", tex)

@@ -80,6 +80,8 @@ def test_hostile_strings_print_as_themselves(pdf):
     in_prose = squeeze(report_fixture.HOSTILE).replace("'", "\u2019").replace("`", "\u2018")
     assert in_prose in flat
     assert squeeze(report_fixture.LONG_EXACT) in flat
+    assert squeeze(json.dumps(report_fixture.ASCII)) in flat
+    assert squeeze(report_fixture.ASCII).replace("'", "\u2019").replace("`", "\u2018") in flat
 
 
 def test_fonts_are_vector_and_figures_truetype(pdf):
@@ -109,3 +111,13 @@ def test_first_page_shows_the_failure_in_red(pdf):
     red = sum(count for count, (r, g, b) in image.crop((0, 0, width, height // 2)).getcolors(1 << 20)
               if r > 140 and g < 80 and b < 70)
     assert red > 200, "no red 'What failed' rule and title in the top half of page 1"
+
+
+def test_a_latex_error_names_the_log_and_the_line(tmp_path):
+    tex = tmp_path / "report.tex"
+    tex.write_text("\\documentclass{article}\n\\begin{document}\n\\undefinedmacro\n\\end{document}\n")
+    with pytest.raises(typeset.TypesetError) as caught:
+        typeset.pdf(tex)
+    message = str(caught.value)
+    assert "report.tex:3: Undefined control sequence" in message and str(tmp_path / "report.log") in message
+    assert not (tmp_path / "report.pdf").exists() and not (tmp_path / "report.aux").exists()
