@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from html import escape
 from importlib import resources
 
@@ -50,13 +51,21 @@ def _block(block, svgs):
         caption = f'<div class="code-caption">{escape(block.caption)}</div>' if block.caption else ""
         return f'<div class="code">{caption}<pre>{escape(block.text)}</pre></div>'
     if isinstance(block, Figure):
-        return (f'<figure class="plot" id="{escape(block.key)}" data-plot="{escape(block.kind)}">\n{svgs[block.key]}\n'
+        return (f'<figure class="plot" id="{escape(block.key)}" data-plot="{escape(block.kind)}">\n'
+                f"{_inline_svg(svgs[block.key], block.caption)}\n"
                 f"<figcaption><strong>Figure {block.number}.</strong> {escape(block.caption)}</figcaption>\n</figure>")
     if isinstance(block, Notice):
         inner = "\n".join(_block(b, svgs) for b in block.blocks)
         return (f'<div class="notice tone-{_css(block.tone)}">\n<p class="notice-title">{escape(block.title)}</p>\n'
                 f"{inner}\n</div>")
     raise TypeError(f"no HTML for {type(block).__name__}")
+
+
+def _inline_svg(svg, caption):
+    """An SVG document as an element of the page: no XML prolog or metadata, labelled for screen readers."""
+    svg = svg[svg.index("<svg"):]
+    svg = re.sub(r"\s*<metadata>.*?</metadata>", "", svg, flags=re.S)
+    return svg.replace("<svg ", f'<svg role="img" aria-label="{escape(caption)}" ', 1).strip()
 
 
 def _table(table):

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import io
 import math
-import re
 
 WIDTH = 6.4
 STYLE = {
@@ -46,10 +45,9 @@ SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074
 
 
 def render(figures, pdf_path):
-    """{figure key: <svg> element} for HTML, and the same drawings as the pages of one PDF at pdf_path (LaTeX).
+    """{figure key: SVG document} for HTML, and the same figures as the pages of one PDF at pdf_path (LaTeX).
 
-    Each figure is laid out once (constrained layout, while saving the SVG) and then saved again as a PDF page with
-    that layout frozen; the PDF embeds its fonts once for all pages.
+    One drawing per figure serves both formats; the PDF embeds its fonts once for all pages.
     """
     import matplotlib
     from matplotlib.backends.backend_pdf import PdfPages
@@ -61,17 +59,9 @@ def render(figures, pdf_path):
             with matplotlib.rc_context({"svg.hashsalt": figure.key}):
                 out = io.StringIO()
                 fig.savefig(out, format="svg", metadata=METADATA["svg"])
-            svgs[figure.key] = _inline(out.getvalue(), figure.caption)
-            fig.set_layout_engine("none")
+            svgs[figure.key] = out.getvalue()
             pages.savefig(fig)
     return svgs
-
-
-def _inline(text, caption):
-    text = text[text.index("<svg"):]
-    text = re.sub(r"\s*<metadata>.*?</metadata>", "", text, flags=re.S)
-    label = caption.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;").replace(">", "&gt;")
-    return text.replace("<svg ", f'<svg role="img" aria-label="{label}" ', 1).strip()
 
 
 def thin(points, most=MAX_POINTS):
