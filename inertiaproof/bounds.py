@@ -44,13 +44,15 @@ ROUNDING = 64.0  # rounding allowance of a computed eigenvalue, in units of eps 
 # -- the configuration domain ---------------------------------------------------
 
 def certification_obstacle(chain):
-    """Why no certified configuration bracket exists for this chain (None if one does)."""
+    """Why no certified configuration bracket exists for this chain (None if one does).
+
+    The first joint may slide without limits: QJ does not depend on its coordinate."""
     for k, joint in enumerate(chain.joints):
         if joint.coordinate.name != "identity" and k > 0:
             return f"joint {k + 1} maps its coordinate by {joint.coordinate.name!r}: QJ is no trigonometric polynomial"
         if joint.coordinate.name != "identity" and k == 0:
             return "the first joint's coordinate map is not the identity"
-        if not joint.revolute and joint.limits is None:
+        if not joint.revolute and joint.limits is None and k > 0:
             return f"joint {k + 1} slides without limits: the configuration domain is unbounded"
     return None
 
@@ -240,8 +242,8 @@ def apriori_jacobian_blocks(chain):
     the sum of the translations of the fixed transforms and of the slides between.
     """
     lengths = []
-    for joint in chain.joints:
-        slide = 0.0 if joint.revolute else max(abs(joint.limits[0]), abs(joint.limits[1]))
+    for joint in chain.joints:  # a first joint's slide never enters a lever (it moves the joint points too)
+        slide = 0.0 if joint.revolute or joint.limits is None else max(abs(joint.limits[0]), abs(joint.limits[1]))
         lengths.append((np.linalg.norm(joint.before[:3, 3]), np.linalg.norm(joint.after[:3, 3]), slide))
     out = np.zeros(chain.bodies)
     for l in range(chain.n):
@@ -392,7 +394,7 @@ def _theta_at(trajectory, s, ds):
     theta = trajectory.base.astype(float).copy()
     dot = np.zeros_like(theta)
     for load, si, k in zip(trajectory.loads, s, range(len(s))):
-        if isinstance(load, Scaling):
+        if isinstance(load, Scaling) and np.isfinite(si):
             dsi = 0.0 if ds is None else ds[k]
             theta[load.body], dot[load.body] = si * theta[load.body], dsi * theta[load.body] + si * dot[load.body]
     for load, si, k in zip(trajectory.loads, s, range(len(s))):
@@ -415,7 +417,7 @@ def _moving_mass_terms(load):
     """Certified bounds of one moving mass: sup ||f(Phi_p)||, sup sigma(f(Phidot_p)), Psi*, dPsi*."""
     cmax, d1, d2 = _path_geometry(load.path)
     m = load.mass
-    rate, acc = load.profile.rate_bound(), profile_acceleration_bound(load.profile)
+    rate, acc = load.path.profile.rate_bound(), profile_acceleration_bound(load.path.profile)
     sigma_c = 0.5 * np.trace(load.inertia_com) * np.eye(3) - load.inertia_com
     lever = np.sqrt(1 + cmax**2)
     return {
@@ -454,17 +456,17 @@ def time_extreme(trajectory, name, *, samples=2001, horizon=None):
     verts = parameter_vertices(trajectory)
     if verts is not None:
         stack = verts[1] if rate else verts[0]
-        with np.errstate(invalid="ignore"):
-            cvals = spectral(build(np.nan_to_num(stack, nan=np.inf)), kind) if np.all(np.isfinite(stack)) else None
-        if cvals is None:
-            certified = -np.inf if sense == "min" else np.inf
-            how = "a profile is unbounded on the span: the extreme is not finite"
-            if sense == "min":
-                certified = 0.0 if kind == "lmin" else certified
-        else:
+        finite = np.all(np.isfinite(stack), axis=(-2, -1))
+        cvals = spectral(build(stack[finite]), kind)
+        if finite.all():
             certified = float(cvals.min() if sense == "min" else cvals.max())
             how = ("exact: the extreme over t is at an end of the segment Theta_base + s Phi_load (one load per body)"
                    if len(trajectory.loads) <= 1 else "the hull of the loads' segments (an outer bound)")
+        elif sense == "min":
+            certified = float(cvals.min())
+            how = "a scaling grows without bound on the span; growth of a consistent body only raises lambda_min"
+        else:
+            certified, how = np.inf, "a profile grows without bound on the span: the supremum is infinite"
     else:
         certified, how = _moving_mass_bound(trajectory, name), "positivity of the loads and their rate bounds"
     return {"observed": observed, "certified": certified, "witness_time": float(t[ti]), "body": int(body), "how": how,
