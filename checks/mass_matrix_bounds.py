@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from inertiaproof import bounds, robots
-from inertiaproof.bound_cases import lower_bound_case, upper_bound_case
+from inertiaproof.bound_cases import lower_bound_case, replay_bracket, upper_bound_case
 from inertiaproof.bound_check import replay_point
 from inertiaproof.inertia import pseudo_inertia, spatial_inertia
 from inertiaproof.positive_map import key_step_certificate
@@ -131,3 +131,15 @@ def replay_bound_point(data, ctx):
     verdict = Verdict.VIOLATED if slack < -1e-9 else Verdict.HOLDS
     return Result(data["id"], verdict, f"pointwise inequality with factor {data['factor']:g}: lhs {lhs:.6g}, "
                   f"rhs {rhs:.6g}, relative slack {slack:.3g}", {"slack": quantity(slack, "margin")})
+
+
+@replayer("bound-bracket")
+def replay_bound_bracket(data, ctx):
+    value, bound = replay_bracket(data)
+    beyond = value > bound if data["sense"] == "upper" else value < bound
+    tol = 1e-9 * (abs(value) + abs(bound))
+    verdict = Verdict.VIOLATED if beyond and abs(value - bound) > tol else Verdict.HOLDS
+    return Result(data["id"], verdict, f"at the witness the left-hand side is {value:.6g}; the constant (factor "
+                  f"{data['factor']:g}) is at most {bound:.6g}" if data["sense"] == "upper" else
+                  f"at the witness the left-hand side is {value:.6g}; the constant (factor {data['factor']:g}) is at "
+                  f"least {bound:.6g}", {"value": quantity(value, "value"), "bound": quantity(bound, "upper_bound")})

@@ -13,7 +13,7 @@ import numpy as np
 
 from . import bounds
 from .dynamics import mass_matrix
-from .bound_check import constants_evidence, judge, pointwise_margin, point_counterexample, state_at
+from .bound_check import chain_to_data, constants_evidence, judge, pointwise_margin, point_counterexample, state_at
 from .extremes import Bracket, local_search
 from .positive_map import key_step_certificate
 from .result import quantity
@@ -59,7 +59,7 @@ def key_step_ok():
 
 
 def case_result(check_id, scene, sense, lhs, constant_lo, constant_hi, k, proof_factor, slack, cx, count,
-                paper, certified, certified_how, paper_note, extra):
+                paper, certified, certified_how, paper_note, extra, replay=None):
     """Verdict and evidence of one bound on one scene."""
     verdict, why = judge(sense, lhs, constant_lo, constant_hi, proof_covers=key_step_ok() and (
         k >= proof_factor if sense == "upper" else k <= proof_factor), pointwise_slack=slack)
@@ -79,10 +79,10 @@ def case_result(check_id, scene, sense, lhs, constant_lo, constant_hi, k, proof_
     }
     counterexample = cx if verdict.value == "VIOLATED" and slack < 0 else None
     if verdict.value == "VIOLATED" and counterexample is None:
-        counterexample = {"kind": "bound-bracket", "data": {"id": check_id, "scene": scene.name, "factor": k,
-                                                             "witness": np.asarray(lhs.witness).tolist(),
-                                                             "observed": lhs.observed, "constant_upper": constant_hi,
-                                                             "constant_lower": constant_lo}}
+        counterexample = {"kind": "bound-bracket", "data": {
+            "id": check_id, "scene": scene.name, "factor": k, "sense": sense, "chain": chain_to_data(scene.chain),
+            "witness": np.asarray(lhs.witness).tolist(), "observed": lhs.observed, "constant_upper": constant_hi,
+            "constant_lower": constant_lo, **{key: np.asarray(v).tolist() for key, v in (replay or {}).items()}}}
     return verdict, why, evidence, counterexample
 
 
@@ -136,7 +136,7 @@ def lower_bound_case(ctx, scene, k=1.0):
         "gamma": gamma.evidence()}}
     return case_result("Thm2", scene, "lower", lhs, c_lo, c_hi, k, 1.0, slack, cx, count, paper, certified, how,
                        "alpha1 = min_l inf_t lambda_min(f) * inf_q lambda_min((QJ)^T QJ), ingredients at their "
-                       "observed extremes", extra)
+                       "observed extremes", extra, replay={"thetas": _stack(traj, False), "spectral": "lmin"})
 
 
 def upper_bound_case(ctx, scene, k=1.0):
@@ -168,7 +168,7 @@ def upper_bound_case(ctx, scene, k=1.0):
         "sup_sigma_max_QJ": sigma.evidence()}}
     return case_result("Thm3", scene, "upper", lhs, c_lo, c_hi, k, 1.0, slack, cx, count, paper, certified, how,
                        "alpha2 = 2 max_l sup_t lambda_max(f) * sup_q sigma_max(QJ)^2, ingredients at their observed "
-                       "extremes", extra)
+                       "extremes", extra, replay={"thetas": _stack(traj, False), "spectral": "lmax"})
 
 
 def _time_quantities(d, what):
@@ -216,7 +216,8 @@ def rate_case(ctx, scene, k=1.0):
                                                "at F = I4; the block-diagonal stack needs no sqrt(N)"),
                          "ratio": quantity(root / 2, "ratio", "paper factor / sharp factor")}}
     return case_result("Thm4", scene, "upper", lhs, c_lo, c_hi, k, 2 / root, slack, cx, count, paper, certified, how,
-                       "chi = sqrt(69 N) max_l sup_t sigma_max(f(Phidot_l)) sup_q sigma_max(QJ)^2", extra)
+                       "chi = sqrt(69 N) max_l sup_t sigma_max(f(Phidot_l)) sup_q sigma_max(QJ)^2", extra,
+                       replay={"thetas": _stack(traj, True), "spectral": "absmax"})
 
 
 def _qt_bracket(value, ctx, scene, name, note, certified):
@@ -255,7 +256,8 @@ def acceleration_case(ctx, scene, k=1.0):
                        min(lhs.upper, c_hi / k if k else np.inf),
                        "dPsi* sup_q sigma_max(QJ) with certified ingredients: the step ||A^T x|| <= sigma_max(A) ||x|| "
                        "is sharp over the directions of Psidot",
-                       "dPsi* sup_q sigma_max(QJ), ingredients at their observed extremes", extra)
+                       "dPsi* sup_q sigma_max(QJ), ingredients at their observed extremes", extra,
+                       replay={"psi_dot": traj.psi(np.array(t_worst))[1]})
 
 
 def lumped_velocity_case(ctx, scene, k=1.0):
@@ -286,4 +288,34 @@ def lumped_velocity_case(ctx, scene, k=1.0):
     return case_result("Asm3/Thm5", scene, "upper", lhs, c_lo, c_hi, k, 1 / root, slack, cx, count, paper,
                        min(sharp, lhs.upper),
                        "Psi* sup_q (sum_p sigma_max(Y_p(q))^2)^(1/2): Cauchy-Schwarz before the max over p",
-                       "sqrt(6N) Psi* max_p sup_q sigma_max(Y_p), ingredients at their observed extremes", extra)
+                       "sqrt(6N) Psi* max_p sup_q sigma_max(Y_p), ingredients at their observed extremes", extra,
+                       replay={"psi": traj.psi(np.array(t_worst))[0]})
+
+
+def _stack(traj, rate):
+    """The parameter sets the left-hand side was taken over: the segment ends, or 64 sampled times."""
+    verts = bounds.parameter_vertices(traj)
+    if verts is not None:
+        return verts[1] if rate else verts[0]
+    _, (thetas, dots) = time_stack(traj)
+    return dots if rate else thetas
+
+
+def replay_bracket(data):
+    """(observed value at the witness, the constant's bound it was compared with) recomputed from a saved file."""
+    from .bound_check import chain_from_data
+    from .dynamics import lumped_acceleration_force, lumped_velocity_matrix
+
+    chain = chain_from_data(data["chain"])
+    q = np.asarray(data["witness"], float)[None]
+    if "thetas" in data:
+        m = mass_matrix(chain.body_jacobian(q)[:, None], np.asarray(data["thetas"], float)[None])
+        vals = bounds.spectral(m, data["spectral"])[0]
+        value = vals.min() if data["spectral"] == "lmin" else vals.max()
+    elif "psi_dot" in data:
+        value = np.linalg.norm(lumped_acceleration_force(chain.body_jacobian(q), np.asarray(data["psi_dot"])[None]))
+    else:
+        h = lumped_velocity_matrix(chain.body_jacobian_derivative(q), np.asarray(data["psi"])[None])
+        value = np.linalg.svd(h, compute_uv=False)[0, 0]
+    bound = data["constant_upper"] if data["sense"] == "upper" else data["constant_lower"]
+    return float(value), float(bound)

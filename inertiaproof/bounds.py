@@ -394,9 +394,10 @@ def _theta_at(trajectory, s, ds):
     theta = trajectory.base.astype(float).copy()
     dot = np.zeros_like(theta)
     for load, si, k in zip(trajectory.loads, s, range(len(s))):
-        if isinstance(load, Scaling) and np.isfinite(si):
+        if isinstance(load, Scaling):  # an unbounded s leaves non-finite entries, which callers leave out
             dsi = 0.0 if ds is None else ds[k]
-            theta[load.body], dot[load.body] = si * theta[load.body], dsi * theta[load.body] + si * dot[load.body]
+            with np.errstate(invalid="ignore"):
+                theta[load.body], dot[load.body] = si * theta[load.body], dsi * theta[load.body] + si * dot[load.body]
     for load, si, k in zip(trajectory.loads, s, range(len(s))):
         if isinstance(load, Payload):
             theta[load.body] += si * load.phi
