@@ -11,7 +11,8 @@ inf or sup of ``value`` over the box [lo, hi] from both sides:
   worst bound over the boxes that are left is certified for the whole box.
 
 Both sides are recorded against run time in ``convergence`` so the narrowing
-can be plotted. Everything is batched over configurations; the only Python
+can be plotted. The budget ``refine_s`` is turned into a number of rounds
+(``ROUNDS_PER_SECOND``), so the bracket is the same for a given seed on any machine. Everything is batched over configurations; the only Python
 loop is over refinement rounds.
 """
 
@@ -23,6 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .result import quantity
+
+ROUNDS_PER_SECOND = 600  # refinement rounds (times 2^d) per second of budget: a count, so that a seed gives the same bracket
 
 
 @dataclass
@@ -132,7 +135,10 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
     certified = sign * float(np.min(bounds))
     record(certified)
     last_report = start
-    while time.perf_counter() - start < refine_s and len(bounds):
+    rounds = 0
+    budget = max(1, int(refine_s * ROUNDS_PER_SECOND / 2.0 ** free.sum()))  # a box's vertices cost 2^d
+    while rounds < budget and len(bounds):
+        rounds += 1
         # boxes that cannot beat the observed value are done
         keep = bounds < sign * best
         centres, radii, bounds = centres[keep], radii[keep], bounds[keep]
