@@ -65,6 +65,7 @@ class Group:
 @dataclass(frozen=True)
 class SerialChain:
     name: str  # "base -> leaf"
+    base: str  # anchor of the base group the chain starts from
     chain: Chain
     theta: np.ndarray  # (n, 10), body l's Phi in its frame
     bodies: tuple  # of Group, one per joint
@@ -143,4 +144,4 @@ def _chains(robot, groups, group_of, pose_in_anchor, children, parent_joint):
                                       limits=limits, name=joint.name))
         name = f"{base} -> {anchor}"
         bodies = tuple(groups[j.child] for j in path)
-        yield SerialChain(name, Chain(tuple(chain_joints), name=name), np.stack([b.phi for b in bodies]), bodies)
+        yield SerialChain(name, base, Chain(tuple(chain_joints), name=name), np.stack([b.phi for b in bodies]), bodies)

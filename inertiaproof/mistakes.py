@@ -9,8 +9,10 @@ Patterns, read off the numbers as written:
 - ``all_entries_equal`` (the six entries equal: a placeholder; the matrix
   a 11^T has rank one, so its triangle inequality fails).
 
-Hypotheses, tested on a link that is not consistent and has m > 0 by asking
-``physical_consistency`` whether the corrected numbers are consistent:
+Hypotheses, tested on a link that is inconsistent and has m > 0 by asking
+``physical_consistency`` whether the corrected numbers are consistent (a
+degenerate link is not tested: almost any change lifts it off the boundary,
+so a hit would explain nothing):
 
 - ``parallel_axis``: the inertia was shifted away from the CoM, e.g. taken
   about the link origin with the parallel-axis term subtracted instead of
@@ -27,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .consistency import CONSISTENT, physical_consistency
+from .consistency import CONSISTENT, INCONSISTENT, physical_consistency
 from .inertia import pack, skew
 
 NEGLIGIBLE = 1e-12
@@ -95,6 +97,10 @@ def _describe(hypothesis, hits, mass, offset):
             "text": f"one entry off by a power of ten? consistent with {words[0]}{more}"}
 
 
+def _testable(mass, verdict):
+    return verdict == INCONSISTENT and mass > 0
+
+
 def diagnose(mass, inertia, offset, verdict):
     """Signs per link: ``mass`` (N,), ``inertia`` (N, 3, 3) about the CoM as written,
     ``offset`` (N, 3) the CoM in inertial axes, ``verdict`` (N,) codes of the as-written Phi.
@@ -104,14 +110,14 @@ def diagnose(mass, inertia, offset, verdict):
     """
     owners, records, phis = [], [], []
     for k in range(len(mass)):
-        if verdict[k] == CONSISTENT or not mass[k] > 0:
+        if not _testable(mass[k], verdict[k]):
             continue
         for hypothesis, detail, fixed in _candidates(mass[k], inertia[k], offset[k]):
             owners.append(k)
             records.append((hypothesis, detail, fixed))
             phis.append(pack(mass[k], np.zeros(3), fixed))
     found = [_patterns(mass[k], inertia[k]) for k in range(len(mass))]
-    tested = [[] if verdict[k] == CONSISTENT or not mass[k] > 0 else list(HYPOTHESES) for k in range(len(mass))]
+    tested = [list(HYPOTHESES) if _testable(mass[k], verdict[k]) else [] for k in range(len(mass))]
     if phis:
         check = physical_consistency(np.array(phis), margins=False)
         hits = {}
