@@ -37,6 +37,17 @@ from .urdf import read_urdf
 
 SCHEMA = "inertiaproof.audit/1"
 BOUNDS_MODES = ("arms", "all", "none")
+# per chain, far below the check profiles: a sweep audits dozens of chains in one call
+BUDGET = {"ci": {"samples": 512, "refine_s": 0.05}, "deep": {"samples": 20000, "refine_s": 5.0}}
+
+
+def audit_profile(name):
+    """The registry's profile ``name`` with the audit's per-chain budget (samples, refine_s)."""
+    from dataclasses import replace
+
+    from .registry import PROFILES
+
+    return replace(PROFILES[name], **BUDGET.get(name, {}))
 
 
 # -- the hook the bounds module replaces -------------------------------------
@@ -136,6 +147,7 @@ def audit_robot(robot, *, profile, bounds="arms", floating_base=False, slack=DEF
         "not_consistent": not_consistent,
         "left_out_joints": [{"joint": name, "type": kind, "reason": f"{kind} joints are reported and left out; "
                              "their child is treated as a fixed base"} for name, kind in tree.left_out],
+        "mimic_joints": [{"joint": j.name, "mimics": j.mimic} for j in robot.joints if j.mimic is not None],
         "counts": {label: int(np.sum(verdicts.verdict == code)) for code, label in enumerate(LABELS)},
         "links": link_out,
         "bodies": body_out,
@@ -262,26 +274,29 @@ def configure(parser):
 
 def main(args):
     from .audit_text import format_audit
-    from .registry import PROFILES
 
     if not 0 < args.repair_slack < 1:
         raise InputError(f"--repair-slack must lie in (0, 1), got {args.repair_slack}")
     start = time.perf_counter()
-    options = dict(profile=PROFILES[args.profile], bounds=args.bounds, floating_base=args.floating_base,
+    options = dict(profile=audit_profile(args.profile), bounds=args.bounds, floating_base=args.floating_base,
                    slack=args.repair_slack, seed=args.seed)
-    files = audit_paths(args.paths, **options)
+    with np.errstate(all="ignore"):  # values up to the reader's range overflow inside margins; verdicts fall back to LAPACK
+        files = audit_paths(args.paths, **options)
     doc = document(files, profile=args.profile, seed=args.seed, bounds=args.bounds, floating_base=args.floating_base,
                    slack=args.repair_slack, runtime_s=time.perf_counter() - start)
     for f in files.values():
         if f["status"] == "error":
             print(f"inertiaproof: error: {f['error']}", file=sys.stderr)
     if args.json:
-        print(json.dumps(doc, indent=1, allow_nan=False))
+        print(json.dumps(doc, allow_nan=False))
     else:
         print(format_audit(doc))
     if args.html:
         from .audit_html import render
 
-        Path(args.html).write_text(render(doc))
+        try:
+            Path(args.html).write_text(render(doc))
+        except OSError as exc:
+            raise InputError(f"{args.html}: cannot write: {exc.strerror}") from None
         print(f"html: {args.html}", file=sys.stderr if args.json else sys.stdout)
     return doc["summary"]["exit_status"]

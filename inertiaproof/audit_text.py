@@ -25,6 +25,9 @@ def format_file(path, f):
            f"{', serial arm' if f['serial_arm'] else ''}: {state}"]
     for j in f["left_out_joints"]:
         out.append(f"  left out: joint {j['joint']} ({j['type']}): {j['reason']}")
+    if f["mimic_joints"]:
+        out.append(f"  mimic joints, treated as independent coordinates (as Pinocchio's URDF reader does by default): "
+                   f"{', '.join(m['joint'] + ' (' + m['mimics'] + ')' for m in f['mimic_joints'])}")
     width = max(len(name) for name in links)
     roles = {name: _role(link) for name, link in links.items()}
     role_width = max(len(r) for r in roles.values())

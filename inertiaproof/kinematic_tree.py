@@ -92,7 +92,6 @@ def kinematic_tree(robot):
     for joint in robot.joints:
         children.setdefault(joint.parent, []).append(joint)
         parent_joint[joint.child] = joint
-    phi = {link.name: link.phi for link in robot.links}
     root = next(link.name for link in robot.links if link.name not in parent_joint)
 
     members, group_of, pose_in_anchor = {}, {}, {}
@@ -107,12 +106,14 @@ def kinematic_tree(robot):
             else:
                 stack.append((joint.child, joint.child, np.eye(4)))
 
+    names = [link.name for link in robot.links]
+    in_anchor = dict(zip(names, phi_in_frame(robot.link_phis(), np.stack([pose_in_anchor[n] for n in names]))))
     groups = {}
     for anchor, links in members.items():
         joint = parent_joint.get(anchor)
         moved_by = joint.name if joint is not None and joint.type in MOVABLE else None
         poses = np.stack([pose_in_anchor[link] for link in links])
-        total = phi_in_frame(np.stack([phi[link] for link in links]), poses).sum(axis=0)
+        total = np.sum([in_anchor[link] for link in links], axis=0)
         groups[anchor] = Group(anchor, moved_by, tuple(links), poses, total)
 
     left_out = tuple((j.name, j.type) for j in robot.joints if j.type in LEFT_OUT)

@@ -45,7 +45,7 @@ def singularity(chain, theta, body_verdicts, body_names, bounds=None):
               "argument": f"bodies {', '.join(bad)} are not consistent, so the structural argument does not apply"}
     low = (bounds or {}).get("lambda_min")
     tolerance = (bounds or {}).get("resolution", {}).get("value")
-    if low is None or tolerance is None:
+    if low is None or not isinstance(low["value"], float) or not isinstance(tolerance, float):
         return answer
     if low["kind"] == "lower_bound" and low["value"] > 0:
         answer.update(verdict="never", argument=f"certified lambda_min(M) >= {low['value']:.3g} > 0 over the limits")

@@ -29,6 +29,8 @@ import numpy as np
 from .errors import InputError
 from .inertia import from_urdf, pack, urdf_inertia
 
+# |x| <= 1e60 keeps every product of five inputs (M(q) sums m |c|^2 terms) finite in float64
+LARGEST = 1e60
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 INERTIA_ATTRIBUTES = ("ixx", "iyy", "izz", "ixy", "iyz", "ixz")
 
@@ -90,6 +92,16 @@ class Robot:
     def link(self, name):
         return next(link for link in self.links if link.name == name)
 
+    def link_phis(self):
+        """Phi of every link in its link frame (N, 10), zero for a link without <inertial>; batched."""
+        phis = np.zeros((len(self.links), 10))
+        rows = [k for k, link in enumerate(self.links) if link.inertial is not None]
+        if rows:
+            written = [self.links[k].inertial for k in rows]
+            phis[rows] = from_urdf(np.array([w.mass for w in written]), np.array([w.com for w in written]),
+                                   np.array([w.inertia for w in written]), np.array([w.rotation for w in written]))
+        return phis
+
 
 def read_urdf(path):
     """The robot in a URDF file; raises InputError with one line naming the bad element."""
@@ -131,20 +143,25 @@ def _where(element):
 def _numbers(element, attribute, count, path, default=None):
     """``count`` finite floats from a whitespace-separated attribute."""
     raw = element.get(attribute)
-    tag = f"{_where(element)}: <{element.tag}>"
+
+    def error(problem):
+        return InputError(f"{path}: {_where(element)}: <{element.tag}> {problem}")
+
     if raw is None:
         if default is None:
-            raise InputError(f"{path}: {tag} misses attribute '{attribute}'")
+            raise error(f"misses attribute '{attribute}'")
         return default
     parts = raw.split()
     if len(parts) != count:
-        raise InputError(f"{path}: {tag} attribute {attribute}=\"{raw}\" needs {count} number{'s' * (count > 1)}")
+        raise error(f"attribute {attribute}=\"{raw}\" needs {count} number{'s' * (count > 1)}")
     try:
         values = tuple(float(p) for p in parts)
     except ValueError:
-        raise InputError(f"{path}: {tag} attribute {attribute}=\"{raw}\" is not a number") from None
+        raise error(f"attribute {attribute}=\"{raw}\" is not a number") from None
     if not all(math.isfinite(v) for v in values):
-        raise InputError(f"{path}: {tag} attribute {attribute}=\"{raw}\" is not finite")
+        raise error(f"attribute {attribute}=\"{raw}\" is not finite")
+    if not all(abs(v) <= LARGEST for v in values):
+        raise error(f"attribute {attribute}=\"{raw}\" is out of range (|x| <= {LARGEST:g})")
     return values
 
 

@@ -1,25 +1,29 @@
 """The audit: signs of authoring mistakes, the convex repair, singularity, bounds hook, CLI contract, real robots."""
 
+import io
 import json
 import time
+import warnings
+from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from inertiaproof import cli
-from inertiaproof.audit import audit_paths, chain_bounds, is_serial_arm
+from inertiaproof.audit import audit_paths, audit_profile, chain_bounds, is_serial_arm
 from inertiaproof.consistency import CONSISTENT, DEGENERATE, INCONSISTENT, LABELS, physical_consistency
 from inertiaproof.dynamics import mass_matrix
 from inertiaproof.inertia import pack, rotation_rpy, skew
 from inertiaproof.kinematic_tree import kinematic_tree
 from inertiaproof.mistakes import diagnose
-from inertiaproof.registry import PROFILES
 from inertiaproof.repair import nearest_consistent_inertia
 from inertiaproof.singular import singularity
 from inertiaproof.urdf import read_urdf
 from urdf_samples import inertial, joint, link, robot, robots_folder, two_link_arm, write
 
-CI = PROFILES["ci"]
+CI = audit_profile("ci")
 ALLEGRO_TIP = np.array([[4.701248e-06, 1.255968e-06, 1.2936e-06],
                         [1.255968e-06, 3.649312e-06, 1.7622e-06],
                         [1.2936e-06, 1.7622e-06, 4.701248e-06]])
@@ -245,6 +249,18 @@ def test_link_verdicts_use_the_wording_of_inertiaproof_inertia(tmp_path, capsys)
     for name, entry in doc["files"][str(path)]["links"].items():
         expected = next(physical_consistency(r.link(name).inertial.phi_at_com).rows())
         assert {k: entry[k] for k in expected} == expected
+
+
+@given(st.lists(st.floats(min_value=-1e3, max_value=1e3) | st.sampled_from([0.0, 1e-300, -1e-30, 1e60, -1e60]),
+                min_size=7, max_size=7))
+def test_any_numbers_in_range_give_a_verdict_never_a_crash(tmp_path_factory, numbers):
+    second = inertial(numbers[0], "0.1 0 0", "0 0 0", *numbers[1:])
+    path = write(tmp_path_factory.mktemp("fuzz"), two_link_arm(second=second))
+    out, err = io.StringIO(), io.StringIO()
+    with warnings.catch_warnings(record=True) as caught, redirect_stdout(out), redirect_stderr(err):
+        warnings.simplefilter("always")
+        code = cli.main(["audit", str(path), "--bounds", "all"])
+    assert code in (0, 1) and err.getvalue() == "" and not caught
 
 
 # -- real robots ------------------------------------------------------------------------

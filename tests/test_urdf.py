@@ -25,6 +25,7 @@ BAD_FILES = {
                      r"link 'a': <inertial> misses <mass>"),
     "nan inertia": (robot(link("a", inertial(ixx="nan"))), r"link 'a': <inertia> attribute ixx=\"nan\" is not finite"),
     "text mass": (robot(link("a", inertial(mass="heavy"))), r"link 'a': <mass> attribute value=\"heavy\" is not a number"),
+    "huge value": (robot(link("a", inertial(izz="1.7e308"))), r"link 'a': <inertia> attribute izz=\"1.7e308\" is out of range"),
     "short origin": (robot(link("a", inertial(xyz="0 1"))), r"link 'a': <origin> attribute xyz=\"0 1\" needs 3 numbers"),
     "inf joint origin": (robot(link("a"), link("b"), joint("j", "a", "b", xyz="0 inf 0")),
                          r"joint 'j': <origin> attribute xyz=\"0 inf 0\" is not finite"),
