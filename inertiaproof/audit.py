@@ -164,8 +164,8 @@ def _repair(mass, inertia, slack):
             change_spectral=quantity(r.change_spectral, "value", "||I - W||_2: bound on the change of 1/2 w^T I w per |w|^2/2",
                                      unit="kg m^2"),
             triangle_slack_rel=quantity(r.triangle_slack, "margin", "of the suggestion, relative to tr(I_CoM)"),
-            principal_moments_before=np.linalg.eigvalsh(inertia).tolist(),
-            principal_moments_after=np.linalg.eigvalsh(r.inertia).tolist(),
+            principal_moments_before=quantity(np.linalg.eigvalsh(inertia), "value", "as written", unit="kg m^2"),
+            principal_moments_after=quantity(np.linalg.eigvalsh(r.inertia), "value", "suggested", unit="kg m^2"),
         )
     return out
 

@@ -10,6 +10,10 @@ def _number(q):
     return f"{text}{' ' + q['unit'] if q.get('unit') else ''} [{q['kind']}]"
 
 
+def _count(items, one, many=None):
+    return f"{len(items)} {one if len(items) == 1 else many or one + 's'}"
+
+
 def _role(link):
     if link["role"] == "merged":
         return f"merged into {link['group']}"
@@ -21,7 +25,8 @@ def format_file(path, f):
         return f"== {path}\n  UNREADABLE: {f['error']}"
     links = f["links"]
     state = "consistent" if f["consistent"] else f"NOT CONSISTENT: {', '.join(f['not_consistent'])}"
-    out = [f"== {path}: robot '{f['robot']}', {len(links)} links, {len(f['bodies'])} bodies, {len(f['chains'])} chains"
+    out = [f"== {path}: robot '{f['robot']}', {_count(links, 'link')}, {_count(f['bodies'], 'body', 'bodies')}, "
+           f"{_count(f['chains'], 'chain')}"
            f"{', serial arm' if f['serial_arm'] else ''}: {state}"]
     for j in f["left_out_joints"]:
         out.append(f"  left out: joint {j['joint']} ({j['type']}): {j['reason']}")
@@ -45,8 +50,8 @@ def format_file(path, f):
         if r["inertia"] is None:
             out.append(f"  repair  {name}: {r['note']}")
             continue
-        moments = ", ".join(f"{x:.4g}" for x in r["principal_moments_before"])
-        fixed = ", ".join(f"{x:.4g}" for x in r["principal_moments_after"])
+        moments = ", ".join(f"{x:.4g}" for x in r["principal_moments_before"]["value"])
+        fixed = ", ".join(f"{x:.4g}" for x in r["principal_moments_after"]["value"])
         six = " ".join(f'{k}="{v:.6g}"' for k, v in r["inertia"].items())
         out.append(f"  repair  {name}: nearest consistent I_CoM changes it by {r['change_frobenius_rel']['value']:.3g} "
                    f"(relative Frobenius), {r['change_spectral']['value']:.3g} kg m^2 (spectral); principal moments "
