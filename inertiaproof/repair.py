@@ -16,9 +16,10 @@ The Frobenius norm is invariant under rotations of the inertial frame, and
 1/2 w^T I w by ||I - W||_2 |w|^2 / 2 for every angular velocity w.
 
 The program is a 3x3 linear matrix inequality with a quadratic objective,
-solved by Clarabel on W scaled to unit norm. Where W is zero (a point mass)
-or the optimum shrinks to zero, no nearest consistent inertia exists (every
-small enough sphere is consistent and closer), and none is suggested.
+solved by Clarabel on W scaled to unit norm. Where W is zero or negligible
+(a point mass, up to rounding noise) or the optimum shrinks to zero, no
+nearest consistent inertia exists (every small enough sphere is consistent
+and closer), and none is suggested.
 """
 
 from __future__ import annotations
@@ -32,6 +33,8 @@ from .consistency import CONSISTENT, physical_consistency
 from .inertia import pack
 
 DEFAULT_SLACK = 1e-3
+# |I_ij| <= 1e-12 m (kg m^2 per kg): a body smaller than a micrometre, i.e. a point mass with rounding noise
+NEGLIGIBLE = 1e-12
 SQRT2 = np.sqrt(2.0)
 # svec order of Clarabel's PSD triangle cone: upper triangle, column by column
 SVEC = ((0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2))
@@ -78,7 +81,7 @@ def nearest_consistent_inertia(mass, inertia_com, slack=DEFAULT_SLACK):
     scale = np.linalg.norm(w)
     if not mass > 0:
         return Repair(None, np.nan, np.nan, np.nan, "no repair of the inertia: the mass must be positive first")
-    if scale == 0:
+    if np.abs(w).max() <= NEGLIGIBLE * mass:
         return Repair(None, np.nan, np.nan, np.nan,
                       "no nearest consistent inertia: a point mass is the limit of ever smaller solids; give the body its size")
     p, a = _program(slack)

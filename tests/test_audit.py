@@ -120,6 +120,7 @@ def test_repair_is_the_nearest_consistent_inertia():
 
 def test_repair_declines_where_no_nearest_inertia_exists():
     assert nearest_consistent_inertia(1.0, np.zeros((3, 3))).inertia is None  # point mass
+    assert nearest_consistent_inertia(0.526, np.diag([-5.4e-20, -5.4e-20, 0.0])).inertia is None  # rounding noise
     assert nearest_consistent_inertia(0.0, np.eye(3)).inertia is None  # massless
     assert nearest_consistent_inertia(1.0, -np.eye(3)).inertia is None  # shrinks to a point
 
