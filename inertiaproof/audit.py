@@ -218,7 +218,7 @@ def exit_status(files):
 
 
 def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s):
-    from .runner import versions
+    from .runner import _version, versions
 
     ok = [f for f in files.values() if f["status"] == "ok"]
     signs = {}
@@ -243,15 +243,6 @@ def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s):
         },
         "files": files,
     }
-
-
-def _version(name):
-    from importlib import metadata
-
-    try:
-        return metadata.version(name)
-    except metadata.PackageNotFoundError:
-        return None
 
 
 # -- the command -----------------------------------------------------------------
