@@ -50,36 +50,41 @@ def audit_profile(name):
     return replace(PROFILES[name], **BUDGET.get(name, {}))
 
 
-# -- the hook the bounds module replaces -------------------------------------
+# -- chain bounds ----------------------------------------------------------------
 
 def chain_bounds(chain, theta, profile, *, seed=0):
-    """Extremes of the eigenvalues of M(q) over the chain's joint limits: for now sampled only.
+    """Theorems 2 and 3 on one chain over its joint limits, from :func:`inertiaproof.bounds.mass_matrix_bounds`.
 
-    HOOK: after merging, this body becomes a call into ``inertiaproof.bounds``
-    (alpha1, alpha2 of Theorems 2 and 3, the sharpest certified constants and
-    certified brackets). Callers need the keys below: ``lambda_min`` and
-    ``lambda_max`` (quantities; kind ``sampled`` now, ``lower_bound`` /
-    ``upper_bound`` once certified), ``lambda_min_q`` / ``lambda_max_q`` (the
-    configurations attaining the reported values, or None) and ``resolution``
-    (a ``tolerance`` quantity: rounding of the eigenvalues). Any further keys
-    holding quantities are printed and rendered as they come.
+    ``lambda_min`` is the side that decides whether M(q) can become singular:
+    the certified lower bound of inf_q lambda_min(M(q)) when it is positive,
+    else the smallest sampled value (an upper estimate of the infimum).
+    ``lambda_max`` is the largest sampled value (a lower estimate of the
+    supremum); the certified sides, alpha1 and alpha2 (the paper's constant and
+    the sharpest certified one) come as further quantities.
     ``profile`` is a :class:`inertiaproof.registry.Profile` (``samples``, ``refine_s``).
     """
-    rng = np.random.default_rng(seed)
-    low, high = chain.coordinate_box()
-    q = np.vstack([(low + high) / 2, low + (high - low) * rng.random((profile.samples - 1, chain.n))])
-    eigenvalues = np.linalg.eigvalsh(mass_matrix(chain.body_jacobian(q), theta))
-    i_min, i_max = np.argmin(eigenvalues[:, 0]), np.argmax(eigenvalues[:, -1])
-    top = float(eigenvalues[i_max, -1])
+    from .bounds import mass_matrix_bounds
+
+    found = mass_matrix_bounds(chain, theta, samples=profile.samples, refine_s=profile.refine_s,
+                               rng=np.random.default_rng(seed))
+    low, high = found["lower"], found["upper"]
+    m_low, m_high = low["observed"], high["observed"]
+    sampled_min = quantity(m_low["upper"], "sampled", "smallest sampled lambda_min(M(q)): an upper estimate of the inf")
+    certified_min = quantity(m_low["lower"], "lower_bound", "certified lower bound of inf_q lambda_min(M(q))")
     return {
-        "lambda_min": quantity(eigenvalues[i_min, 0], "sampled",
-                               f"min over {len(q)} sampled q: an upper estimate of inf_q lambda_min(M(q))"),
-        "lambda_max": quantity(top, "sampled", f"max over {len(q)} sampled q: a lower estimate of sup_q lambda_max(M(q))"),
-        "lambda_min_q": q[i_min].tolist(),
-        "lambda_max_q": q[i_max].tolist(),
-        "resolution": quantity(8 * chain.n * np.finfo(float).eps * abs(top), "tolerance",
+        "lambda_min": certified_min if m_low["lower"] > 0 else sampled_min,
+        "lambda_min_q": m_low["witness"],
+        "lambda_max": quantity(m_high["lower"], "sampled", "largest sampled lambda_max(M(q)): a lower estimate of the sup"),
+        "lambda_max_q": m_high["witness"],
+        "inf_lambda_min_certified": certified_min,
+        "sup_lambda_max_certified": quantity(m_high["upper"], "upper_bound",
+                                             "certified upper bound of sup_q lambda_max(M(q))"),
+        "alpha1_paper": quantity(low["paper"]["value"], "paper_constant", low["paper"]["note"]),
+        "alpha1_certified": quantity(low["certified"]["value"], "certified_constant", low["certified"]["how"]),
+        "alpha2_paper": quantity(high["paper"]["value"], "paper_constant", high["paper"]["note"]),
+        "alpha2_certified": quantity(high["certified"]["value"], "certified_constant", high["certified"]["how"]),
+        "resolution": quantity(8 * chain.n * np.finfo(float).eps * abs(m_high["lower"]), "tolerance",
                                "rounding of eigvalsh: 8 n eps lambda_max"),
-        "samples": quantity(len(q), "count"),
     }
 
 
