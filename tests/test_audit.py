@@ -164,14 +164,18 @@ def test_a_certified_lower_bound_decides_where_the_structure_cannot(tmp_path):
     assert singularity(sc.chain, sc.theta, codes, ["l1", "l2"])["verdict"] == "not_excluded"
 
 
-def test_chain_bounds_are_sampled_one_sided_estimates(tmp_path):
+def test_chain_bounds_bracket_the_eigenvalues_and_carry_both_alphas(tmp_path):
     text = robot(link("base"), link("disc", inertial(2.0, "0 0 0", "0 0 0", 0.3, 0.3, 0.5)), joint("j", "base", "disc"))
     (sc,) = kinematic_tree(read_urdf(write(tmp_path, text))).chains
     b = chain_bounds(sc.chain, sc.theta, CI)
-    assert b["lambda_min"]["kind"] == b["lambda_max"]["kind"] == "sampled"
-    assert "upper estimate of inf" in b["lambda_min"]["note"] and "lower estimate of sup" in b["lambda_max"]["note"]
-    assert b["lambda_min"]["value"] == pytest.approx(0.5, rel=1e-14) == b["lambda_max"]["value"]
-    assert b["samples"]["value"] == CI.samples
+    # M(q) = I_zz = 0.5 for every q: the certified sides meet the sampled ones
+    assert b["lambda_min"]["kind"] == "lower_bound" and b["lambda_min"]["value"] == pytest.approx(0.5, rel=1e-9)
+    assert b["lambda_max"]["kind"] == "sampled" and "lower estimate of the sup" in b["lambda_max"]["note"]
+    assert b["inf_lambda_min_certified"]["value"] <= 0.5 <= b["sup_lambda_max_certified"]["value"]
+    assert b["sup_lambda_max_certified"]["value"] == pytest.approx(0.5, rel=1e-6)
+    assert b["alpha1_paper"]["kind"] == b["alpha2_paper"]["kind"] == "paper_constant"
+    assert b["alpha1_certified"]["kind"] == b["alpha2_certified"]["kind"] == "certified_constant"
+    assert b["alpha1_certified"]["value"] <= 0.5 + 1e-9 <= b["alpha2_certified"]["value"] + 2e-9
 
 
 # -- the command ---------------------------------------------------------------------
@@ -238,7 +242,7 @@ def test_json_is_keyed_by_file_and_link_and_numbers_say_what_they_are(tmp_path, 
     assert l2["verdict"] == "inconsistent" and l2["reason"].startswith("triangle inequality of I_CoM fails")
     assert l2["repair"]["change_frobenius_rel"]["kind"] == "value"
     chain = f["chains"]["l2"]
-    assert chain["joints"] == ["j1", "j2"] and chain["bounds"]["lambda_min"]["kind"] == "sampled"
+    assert chain["joints"] == ["j1", "j2"] and chain["bounds"]["lambda_min"]["kind"] in ("sampled", "lower_bound")
     html = (tmp_path / "audit.html").read_text()
     assert "<html>" in html and "l2" in html and "izz x 0.1" in html
 
