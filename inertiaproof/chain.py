@@ -212,18 +212,19 @@ class Chain:
         dx = np.stack([joint.coordinate.derivative(q[..., k]) for k, joint in enumerate(self.joints)], -1)
         revolute = np.array([j.revolute for j in self.joints])
         # world columns for body l and joint k: (..., N, n, 3)
-        lever = pos[..., :, None, :] - p[..., None, :, :]
-        u_b = np.broadcast_to(u[..., None, :, :], lever.shape)
-        lin = np.where(revolute[:, None], np.cross(u_b, lever), u_b)
-        ang = np.where(revolute[:, None], u_b, 0.0)
+        lever = pos[..., :, None, :] - p[..., None, :, :]  # (..., N, n, 3)
+        ub = u[..., None, :, :]
+        cross = np.stack([ub[..., 1] * lever[..., 2] - ub[..., 2] * lever[..., 1],
+                          ub[..., 2] * lever[..., 0] - ub[..., 0] * lever[..., 2],
+                          ub[..., 0] * lever[..., 1] - ub[..., 1] * lever[..., 0]], -1)
+        lin = np.where(revolute[:, None], cross, ub)
+        ang = np.where(revolute[:, None], ub, 0.0)
         mask = np.tril(np.ones((n, n), dtype=bool))[..., None]  # body l moves with joints k <= l
         scale = dx[..., None, :, None] * mask
-        lin, ang = lin * scale, ang * scale
-        rt = np.swapaxes(rot, -1, -2)[..., :, None, :, :]  # R_l^T per (l, k)
-        lin_b = (rt @ lin[..., None])[..., 0]
-        ang_b = (rt @ ang[..., None])[..., 0]
-        qj = np.concatenate([lin_b, ang_b], -1)  # (..., N, n, 6)
-        return np.swapaxes(qj, -1, -2).reshape(q.shape[:-1] + (6 * n, n))
+        rt = np.swapaxes(rot, -1, -2)  # R_l^T, (..., N, 3, 3)
+        lin_b = rt @ np.swapaxes(lin * scale, -1, -2)  # (..., N, 3, n)
+        ang_b = rt @ np.swapaxes(ang * scale, -1, -2)
+        return np.concatenate([lin_b, ang_b], -2).reshape(q.shape[:-1] + (6 * n, n))
 
     def body_jacobian_derivative(self, q):
         """dQJ/dq (..., 6N, n, n), entry [r, k, j] = d QJ[r, k] / d q_j, by complex steps (exact to round-off)."""

@@ -23,9 +23,8 @@ def _blocks(qj):
 
 def mass_matrix(qj, theta):
     """M = (QJ)^T blockdiag(Z(Phi_l)) QJ (MassMatrix). Linear in ``theta``, so M(q, Thetadot) is mass_matrix(qj, theta_dot)."""
-    b = _blocks(qj)
-    zb = spatial_inertia(theta) @ b  # (..., N, 6, n)
-    return np.einsum("...lri,...lrj->...ij", b, zb)
+    zb = spatial_inertia(theta) @ _blocks(qj)  # (..., N, 6, n)
+    return np.swapaxes(qj, -1, -2) @ zb.reshape(zb.shape[:-3] + (-1, zb.shape[-1]))
 
 
 def mass_matrix_partials(qj, dqj, theta):

@@ -13,7 +13,7 @@ from . import solids
 from .chain import Chain, Coordinate, Joint, origin
 from .inertia import rotation_rpy
 from .scene import Scene
-from .trajectory import ParameterTrajectory, Payload, Profile, Scaling
+from .trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile, Scaling
 
 HALF_PI = np.pi / 2
 
@@ -116,6 +116,22 @@ def revolute_prismatic(limit=None):
                   description="turntable with a radial slide" + ("" if limit else " of unlimited travel"))
 
 
+def planar_2r_trolley(mass=2.0):
+    """EQ-acc, Thm5: the planar 2R arm with a trolley of ``mass`` kg running once round a loop of radius 0.15 m on
+    link 2 (a moving mass; a purely radial run would exert no joint torque)."""
+    scene = planar_2r()
+    path = Path("circle", Profile("cosine", 0.5, 2.0), center=(-0.4, 0.0, 0.0), radius=0.15, normal=(0.0, 0.0, 1.0))
+    trolley = MovingMass(1, mass, _box_inertia(mass), path)
+    return _scene("planar-2r-trolley", scene.chain, scene.trajectory.base, (trolley,), span=(0.0, 3.0),
+                  description=f"planar 2R arm with a {mass:g} kg trolley running round a loop on link 2")
+
+
+def _box_inertia(mass, dims=(0.1, 0.06, 0.06)):
+    """Inertia about the CoM of a uniform box."""
+    a, b, c = dims
+    return mass / 12.0 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
+
+
 BUILTIN = {
     "planar-2r": planar_2r,
     "spatial-3r": spatial_3r,
@@ -124,4 +140,5 @@ BUILTIN = {
     "translating-sphere": translating_sphere,
     "non-normal-2r": non_normal_2r,
     "rp-bounded": lambda: revolute_prismatic(limit=1.0),
+    "planar-2r-trolley": planar_2r_trolley,
 }

@@ -1,0 +1,32 @@
+"""Random smooth parameter trajectories with bounded rates: payload ramps and moving masses on consistent bodies."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import strategies as st
+
+from inertiaproof.counterexamples.inertias import consistent_phi, log_uniform
+from inertiaproof.trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile
+
+SMOOTH = ("smoothstep", "smootherstep", "cosine")
+
+
+@st.composite
+def profiles(draw):
+    return Profile(draw(st.sampled_from(SMOOTH)), draw(st.floats(0.0, 1.0)), draw(log_uniform(1e-2, 10.0)))
+
+
+@st.composite
+def trajectories(draw, bodies, length, moving_mass=False, thinness=6):
+    """Consistent bodies of the chain's size (near-degenerate to ordinary) and one payload ramp or moving mass."""
+    base = np.stack([draw(consistent_phi(size=(length / 10, length), thinness=thinness)) for _ in range(bodies)])
+    body = draw(st.integers(0, bodies - 1))
+    profile = draw(profiles())
+    if moving_mass:
+        pts = [length * np.array([draw(st.floats(-1, 1)) for _ in range(3)]) for _ in range(2)]
+        load = MovingMass(body, draw(log_uniform(1e-2, 1e2)), np.zeros((3, 3)), Path("line", profile, tuple(pts[0]),
+                                                                                   tuple(pts[1])))
+    else:
+        load = Payload(body, draw(consistent_phi(size=(length / 10, length), thinness=thinness)), profile)
+    end = profile.start + profile.duration
+    return ParameterTrajectory(base, (load,), (0.0, end + 0.5))

@@ -1,0 +1,190 @@
+"""Section 4: the key-step certificate, the brackets, and every bound checker caught with a wrong constant."""
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from inertiaproof import bounds, robots
+from inertiaproof.bound_cases import lower_bound_case, rate_case, upper_bound_case
+from inertiaproof.bound_check import pointwise_margin, replay_point, point_counterexample
+from inertiaproof.checks.mass_matrix_bounds import def3_result, thm2_result, thm3_result
+from inertiaproof.checks.normality import cx_normal_result, def2_result
+from inertiaproof.checks.other_components import acc_result, thm4_result, thm5_result
+from inertiaproof.inertia import spatial_inertia, unit_body
+from inertiaproof.positive_map import (exact_map, kraus_factors, key_step_certificate, rational, spatial_from_pseudo,
+                                       verify_choi)
+from inertiaproof.registry import Context, Profile, REPLAYERS
+from inertiaproof.result import Verdict
+
+FAST = Profile("test", examples=8, samples=300, refine_s=0.2, symbolic_max_n=2, derandomize=True)
+
+
+def ctx():
+    return Context(FAST, seed=0)
+
+
+def test_key_step_certificate_is_exact_and_sharp():
+    cert = key_step_certificate()
+    assert cert["ok"] and cert["choi_psd"] and cert["choi_mismatch"] == 0 and cert["choi_rank"] == 3
+    assert (cert["lower"], cert["upper"]) == (1.0, 2.0)
+    assert cert["l_identity_diagonal"] == ["1", "1", "1", "2", "2", "2"]
+
+
+def test_perturbed_map_is_not_certified():
+    choi = [[Fraction(x) for x in row] for row in key_step_certificate()["choi"]]
+
+    def wrong(f):
+        z = exact_map(f)
+        z[3][3] += Fraction(1, 10**6) * f[3][3]
+        return z
+
+    check = verify_choi(np.array(choi, dtype=object), reference=wrong)
+    assert check["mismatch"] != 0
+    negative = np.array(choi, dtype=object)
+    negative[0][0] -= 1
+    assert not verify_choi(negative)["psd"]
+
+
+def test_kraus_form():
+    rng = np.random.default_rng(1)
+    a = kraus_factors()
+    for _ in range(20):
+        p = rng.standard_normal(4)
+        ap = np.tensordot(p, a, 1)
+        assert np.allclose(ap.T @ ap, spatial_from_pseudo(np.outer(p, p)), atol=1e-13)
+
+
+def test_qj_is_degree_one_per_coordinate():
+    """The Bernstein step needs QJ = a + b cos q_j + c sin q_j in every revolute coordinate (prismatic: a + b q_j)."""
+    rng = np.random.default_rng(2)
+    for scene in (robots.panda(), robots.ur5(), robots.revolute_prismatic(1.0)):
+        chain = scene.chain
+        q = rng.uniform(-1, 1, chain.n)
+        for j, joint in enumerate(chain.joints):
+            x = np.linspace(-2, 2, 7)
+            qs = np.tile(q, (7, 1))
+            qs[:, j] = x
+            y = chain.body_jacobian(qs).reshape(7, -1)
+            basis = np.stack([np.ones(7), np.cos(x), np.sin(x)] if joint.revolute else [np.ones(7), x], -1)
+            coef, *_ = np.linalg.lstsq(basis, y, rcond=None)
+            assert np.abs(basis @ coef - y).max() < 1e-12 * max(1, np.abs(y).max())
+
+
+def test_bracket_contains_dense_grid_extreme():
+    chain = robots.planar_2r().chain
+    b = bounds.jacobian_sup(chain, samples=50, refine_s=0.3, rng=np.random.default_rng(0))
+    q2 = np.linspace(-np.pi, np.pi, 20001)
+    dense = np.linalg.svd(chain.body_jacobian(np.stack([0 * q2, q2], -1)), compute_uv=False)[:, 0].max()
+    assert b.lower <= dense + 1e-12 and dense <= b.upper
+    assert b.upper - b.lower < 1e-4 * dense
+    uppers = [u for _, _, u in b.convergence if u is not None]
+    assert uppers and uppers[0] >= uppers[-1] and len(b.convergence) > 2
+
+
+def test_a_priori_bound_is_valid():
+    chain = robots.panda().chain
+    rng = np.random.default_rng(3)
+    lo, hi = chain.coordinate_box()
+    q = lo + (hi - lo) * rng.random((2000, chain.n))
+    assert np.linalg.svd(chain.body_jacobian(q), compute_uv=False)[:, 0].max() <= bounds.apriori_bound(chain, None, "sup")
+
+
+SCENE = robots.planar_2r(payload=1.0)
+
+
+def test_thm2_paper_holds_and_overstated_constant_is_violated():
+    assert thm2_result(ctx(), [SCENE]).verdict == Verdict.HOLDS
+    _, _, evidence, _ = lower_bound_case(ctx(), SCENE)
+    k = 2 * evidence["constants"]["observed"]["value"] / evidence["constants"]["paper"]["value"]
+    result = thm2_result(ctx(), [SCENE], k=k)
+    assert result.verdict == Verdict.VIOLATED
+    replayed = REPLAYERS[result.counterexample["kind"]](result.counterexample["data"], ctx())
+    assert replayed.verdict == Verdict.VIOLATED
+
+
+def test_thm3_shrunk_constant_is_violated():
+    assert thm3_result(ctx(), [SCENE]).verdict == Verdict.HOLDS
+    _, _, evidence, _ = upper_bound_case(ctx(), SCENE)
+    k = 0.5 * evidence["constants"]["observed"]["value"] / evidence["constant_range"]["upper"]["value"]
+    result = thm3_result(ctx(), [SCENE], k=k)
+    assert result.verdict == Verdict.VIOLATED
+    assert REPLAYERS[result.counterexample["kind"]](result.counterexample["data"], ctx()).verdict == Verdict.VIOLATED
+
+
+def test_thm4_shrunk_constant_is_violated():
+    assert thm4_result(ctx(), [SCENE]).verdict == Verdict.HOLDS
+    _, _, evidence, _ = rate_case(ctx(), SCENE)
+    k = 0.5 * evidence["constants"]["observed"]["value"] / evidence["constant_range"]["upper"]["value"]
+    assert thm4_result(ctx(), [SCENE], k=k, hunt_factor=2.0).verdict == Verdict.VIOLATED
+
+
+def _shrunk(result_fn):
+    good = result_fn(ctx())
+    assert good.verdict == Verdict.HOLDS
+    c = good.evidence
+    k = 0.5 * c["constants"]["observed"]["value"] / c["constant_range"]["upper"]["value"]
+    bad = result_fn(ctx(), k=k)
+    assert bad.verdict == Verdict.VIOLATED
+    assert REPLAYERS[bad.counterexample["kind"]](bad.counterexample["data"], ctx()).verdict == Verdict.VIOLATED
+
+
+def test_eq_acc_shrunk_constant_is_violated():
+    _shrunk(acc_result)
+
+
+def test_thm5_shrunk_constant_is_violated():
+    _shrunk(thm5_result)
+
+
+def test_sharp_factor_two_of_thm4_is_attained_and_below_it_the_pointwise_bound_fails():
+    """One revolute joint turning about z at its origin: QJ = e_6, and Phidot with f(Phidot) = I4 gives M = 2."""
+    from inertiaproof.chain import Chain, Joint
+    from inertiaproof.inertia import pseudo_inertia_inverse
+
+    chain = Chain((Joint("revolute", (0, 0, 1)),))
+    phidot = pseudo_inertia_inverse(np.eye(4))[None]
+    state = {"theta": unit_body()[None, None], "theta_dot": phidot[None], "psi": np.zeros((1, 6)),
+             "psi_dot": np.zeros((1, 6))}
+    q = np.zeros((1, 1))
+    slack, lhs, rhs = pointwise_margin("Thm4", chain, q, state, 2.0)
+    assert abs(lhs[0] - 2.0) < 1e-14 and abs(slack[0]) < 1e-14
+    slack, lhs, rhs = pointwise_margin("Thm4", chain, q, state, 1.9)
+    assert slack[0] < 0
+    cx = point_counterexample("Thm4", chain, q[0], {k: v[0] for k, v in state.items()}, 1.9, slack[0], lhs[0], rhs[0])
+    assert replay_point(cx["data"])[0] < 0
+    assert REPLAYERS["bound-point"](cx["data"], ctx()).verdict == Verdict.VIOLATED
+
+
+def test_def3_with_a_wrong_spatial_inertia_is_violated():
+    traj = robots.panda(payload=2.0).trajectory
+    assert def3_result({"panda": traj}).verdict == Verdict.HOLDS
+
+    def wrong(theta):
+        z = spatial_inertia(theta)
+        z[..., 3:, 3:] *= 0.5
+        return z
+
+    assert def3_result({"panda": traj}, spatial=wrong).verdict == Verdict.VIOLATED
+
+
+def test_def2_gram_identity_with_a_wrong_unit_body_is_violated():
+    scene = robots.planar_2r()
+    assert def2_result(ctx(), [scene]).verdict == Verdict.HOLDS
+    wrong = np.tile(unit_body() * np.array([1.0] * 4 + [1.01] * 3 + [1.0] * 3), (2, 1))
+    assert def2_result(ctx(), [scene], theta_for_identity=wrong).verdict == Verdict.VIOLATED
+
+
+def test_cx_normal_on_a_normal_chain_is_violated():
+    assert cx_normal_result(robots.non_normal_2r()).verdict == Verdict.HOLDS
+    assert cx_normal_result(robots.planar_2r()).verdict == Verdict.VIOLATED
+
+
+def test_moving_mass_bounds_are_valid():
+    traj = robots.planar_2r_trolley().trajectory
+    lv = bounds.lumped_velocity_bounds(traj, samples=20001)
+    for key in ("psi", "psi_dot"):
+        assert lv[key]["observed"] <= lv[key]["certified"]
+    for name in bounds.BODY_FUNCTIONS:
+        d = bounds.time_extreme(traj, name, samples=4001)
+        assert (d["certified"] <= d["observed"] + 1e-12) if d["sense"] == "min" else (d["observed"] <= d["certified"] + 1e-12)
