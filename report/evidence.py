@@ -55,21 +55,42 @@ def split(evidence):
             rows.append((path, fmt.value(x), "", ""))
 
     walk(evidence or {}, ())
-    return found, rows, tables, texts
+    return {name: _distinct(items) for name, items in found.items()}, rows, tables, texts
+
+
+def _distinct(items):
+    """Items without repeats: of equal values (a headline copied from one of several cases) the longest path stays."""
+    best = {}
+    for i, (path, value) in enumerate(items):
+        key = json.dumps(value, sort_keys=True, default=str)
+        if key not in best or len(path) > len(items[best[key]][0]):
+            best[key] = i
+    return [items[i] for i in sorted(best.values())]
 
 
 def generic_blocks(rows, tables, texts):
     blocks = []
     if rows:
-        blocks.append(table(
-            (Column("what", 0.27), Column("value", 0.3), Column("kind", 0.14), Column("note", 0.29)),
-            [(cell(code(_label(p))), cell(_value_inline(v)), cell(k), cell(n)) for p, v, k, n in rows],
-            "Evidence"))
+        blocks.append(table((Column("what", 0.27), Column("value", 0.3), Column("kind", 0.14), Column("note", 0.29)),
+                            _grouped(rows), "Evidence"))
     for path, records in tables:
         blocks.append(records_table(records, _label(path)))
     for path, text in texts:
         blocks.append(Code(_clip(text), _label(path)))
     return blocks
+
+
+def _grouped(rows):
+    """Table rows with the rows of one parent path together under a heading row naming it."""
+    parents = {}
+    for path, *rest in rows:
+        parents.setdefault(path[:-1], []).append((path[-1] if path else "", *rest))
+    out = []
+    for parent, children in parents.items():
+        if parent:
+            out.append((cell(Text(_label(parent), "strong")),))
+        out += [(cell(code(key)), cell(_value_inline(v)), cell(k), cell(n)) for key, v, k, n in children]
+    return out
 
 
 def _clip(text):
@@ -99,7 +120,8 @@ def bracket_table(brackets):
     for path, b in brackets:
         lower, upper = b.get("lower"), b.get("upper")
         width = _difference(upper, lower)
-        rows.append((cell(str(b.get("quantity") or _label(path) or "extreme")), _side(lower), _side(upper),
+        where = (code(_label(path)), Text(" ")) if path else ()
+        rows.append((cell(*where, str(b.get("quantity") or "extreme")), _side(lower), _side(upper),
                      cell(code(width)), cell(code(str(len(b.get("convergence") or []))))))
     return table((Column("extreme", 0.28), Column("lower", 0.2, "r"), Column("upper", 0.2, "r"),
                    Column("width", 0.18, "r"), Column("points", 0.14, "r")), rows,
@@ -117,12 +139,15 @@ def bracket_figure(brackets, figs, result_name):
                 if None not in (s, lo, up):
                     points.append([s, up - lo])
         if points:
-            lines.append({"label": str(b.get("quantity") or _label(path) or "extreme"), "points": points})
+            lines.append({"label": _label(path) or str(b.get("quantity") or "extreme"), "points": points})
             unit = unit or _unit(b.get("lower")) or _unit(b.get("upper"))
     if not lines:
         return None
+    quantities = ", ".join(dict.fromkeys(str(b.get("quantity")) for _, b in brackets if b.get("quantity")))
+    of = f" on {quantities}" if quantities else ""
     return figs.new("bracket", {"lines": lines, "unit": unit},
-                    f"{result_name}: width of the bracket (upper minus lower) against the run time spent narrowing it.")
+                    f"{result_name}: width of the bracket{of} (upper minus lower) against the run time spent "
+                    "narrowing it.")
 
 
 def constants_table(constants, name, figure=None):
@@ -224,8 +249,7 @@ def table(columns, rows, caption, limit=MAX_ROWS):
     rows = list(rows)
     if limit is not None and len(rows) > limit:
         more = len(rows) - limit
-        rows = rows[:limit] + [(cell(Text(f"... and {more} more rows, not shown", "em")),)
-                                  + tuple(cell() for _ in columns[1:])]
+        rows = rows[:limit] + [(cell(Text(f"... and {more} more rows, not shown", "em")),)]
     return Table(tuple(columns), tuple(rows), caption)
 
 

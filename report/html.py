@@ -73,6 +73,9 @@ def _table(table):
     head = "".join(f'<th class="{_align(c)}">{escape(c.title)}</th>' for c in table.columns)
     rows = []
     for row in table.rows:
+        if len(row) == 1:
+            rows.append(f'<tr class="span"><td colspan="{len(table.columns)}">{_inlines(row[0])}</td></tr>')
+            continue
         cells = "".join(f'<td class="{_align(c)}">{_inlines(v)}</td>' for c, v in zip(table.columns, row))
         rows.append(f"<tr>{cells}</tr>")
     caption = f"<caption>{escape(table.caption)}</caption>" if table.caption else ""

@@ -133,17 +133,20 @@ def _table(table):
     head = " & ".join(rf"\textbf{{{escape(c.title)}}}" for c in table.columns) + r" \\"
     lines = [rf"\begin{{longtable}}{{@{{}}{spec}@{{}}}}"]
     if table.caption:
-        lines.append(rf"\multicolumn{{{n}}}{{@{{}}p{{\dimexpr\linewidth-2\tabcolsep\relax}}@{{}}}}"
-                     rf"{{\textbf{{{escape(table.caption)}}}}} \\")
+        lines.append(_span(n, rf"\textbf{{{escape(table.caption)}}}"))
     if any(c.title for c in table.columns):
         lines += [r"\toprule", head, r"\midrule", r"\endfirsthead", r"\toprule", head, r"\midrule", r"\endhead"]
     else:
         lines += [r"\toprule", r"\endfirsthead", r"\toprule", r"\endhead"]
     lines += [r"\bottomrule", r"\endlastfoot"]
     for row in table.rows:
-        lines.append(" & ".join(_inlines(c) for c in row) + r" \\")
+        lines.append(_span(n, _inlines(row[0])) if len(row) == 1 else " & ".join(_inlines(c) for c in row) + r" \\")
     lines.append(r"\end{longtable}")
     return "\n".join(lines)
+
+
+def _span(columns, content):
+    return rf"\multicolumn{{{columns}}}{{@{{}}p{{\dimexpr\linewidth-2\tabcolsep\relax}}@{{}}}}{{{content}}} \\"
 
 
 def _code(block):

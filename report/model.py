@@ -43,7 +43,7 @@ class Column:
 @dataclass(frozen=True)
 class Table:
     columns: tuple
-    rows: tuple  # of tuples of cells; a cell is a tuple of inlines
+    rows: tuple  # of tuples of cells (a cell is a tuple of inlines); a row of one cell spans the table
     caption: str = ""
 
 

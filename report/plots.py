@@ -106,7 +106,7 @@ def constants(fig, data):
     marks = (("paper", "o", "#1f77b4", "paper's constant"), ("certified", "D", "#2ca02c", "sharpest certified"),
              ("observed", "x", RED, "observed worst case"))
     values = [b[k] for b in bounds for k, *_ in marks if b[k] is not None]
-    log = _scale(ax, "x", values)
+    log = _scale(ax, "x", [v for v in values if v > 0])
     for y, b in enumerate(bounds):
         present = [b[k] for k, *_ in marks if b[k] is not None and (b[k] > 0 or not log)]
         if len(present) > 1:
@@ -115,15 +115,16 @@ def constants(fig, data):
         ys = [y for y, b in enumerate(bounds) if b[key] is not None and (b[key] > 0 or not log)]
         ax.scatter([bounds[y][key] for y in ys], ys, marker=marker, color=color, label=label, zorder=3,
                    s=36 if marker == "x" else 22)
-    ax.set_yticks(range(len(bounds)), [_short(b["label"], 28) + (" (VIOLATED)" if b.get("violated") else "")
+    ax.set_yticks(range(len(bounds)), [_short(b["label"], 34) + (" (VIOLATED)" if b.get("violated") else "")
                                        for b in bounds])
     for label, b in zip(ax.get_yticklabels(), bounds):
         if b.get("violated"):
             label.set_color(RED)
     ax.set_ylim(len(bounds) - 0.5, -0.5)
     ax.grid(False, axis="y")
-    ax.set_xlabel("value of the constant (units of each bound)")
-    _legend(ax, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=3)
+    hidden = log and any(v <= 0 for v in values)
+    ax.set_xlabel("value of the constant (units of each bound)" + ("; values \u2264 0 not shown" if hidden else ""))
+    _legend_above(fig, ax)
     _fit(fig, legend_above=True)
 
 
@@ -221,7 +222,7 @@ def stability(fig, data):
     ax.set_ylim(len(scenes) - 0.5, -0.5)
     ax.grid(False, axis="y")
     ax.set_xlabel("run time [s]")
-    _legend(ax, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=min(4, len(methods) + 1))
+    _legend_above(fig, ax)
     _fit(fig, legend_above=True)
 
 
@@ -232,6 +233,13 @@ DRAW = {"bracket": bracket, "constants": constants, "hunt": hunt, "series": seri
 def _legend(ax, **kwargs):
     if ax.get_legend_handles_labels()[0]:
         ax.legend(**kwargs)
+
+
+def _legend_above(fig, ax):
+    """One row of legend entries centred over the whole figure (not over the axes, which long labels push right)."""
+    handles, labels = ax.get_legend_handles_labels()
+    if handles:
+        fig.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 1.0), ncols=min(4, len(handles)))
 
 
 def _scale(ax, axis, values):

@@ -199,8 +199,8 @@ def violating_check(monkeypatch):
 
 def test_run_report_on_a_real_failing_run(tmp_path, capsys, violating_check):
     out = tmp_path / "out"
-    code = cli.main(["run", "--only", "EQ-geom", "Thm2:report-test", "--report", "--out", str(out), "--quiet",
-                     "--counterexamples", str(tmp_path / "found")])
+    code = cli.main(["run", "--only", "EQ-geom", "Def2", "Thm2", "Thm2:report-test", "--report", "--out", str(out),
+                     "--quiet", "--counterexamples", str(tmp_path / "found")])
     assert code == 1
     printed = capsys.readouterr().out
     for name in ("report.html", "report.tex"):
@@ -213,6 +213,8 @@ def test_run_report_on_a_real_failing_run(tmp_path, capsys, violating_check):
     assert "alpha1 &lt;exceeded&gt; &amp; &quot;quoted&quot;" in page
     sections = dict(re.findall(r'data-id="([^"]+)" data-verdict="([^"]+)"', page))
     assert sections["EQ-geom"] == "HOLDS" and sections["Thm2"] == "VIOLATED" and sections["Thm4"] == "NOT RUN"
+    plotted = set(re.findall(r'<figure class="plot" id="fig-\d+" data-plot="([a-z_]+)">\n<svg ', page))
+    assert {"bracket", "constants"} <= plotted, plotted
     tex = (out / "report.tex").read_text()
     assert tex.index("What failed") < tex.index("Every result at a glance")
 
@@ -279,3 +281,11 @@ def test_any_evidence_renders_escaped(evidence, summary, note):
     body = re.sub(r"\\[{}]", "", tex[tex.index(r"\begin{document}"):])
     assert tex.count(r"\begin{") == tex.count(r"\end{") and body.count("{") == body.count("}")
     assert not re.search(r"[\x00-\x08\x0b-\x1f\x7f]", tex)
+
+
+def test_a_headline_copied_from_one_case_is_shown_once():
+    case = {"paper": quantity_of(2.0, "paper_constant"), "observed": quantity_of(1.0, "sampled")}
+    other = {"paper": quantity_of(3.0, "paper_constant"), "observed": quantity_of(1.0, "sampled")}
+    found, *_ = evidence.split({"constants": case, "scenes": {"a": {"constants": dict(case)},
+                                                              "b": {"constants": other}}})
+    assert [path for path, _ in found["constants"]] == [("scenes", "a"), ("scenes", "b")]
