@@ -47,7 +47,10 @@ class SystemKey:
 
     @property
     def label(self):
-        return self.name if self.kind == "chain" else f"abstract-n{self.n}"
+        if self.kind == "chain":
+            return self.name
+        sizes = "" if (self.parameters, self.rows) == (2, 2) else f"-p{self.parameters}-r{self.rows}"
+        return f"abstract-n{self.n}{sizes}"
 
 
 @dataclass(frozen=True)
@@ -104,3 +107,10 @@ def chain_inputs(chain):
         "axes": [[str(x) for x in a] for a in twin_data.axes],
         "gravity": [str(x) for x in twin_data.gravity],
     }
+
+
+def profile_systems(profile):
+    """The systems a profile derives: abstract n = 1 .. symbolic_max_n, then its concrete chains."""
+    p, r = getattr(profile, "symbolic_parameters", 2), getattr(profile, "symbolic_rows", 2)
+    return [SystemKey.abstract(n, p, r) for n in range(1, profile.symbolic_max_n + 1)] + \
+        [SystemKey.chain(c) for c in profile.concrete_chains]
