@@ -8,6 +8,7 @@ pickle); SymPy expressions pickle as they are. A change to any module listed in
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib
 import json
@@ -34,8 +35,13 @@ CODE = (  # the modules a derivation's result depends on
 )
 
 
+@functools.cache
 def code_version():
-    """sha256 of the source of every module in CODE, SymPy's version and the cache format."""
+    """sha256 of the source of every module in CODE, SymPy's version and the cache format.
+
+    Read once per process, right after the derivation modules are imported, so
+    that a process never files results of the code it runs under another version.
+    """
     digest = hashlib.sha256(f"{FORMAT}:{sympy.__version__}".encode())
     for name in CODE:
         module = importlib.import_module(name)

@@ -35,8 +35,6 @@ class Calculus(Protocol):
 
     def at_rates(self, e): """e with Theta replaced by Thetadot (M(q, Thetadot) from M(q, Theta))."""
 
-    def at_parameters(self, e, values): """e with Theta set to numbers."""
-
     def canonical(self, e): """A canonical form: e is the zero function iff canonical(e) is 0."""
 
     def is_zero(self, e): ...

@@ -120,9 +120,6 @@ class FunctionsOfTime:
         """e with Theta_h(t) replaced by Thetadot_h(t)."""
         return sp.sympify(e).xreplace(dict(zip(self.theta, self.theta_dot)))
 
-    def at_parameters(self, e, values):
-        return sp.sympify(e).xreplace({th: sp.Rational(v) for th, v in zip(self.theta, values)})
-
     def canonical(self, e):
         """expand over canonical atoms (partial derivatives with their variables sorted)."""
         e = sp.sympify(e)

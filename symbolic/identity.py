@@ -96,8 +96,7 @@ def decide_randomised(calc, entries, rng, points=2):
                 nonzero.append(i)
                 found = found or {"entry": i, "point": point, "value": value}
     per_point = min(Fraction(degree, 2**SAMPLE_BITS), Fraction(1))
-    return Decision(not nonzero, "randomised", len(entries), sorted(nonzero), sum(calc.size(e) for e in entries)
-                    if hasattr(calc, "point_roles") else 0, points, degree,
+    return Decision(not nonzero, "randomised", len(entries), sorted(nonzero), 0, points, degree,
                     per_point**points if not nonzero else Fraction(0), found, time.perf_counter() - start)
 
 

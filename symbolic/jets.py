@@ -194,12 +194,6 @@ class JetSpace:
                 out += self.gen(rates[g.role], *g.index) * p.diff(self.gens[i])
         return out
 
-    def substitute(self, p, mapping):
-        """p with generators replaced by ring elements (mapping: generator -> element)."""
-        if not mapping:
-            return p
-        return p.compose([(g, v) for g, v in mapping.items()])
-
     def at_rates(self, p):
         """p with Theta replaced by Thetadot: for p linear in Theta, p(q, Thetadot) (e.g. M(q, Thetadot))."""
         return self.rename(p, dict(zip(self.theta, self.theta_dot)))
@@ -211,10 +205,6 @@ class JetSpace:
         for a, b in mapping.items():
             perm[index[a]], perm[index[b]] = index[b], index[a]
         return self.ring.from_dict({tuple(m[perm[i]] for i in range(len(m))): c for m, c in p.items()})
-
-    def at_parameters(self, p, values):
-        """p with Theta set to the given numbers (e.g. a unit vector: M^h of (MassMatrixRegressors))."""
-        return self.substitute(p, {g: self.ring(v) for g, v in zip(self.theta, values)})
 
     # -- normal form, evaluation ---------------------------------------------
 
@@ -288,10 +278,3 @@ class JetSpace:
     def printed(self, p):
         """The canonical form as text in the ring's monomial order (deterministic, hash-seed independent)."""
         return str(self.canonical(p))
-
-    def describe_point(self, point):
-        out = {}
-        for (role, index), value in point.items():
-            name = role + "".join(f"_{i}" for i in index)
-            out[name] = str(value)
-        return out

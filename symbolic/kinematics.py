@@ -20,12 +20,19 @@ from fractions import Fraction
 from functools import cached_property
 
 import numpy as np
+from sympy.polys.domains import QQ
 
 from inertiaproof.errors import InputError
 from inertiaproof.symbolic.jets import JetSpace
 
 SNAP = 1e-12  # entries this close to -1, 0, 1 are taken as exactly that
 TOLERANCE = 1e-9  # the largest accepted distance between the twin's transforms and the chain's
+
+
+def to_qq(x):
+    """A Fraction (or int) as an element of SymPy's QQ."""
+    x = Fraction(x)
+    return QQ(x.numerator, x.denominator)
 
 
 def rational(x):
@@ -134,12 +141,12 @@ class ChainTwin:
 
     def _lift(self, m):
         ring = self.jets.ring
-        return [[ring(QQfraction(x)) for x in row] for row in m]
+        return [[ring(to_qq(x)) for x in row] for row in m]
 
     def _joint_motion(self, k):
         """(rotation, translation) of joint k's motion X_k(x_k) as ring elements."""
         jets, ring = self.jets, self.jets.ring
-        u = [ring(QQfraction(a)) for a in self.axes[k - 1]]
+        u = [ring(to_qq(a)) for a in self.axes[k - 1]]
         if self.chain.joints[k - 1].revolute:
             c, s = jets.joint_variable(k)
             su = skew(u)
@@ -209,10 +216,3 @@ class ChainTwin:
             else:
                 q.append(float(point[("q", (k,))]))
         return np.array(q)
-
-
-def QQfraction(x):
-    from sympy.polys.domains import QQ
-
-    x = Fraction(x)
-    return QQ(x.numerator, x.denominator)

@@ -8,7 +8,7 @@ from QJ: the paper's form, assembled from QJ in
 
 from __future__ import annotations
 
-from inertiaproof.symbolic.kinematics import matvec, skew
+from inertiaproof.symbolic.kinematics import matvec, skew, to_qq
 
 
 def euler_lagrange(calc, lagrangian):
@@ -50,7 +50,7 @@ def chain_lagrangian(twin):
 def chain_potential(twin):
     """U(q, Theta) (PotentialEnergy), linear in Theta."""
     jets = twin.jets
-    g = [jets.ring(x) for x in _qq(twin.gravity)]
+    g = [jets.ring(to_qq(x)) for x in twin.gravity]
     total = jets.zero
     for l, frame in enumerate(twin.frames, 1):
         m, h1, h2, h3 = jets.body_parameters(l)[:4]
@@ -66,9 +66,3 @@ def abstract_lagrangian(system):
     kinetic = sum(qd[k] * m[k, j] * qd[j] for k in range(system.n) for j in range(system.n)) / 2
     lumped = sum(qd[k] * qj[r, k] * system.psi[r] for r in range(system.rows) for k in range(system.n))
     return kinetic + system.nu / 2 + lumped - system.potential
-
-
-def _qq(values):
-    from sympy.polys.domains import QQ
-
-    return [QQ(v.numerator, v.denominator) for v in values]
