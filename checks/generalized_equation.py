@@ -38,7 +38,7 @@ def time_per_n(ds, decided):
             "derive": quantity(round(derive, 4), "seconds", "Euler-Lagrange and paper form, when derived"
                                + (" (this run read them from the cache)" if d.cached else "")),
             "decide": quantity(round(o.exact.seconds, 4), "seconds", "exact decision, this run"),
-            "terms": quantity(o.exact.terms, "count", "terms of the canonical residuals"),
+            "terms": quantity(o.subject_terms, "count", "terms of the Euler-Lagrange left side"),
         }
     return rows
 

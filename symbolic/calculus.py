@@ -45,6 +45,8 @@ class Calculus(Protocol):
 
     def evaluate(self, e, point): """Exact rational value at a point."""
 
-    def degree_bound(self, e): """Degree bound for Schwartz-Zippel in the variables a random point draws."""
+    def degree_profile(self, e): """({k: degree in (cos q_k, sin q_k)}, degree in the rest), for Schwartz-Zippel."""
+
+    def point_keys(self, leaves): """The coordinates a point must give to evaluate these expressions."""
 
     def printed(self, e): """The canonical form as deterministic text (for the gate's form fingerprint)."""

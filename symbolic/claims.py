@@ -154,16 +154,19 @@ class Claim:
     statement: str
     residual: Callable
     controls: dict
+    subject: Callable  # the derived objects the claim is about (their size goes into the evidence)
 
 
 CLAIMS = {
     "GRE": Claim("GRE", "Lagrange's equations (LagrangeFormalism) equal (RoboticEquation)", gre_residual,
-                 GRE_CONTROLS),
-    "GRE-F": Claim("GRE-F", "F(q, Theta, Thetadot) of (DefF) equals M(q, Thetadot)", gre_f_residual, GRE_F_CONTROLS),
+                 GRE_CONTROLS, lambda d: d.euler_lagrange),
+    "GRE-F": Claim("GRE-F", "F(q, Theta, Thetadot) of (DefF) equals M(q, Thetadot)", gre_f_residual, GRE_F_CONTROLS,
+                   lambda d: d.F),
     "Prop1": Claim("Prop1", "Mdot - 2C - M(q, Thetadot) and H(q, Psi) are skew-symmetric", prop1_residual,
-                   PROP1_CONTROLS),
+                   PROP1_CONTROLS, lambda d: d.N),
     "Prop2": Claim("Prop2", "M a + C v + G = sum_l R_l Phi_l and M(q, Thetadot) v = sum_l R_M,l Phidot_l with "
-                            "regressors free of inertial parameters", prop2_residual, PROP2_CONTROLS),
+                            "regressors free of inertial parameters", prop2_residual, PROP2_CONTROLS,
+                   lambda d: d.regressors),
 }
 
 

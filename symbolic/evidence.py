@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.symbolic.claims import entries, originals
-from inertiaproof.symbolic.identity import Decision, decide_exact, decide_randomised, point_json
+from inertiaproof.symbolic.identity import Decision, decide_exact, decide_randomised, fixed_point, point_json
 
 
 @dataclass
@@ -26,6 +26,7 @@ class ClaimOutcome:
     exact: Decision
     randomised: Decision | None
     impure: list
+    subject_terms: int = 0  # terms of the derived objects the claim is about
     controls: dict = field(default_factory=dict)  # name -> "detected" | "vacuous" | "missed"
     seconds: dict = field(default_factory=dict)
     cached: bool = False
@@ -47,10 +48,30 @@ def leaves(obj):
     return [obj]
 
 
-def differs(calc, a, b):
-    """Whether two nested objects of the same shape differ as functions."""
-    la, lb = leaves(a), leaves(b)
-    return len(la) != len(lb) or any(not calc.is_zero(x - y) for x, y in zip(la, lb))
+class Probe:
+    """Exact values at one fixed rational point: a nonzero value certifies that an expression is not 0.
+
+    Used for the negative controls: cheaper than a canonical form, and exact;
+    only where the values agree does the canonical form decide.
+    """
+
+    def __init__(self, calc, salt=0):
+        self.calc, self.point, self.memo = calc, fixed_point(calc, salt), {}
+
+    def value(self, e):
+        return self.calc.evaluate(e, self.point, self.memo)
+
+    def nonzero(self, entries):
+        return any(self.value(e) != 0 for e in entries) or not decide_exact(self.calc, entries).holds
+
+    def differs(self, a, b):
+        """Whether two nested objects of the same shape differ as functions."""
+        la, lb = leaves(a), leaves(b)
+        if len(la) != len(lb):
+            return True
+        pairs = list(zip(la, lb))
+        return any(self.value(x) != self.value(y) for x, y in pairs) or \
+            any(not self.calc.is_zero(x - y) for x, y in pairs)
 
 
 def run_claim(claim, d, *, rng=None, randomised_points=2, controls=True):
@@ -58,18 +79,21 @@ def run_claim(claim, d, *, rng=None, randomised_points=2, controls=True):
     calc = d.calc
     residual, impure = entries(claim.residual(d))
     exact = decide_exact(calc, residual)
-    randomised = decide_randomised(calc, residual, rng, randomised_points) if rng is not None else None
+    randomised = None
+    if rng is not None:
+        randomised = decide_randomised(lambda at: entries(claim.residual(at))[0], d, rng, randomised_points)
     outcome = ClaimOutcome(d.key.label, dataclasses.asdict(d.key), exact, randomised, impure,
-                           seconds=dict(d.seconds), cached=d.cached)
+                           sum(calc.size(x) for x in leaves(claim.subject(d))), seconds=dict(d.seconds),
+                           cached=d.cached)
     if controls:
-        correct = originals(d)
+        correct, probe = originals(d), Probe(calc)
         for name, variant in claim.controls.items():
             kwargs = variant(d)
-            if not any(differs(calc, v, correct[k]) for k, v in kwargs.items()):
+            if not any(probe.differs(v, correct[k]) for k, v in kwargs.items()):
                 outcome.controls[name] = "vacuous"
                 continue
             wrong, wrong_impure = entries(claim.residual(d, **kwargs))
-            caught = not decide_exact(calc, wrong).holds or bool(wrong_impure)
+            caught = bool(wrong_impure) or probe.nonzero(wrong)
             outcome.controls[name] = "detected" if caught else "missed"
     return outcome
 
@@ -82,17 +106,20 @@ def decision_evidence(decision):
         "seconds": quantity(round(decision.seconds, 4), "seconds", "deciding, this run"),
     }
     if decision.method == "exact":
-        ev["terms"] = quantity(decision.terms, "count", "terms of the canonical forms")
+        ev["residual_terms"] = quantity(decision.terms, "exact", "terms of the canonical residuals")
     else:
         ev["points"] = quantity(decision.points, "count", "independent random points, coordinates uniform in [-2^31, 2^31)")
-        ev["degree_bound"] = quantity(decision.degree, "count", "total degree bound D after t-substitution")
+        ev["degree_bound"] = quantity(decision.degree, "count", "total degree bound D of the residual after "
+                                      "t-substitution (cos = (1-t^2)/(1+t^2), sin = 2t/(1+t^2))")
         ev["error_probability"] = quantity(float(decision.error_probability), "error_probability",
                                            f"(D / 2^32)^points = {decision.error_probability}")
     return ev
 
 
 def outcome_evidence(o):
-    ev = {"verdict": "HOLDS" if o.holds else "VIOLATED", "exact": decision_evidence(o.exact)}
+    ev = {"verdict": "HOLDS" if o.holds else "VIOLATED",
+          "derived_terms": quantity(o.subject_terms, "count", "terms of the derived objects the claim is about"),
+          "exact": decision_evidence(o.exact)}
     if o.randomised is not None:
         ev["randomised"] = decision_evidence(o.randomised)
     if o.impure:

@@ -39,8 +39,11 @@ def form(calc, obj):
 
 
 def meaning(calc, obj):
-    entries = leaves(obj)
-    return [[str(calc.evaluate(x, fixed_point(calc, salt))) for x in entries] for salt in MEANING_POINTS]
+    entries, out = leaves(obj), []
+    for salt in MEANING_POINTS:
+        point, memo = fixed_point(calc, salt), {}
+        out.append([str(calc.evaluate(x, point, memo)) for x in entries])
+    return out
 
 
 def fingerprints(derivation):

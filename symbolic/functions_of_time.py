@@ -135,7 +135,8 @@ class FunctionsOfTime:
         return self.canonical(e) == 0
 
     def size(self, e):
-        return len(sp.Add.make_args(self.canonical(e)))
+        e = self.canonical(e)
+        return 0 if e == 0 else len(sp.Add.make_args(e))
 
     def free_roles(self, e):
         """Roles of the functions e depends on (e.g. 'theta' for an inertial parameter)."""
@@ -160,18 +161,37 @@ class FunctionsOfTime:
         role, index = self.roles[type(atom)]
         return role, index, ()
 
-    def evaluate(self, e, point):
-        """Exact value of e at a point {atom key: Fraction}; keys absent from the point take a hashed default."""
-        e = self.canonical(e)
-        e = e.xreplace({d: sp.Rational(point_value(point, self.atom_key(d))) for d in e.atoms(sp.Derivative)})
-        e = e.xreplace({f: sp.Rational(point_value(point, self.atom_key(f)))
-                        for f in e.atoms(sp.core.function.AppliedUndef)})
-        e = e.xreplace({x: sp.Rational(point_value(point, self.atom_key(x))) for x in e.free_symbols
-                        if x in self.symbol_roles})
+    def evaluate(self, e, point, memo=None):
+        """Exact value of e at a point {atom key: Fraction}; keys absent from the point take a hashed default.
+
+        ``memo`` (a dict kept by the caller for one point) saves the atoms' values between calls.
+        """
+        memo = {} if memo is None else memo
+
+        def value(atom):
+            if atom not in memo:
+                memo[atom] = sp.Rational(point_value(point, self.atom_key(atom)))
+            return memo[atom]
+
+        e = sp.sympify(e)
+        e = e.xreplace({d: value(d) for d in e.atoms(sp.Derivative)})
+        e = e.xreplace({f: value(f) for f in e.atoms(sp.core.function.AppliedUndef)})
+        e = e.xreplace({x: value(x) for x in e.free_symbols if x in self.symbol_roles})
         return Fraction(int(sp.numer(e)), int(sp.denom(e)))
 
-    def degree_bound(self, e):
-        return polynomial_degree_bound(self.canonical(e))
+    def degree_profile(self, e):
+        """({}, total degree in the atoms): the atoms are algebraically independent, there is no circle."""
+        return {}, polynomial_degree_bound(sp.sympify(e))
+
+    def point_keys(self, leaves):
+        """The atom keys a point must give to evaluate these expressions."""
+        keys = set()
+        for e in leaves:
+            e = sp.sympify(e)
+            atoms = e.atoms(sp.Derivative) | e.atoms(sp.core.function.AppliedUndef)
+            keys |= {self.atom_key(a) for a in atoms}
+            keys |= {self.atom_key(x) for x in e.free_symbols if x in self.symbol_roles}
+        return sorted(keys, key=repr)
 
     def printed(self, e):
         return sp.srepr(self.canonical(e))

@@ -227,25 +227,35 @@ class JetSpace:
         """The roles of the generators p depends on (e.g. to see that a regressor is free of 'theta')."""
         return {self.generators[i].role for i in self.present(self.canonical(p))}
 
-    def evaluate(self, p, point):
-        """Exact value of p at a point {(role, index): Fraction}; cos and sin come from the point's 'tan_half'."""
-        values = []
-        for g in self.generators:
-            if g.role in ("cos", "sin"):
-                t = Fraction(point[("tan_half", g.index)])
-                values.append((1 - t * t) / (1 + t * t) if g.role == "cos" else 2 * t / (1 + t * t))
-            else:
-                values.append(Fraction(point.get((g.role, g.index), 0)))
+    def evaluate(self, p, point, memo=None):
+        """Exact value of p at a point {(role, index): Fraction}; cos and sin come from the point's 'tan_half'.
+
+        ``memo`` (a dict kept by the caller for one point) saves the coordinates' powers between calls.
+        """
+        memo = {} if memo is None else memo
+        if "values" not in memo:
+            values = []
+            for g in self.generators:
+                if g.role in ("cos", "sin"):
+                    t = Fraction(point[("tan_half", g.index)])
+                    values.append((1 - t * t) / (1 + t * t) if g.role == "cos" else 2 * t / (1 + t * t))
+                else:
+                    values.append(Fraction(point.get((g.role, g.index), 0)))
+            memo["values"], memo["powers"] = values, {}
+        values, powers = memo["values"], memo["powers"]
         total = Fraction(0)
         for monom, coeff in p.items():
             term = Fraction(int(coeff.numerator), int(coeff.denominator))
-            for v, e in zip(values, monom):
+            for i, e in enumerate(monom):
                 if e:
-                    term *= v**e
+                    key = (i, e)
+                    if key not in powers:
+                        powers[key] = values[i] ** e
+                    term *= powers[key]
             total += term
         return total
 
-    def point_roles(self):
+    def point_keys(self, leaves=()):
         """The (role, index) keys a point must give: tan(x_k/2) for revolute joints, every other coordinate."""
         keys = []
         for g in self.generators:
@@ -254,26 +264,17 @@ class JetSpace:
                 keys.append(key)
         return keys
 
-    def degree_bound(self, p):
-        """Total degree of t -> prod_k (1 + t_k^2)^{d_k} p(c(t), s(t), rest): each c_k, s_k counts 2 (Schwartz-Zippel)."""
-        if not p:
-            return 0
-        trig = {}
-        rest = 0
+    def degree_profile(self, p):
+        """({k: degree of p in (c_k, s_k) jointly}, degree in the other coordinates), for Schwartz-Zippel bounds."""
+        trig, rest = {}, 0
+        pairs = [(k, self._position[("cos", (k,))], self._position[("sin", (k,))])
+                 for k in range(1, self.n + 1) if self.kinds[k - 1] == "revolute"]
+        trig_positions = {i for _, c, s in pairs for i in (c, s)}
         for monom in p.itermonoms():
-            other = 0
-            for i, e in enumerate(monom):
-                if not e:
-                    continue
-                g = self.generators[i]
-                if g.role not in ("cos", "sin"):
-                    other += e
-            rest = max(rest, other)
-            for k in range(1, self.n + 1):
-                if self.kinds[k - 1] == "revolute":
-                    d = monom[self._position[("cos", (k,))]] + monom[self._position[("sin", (k,))]]
-                    trig[k] = max(trig.get(k, 0), d)
-        return 2 * sum(trig.values()) + rest
+            rest = max(rest, sum(e for i, e in enumerate(monom) if e and i not in trig_positions))
+            for k, c, s in pairs:
+                trig[k] = max(trig.get(k, 0), monom[c] + monom[s])
+        return trig, rest
 
     def printed(self, p):
         """The canonical form as text in the ring's monomial order (deterministic, hash-seed independent)."""

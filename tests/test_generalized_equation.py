@@ -76,9 +76,11 @@ def test_a_blind_check_is_inconclusive(ci_derivations):
 
 def test_randomised_test_finds_a_nonzero_residual(ci_derivations):
     d = next(x for x in ci_derivations if x.key.label == "3R")
-    wrong, _ = entries(CLAIMS["GRE"].residual(d, eq=d.equation.with_terms(H=transpose(d.equation.H))))
-    decision = decide_randomised(d.calc, wrong, np.random.default_rng(0), points=2)
-    assert not decision.holds and decision.witness["value"] != 0
+    formula = lambda at: entries(CLAIMS["GRE"].residual(at))[0]  # noqa: E731
+    good = decide_randomised(formula, d, np.random.default_rng(0), points=2)
+    assert good.holds and 0 < good.error_probability < 1e-15 and good.degree > 2
+    bad = decide_randomised(formula, _bad(d, H=transpose(d.equation.H)), np.random.default_rng(0), points=2)
+    assert not bad.holds and bad.witness["value"] != 0
 
 
 @pytest.mark.parametrize("name", ["2R", "3R"])
