@@ -5,7 +5,7 @@ from __future__ import annotations
 from inertiaproof.registry import check, replayer
 from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.symbolic import oracle
-from inertiaproof.symbolic.claims import CLAIMS
+from inertiaproof.symbolic.claims import CLAIMS, entries
 from inertiaproof.symbolic.derivations import derivation
 from inertiaproof.symbolic.evidence import claim_result, run_claim
 from inertiaproof.symbolic.identity import fixed_point, point_from_json
@@ -94,8 +94,6 @@ def replay_symbolic_claim(data, ctx):
     key = SystemKey(**data["system"])
     d = derivation(key)
     claim = CLAIMS[data["id"]]
-    from inertiaproof.symbolic.claims import entries
-
     residual, impure = entries(claim.residual(d))
     if "entry" in data:
         value = d.calc.evaluate(residual[data["entry"]], point_from_json(data["point"]))

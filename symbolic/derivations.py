@@ -9,13 +9,12 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Any
 
 from inertiaproof.symbolic import cache
 from inertiaproof.symbolic.lagrangian import euler_lagrange
 from inertiaproof.symbolic.properties import Regressors, build_regressors, property1_matrix, total_derivative
 from inertiaproof.symbolic.robotics_equation import RoboticEquation, assemble, christoffel, parameter_rate_matrix
-from inertiaproof.symbolic.systems import System, SystemKey, abstract_system, build, chain_inputs, chain_of, chain_system
+from inertiaproof.symbolic.systems import System, SystemKey, abstract_system, build, chain_inputs, chain_of
 
 
 @dataclass
@@ -153,8 +152,3 @@ def _from_stored(shell, stored):
     return Derivation(system, stored["euler_lagrange"], RoboticEquation(**stored["equation"]), stored["gamma"],
                       stored["F"], stored["M_dot"], stored["N"], Regressors(stored["R"], stored["R_M"]),
                       dict(stored["seconds"]))
-
-
-def chain_derivation_uncached(chain):
-    """Derive an arbitrary chain (e.g. a scene's) without memo or cache."""
-    return derive(chain_system(SystemKey("chain", chain.name), chain))

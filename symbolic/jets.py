@@ -27,6 +27,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property
+from math import comb
 
 from sympy.polys.domains import QQ
 from sympy.polys.rings import PolyRing
@@ -159,15 +160,53 @@ class JetSpace:
             used.update(i for i, e in enumerate(monom) if e)
         return used
 
+    def _coordinate_images(self, k, with_velocity):
+        """d/dq_k (times qd_k if with_velocity) of joint k's coordinates, as {generator: [(coeff, {gen: exp})]}."""
+        qd = {self._position[("qd", (k,))]: 1} if with_velocity else {}
+        images = {}
+        if self.kinds[k - 1] == "revolute":
+            c, s = self._position[("cos", (k,))], self._position[("sin", (k,))]
+            q = self._position.get(("q", (k,)))
+            for power, coeff in enumerate(COORDINATE_POLYNOMIALS[self.coordinates[k - 1]][1]):
+                if not coeff:
+                    continue
+                extra = {q: power} if power else {}
+                images.setdefault(c, []).append((-coeff, {s: 1, **extra, **qd}))
+                images.setdefault(s, []).append((coeff, {c: 1, **extra, **qd}))
+        if self.has("q", k):
+            images[self._position[("q", (k,))]] = [(1, dict(qd))]
+        return images
+
+    @cached_property
+    def _time_images(self):
+        images = {}
+        for k in range(1, self.n + 1):
+            images.update(self._coordinate_images(k, with_velocity=True))
+        rates = {"qd": "qdd", "theta": "theta_dot", "psi": "psi_dot", "nu": "nu_dot"}
+        for i, g in enumerate(self.generators):
+            if g.role in rates:
+                images[i] = [(1, {self._position[(rates[g.role], g.index)]: 1})]
+        return images
+
+    def _derivation(self, p, images):
+        """D p for the derivation with D x_i = images[i] (a Leibniz rule applied term by term in one pass)."""
+        out = {}
+        for monom, coeff in p.items():
+            for i, e in enumerate(monom):
+                if not e or i not in images:
+                    continue
+                for c, delta in images[i]:
+                    m = list(monom)
+                    m[i] -= 1
+                    for j, d in delta.items():
+                        m[j] += d
+                    key = tuple(m)
+                    out[key] = out.get(key, 0) + coeff * (e * c)
+        return self.ring.from_dict({m: c for m, c in out.items() if c}) if out else self.zero
+
     def d_q(self, p, k):
         """The partial derivative d p / d q_k at fixed qd, Theta, Psi."""
-        out = self.zero
-        if self.has("q", k):
-            out += p.diff(self.gen("q", k))
-        if self.kinds[k - 1] == "revolute":
-            c, s = self.gen("cos", k), self.gen("sin", k)
-            out += self.coordinate_derivative(k) * (c * p.diff(s) - s * p.diff(c))
-        return out
+        return self._derivation(p, self._coordinate_images(k, with_velocity=False))
 
     def d_qd(self, p, k):
         return p.diff(self.gen("qd", k))
@@ -178,21 +217,11 @@ class JetSpace:
 
     def d_t(self, p):
         """D_t p: the total time derivative along q(t), Theta(t), Psi(t), nu(t)."""
-        used = self.present(p)
-        out = self.zero
-        for i in sorted(used):
+        for i in self.present(p):
             g = self.generators[i]
             if g.role in ("qdd", "theta_dot", "psi_dot", "nu_dot"):
                 raise ValueError(f"D_t of {g.name}: second derivatives of the motion are not jet coordinates here")
-        for k in range(1, self.n + 1):
-            if any(self.generators[i].index == (k,) and self.generators[i].role in ("cos", "sin", "q") for i in used):
-                out += self.gen("qd", k) * self.d_q(p, k)
-        rates = {"qd": "qdd", "theta": "theta_dot", "psi": "psi_dot", "nu": "nu_dot"}
-        for i in sorted(used):
-            g = self.generators[i]
-            if g.role in rates:
-                out += self.gen(rates[g.role], *g.index) * p.diff(self.gens[i])
-        return out
+        return self._derivation(p, self._time_images)
 
     def at_rates(self, p):
         """p with Theta replaced by Thetadot: for p linear in Theta, p(q, Thetadot) (e.g. M(q, Thetadot))."""
@@ -209,13 +238,37 @@ class JetSpace:
     # -- normal form, evaluation ---------------------------------------------
 
     @cached_property
-    def _circle_relations(self):
-        return [self.gen("cos", k) ** 2 + self.gen("sin", k) ** 2 - 1
+    def _circles(self):
+        return [(self._position[("cos", (k,))], self._position[("sin", (k,))])
                 for k in range(1, self.n + 1) if self.kinds[k - 1] == "revolute"]
 
     def canonical(self, p):
-        """Normal form modulo sin^2 + cos^2 = 1 (c_k^2 -> 1 - s_k^2): zero iff p is the zero function."""
-        return p.rem(self._circle_relations) if self._circle_relations and p else p
+        """Normal form modulo sin^2 + cos^2 = 1: every c_k^(2a+b) becomes c_k^b (1 - s_k^2)^a, b < 2.
+
+        The result has no c_k^2 left, so it is the unique normal form for the
+        Groebner basis {c_k^2 + s_k^2 - 1} (leading terms c_k^2): zero iff p is
+        the zero function on the torus.
+        """
+        if not self._circles or not p:
+            return p
+        out = {}
+        for monom, coeff in p.items():
+            terms = [(list(monom), coeff)]
+            for c, s in self._circles:
+                a, b = divmod(monom[c], 2)
+                if not a:
+                    continue
+                expanded = []
+                for m, k in terms:
+                    for j in range(a + 1):
+                        m2 = list(m)
+                        m2[c], m2[s] = b, m[s] + 2 * j
+                        expanded.append((m2, k * (comb(a, j) * (-1) ** j)))
+                terms = expanded
+            for m, k in terms:
+                key = tuple(m)
+                out[key] = out.get(key, 0) + k
+        return self.ring.from_dict({m: k for m, k in out.items() if k}) if out else self.zero
 
     def is_zero(self, p):
         return not self.canonical(p)

@@ -11,7 +11,7 @@ from inertiaproof.symbolic.claims import CLAIMS
 from inertiaproof.symbolic.derivations import derivation
 from inertiaproof.symbolic.evidence import claim_result, run_claim
 from inertiaproof.symbolic.properties import Regressors
-from inertiaproof.symbolic.systems import SystemKey, profile_systems
+from inertiaproof.symbolic.systems import profile_systems
 
 
 @pytest.fixture(scope="module")

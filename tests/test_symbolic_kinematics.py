@@ -51,7 +51,7 @@ def test_total_derivative_is_sympy_d_dt_along_functions_of_t():
     twin = ChainTwin(robots.planar_2r().chain)
     jets = twin.jets
     t = sp.Symbol("t")
-    motion, back = [], {}
+    motion = []
     for g in jets.generators:
         if g.role in ("cos", "sin"):
             q = sp.Function(f"q{g.index[0]}")(t)
