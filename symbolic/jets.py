@@ -29,6 +29,7 @@ from fractions import Fraction
 from functools import cached_property
 from math import comb
 
+import numpy as np
 from sympy.polys.domains import QQ
 from sympy.polys.rings import PolyRing
 
@@ -155,10 +156,9 @@ class JetSpace:
 
     def present(self, p):
         """Indices of the generators that occur in p."""
-        used = set()
-        for monom in p.itermonoms():
-            used.update(i for i, e in enumerate(monom) if e)
-        return used
+        if not p:
+            return set()
+        return set(np.flatnonzero(np.array(list(p.itermonoms()), dtype=np.int64).any(axis=0)).tolist())
 
     def _coordinate_images(self, k, with_velocity):
         """d/dq_k (times qd_k if with_velocity) of joint k's coordinates, as {generator: [(coeff, {gen: exp})]}."""
@@ -186,6 +186,8 @@ class JetSpace:
         for i, g in enumerate(self.generators):
             if g.role in rates:
                 images[i] = [(1, {self._position[(rates[g.role], g.index)]: 1})]
+            elif g.role in rates.values():
+                images[i] = None  # a second derivative of the motion: not a jet coordinate here
         return images
 
     def _derivation(self, p, images):
@@ -195,6 +197,9 @@ class JetSpace:
             for i, e in enumerate(monom):
                 if not e or i not in images:
                     continue
+                if images[i] is None:
+                    raise ValueError(f"D_t of {self.generators[i].name}: second derivatives of the motion are not "
+                                     "jet coordinates here")
                 for c, delta in images[i]:
                     m = list(monom)
                     m[i] -= 1
@@ -217,10 +222,6 @@ class JetSpace:
 
     def d_t(self, p):
         """D_t p: the total time derivative along q(t), Theta(t), Psi(t), nu(t)."""
-        for i in self.present(p):
-            g = self.generators[i]
-            if g.role in ("qdd", "theta_dot", "psi_dot", "nu_dot"):
-                raise ValueError(f"D_t of {g.name}: second derivatives of the motion are not jet coordinates here")
         return self._derivation(p, self._time_images)
 
     def at_rates(self, p):
@@ -253,6 +254,9 @@ class JetSpace:
             return p
         out = {}
         for monom, coeff in p.items():
+            if all(monom[c] < 2 for c, _ in self._circles):
+                out[monom] = out.get(monom, 0) + coeff
+                continue
             terms = [(list(monom), coeff)]
             for c, s in self._circles:
                 a, b = divmod(monom[c], 2)
