@@ -7,25 +7,11 @@ from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.symbolic import oracle
 from inertiaproof.symbolic.claims import CLAIMS, entries
 from inertiaproof.symbolic.derivations import derivation
-from inertiaproof.symbolic.evidence import claim_result, run_claim
+from inertiaproof.symbolic.evidence import claim_result, profile_derivations, profile_outcomes
 from inertiaproof.symbolic.identity import fixed_point, point_from_json
-from inertiaproof.symbolic.systems import SystemKey, profile_systems
+from inertiaproof.symbolic.systems import SystemKey
 
 ORACLE_TOLERANCE = 1e-9  # relative; the twin's transforms are within 1e-12 of the chain's
-
-
-def derivations(ctx):
-    """The profile's derivations, shared by every symbolic check of the run (memo and disk cache)."""
-    return [derivation(key, progress=ctx.progress) for key in profile_systems(ctx.profile)]
-
-
-def outcomes(ctx, claim_id):
-    claim = CLAIMS[claim_id]
-    out = []
-    for d in derivations(ctx):
-        ctx.progress(f"on {d.key.label}: deciding with {len(claim.controls)} negative controls")
-        out.append(run_claim(claim, d, rng=ctx.rng(f"{claim_id}:{d.key.label}")))
-    return out
 
 
 def time_per_n(ds, decided):
@@ -65,8 +51,8 @@ def chain_cross_checks(ds):
 
 @check("GRE")
 def generalized_robotics_equation(ctx):
-    ds = derivations(ctx)
-    decided = outcomes(ctx, "GRE")
+    ds = profile_derivations(ctx)
+    decided = profile_outcomes(ctx, "GRE")
     cross, worst = chain_cross_checks(ds)
     series = {"title": "abstract Euler-Lagrange derivation time per n", "x_label": "n", "y_label": "seconds",
               "x_log": False, "y_log": True,
@@ -85,7 +71,7 @@ def generalized_robotics_equation(ctx):
 
 @check("GRE-F")
 def parameter_rate_matrix(ctx):
-    return claim_result(CLAIMS["GRE-F"], outcomes(ctx, "GRE-F"))
+    return claim_result(CLAIMS["GRE-F"], profile_outcomes(ctx, "GRE-F"))
 
 
 @replayer("symbolic-claim")

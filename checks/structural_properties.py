@@ -2,17 +2,16 @@
 
 from __future__ import annotations
 
-from inertiaproof.checks.generalized_equation import outcomes
 from inertiaproof.registry import check
 from inertiaproof.symbolic.claims import CLAIMS
-from inertiaproof.symbolic.evidence import claim_result
+from inertiaproof.symbolic.evidence import claim_result, profile_outcomes
 
 
 @check("Prop1", variant="symbolic")
 def skew_symmetry(ctx):
-    return claim_result(CLAIMS["Prop1"], outcomes(ctx, "Prop1"))
+    return claim_result(CLAIMS["Prop1"], profile_outcomes(ctx, "Prop1"))
 
 
 @check("Prop2", variant="symbolic")
 def regressors(ctx):
-    return claim_result(CLAIMS["Prop2"], outcomes(ctx, "Prop2"))
+    return claim_result(CLAIMS["Prop2"], profile_outcomes(ctx, "Prop2"))

@@ -172,3 +172,22 @@ def claim_result(claim, outcomes, *, extra=None, method_note=""):
                       f"control(s) {'; '.join(blind)} went undetected, so the check cannot vouch for itself", evidence)
     return Result(claim.id, Verdict.HOLDS, f"{claim.statement}: exactly, on {labels}; {len(controls)}/"
                   f"{len(controls)} negative controls detected", evidence)
+
+
+def profile_derivations(ctx):
+    """The profile's derivations, shared by every symbolic check of a run (process memo and disk cache)."""
+    from inertiaproof.symbolic.derivations import derivation
+    from inertiaproof.symbolic.systems import profile_systems
+
+    return [derivation(key, progress=ctx.progress) for key in profile_systems(ctx.profile)]
+
+
+def profile_outcomes(ctx, claim_id):
+    """A claim decided on every system of the run's profile, with a seeded generator per system."""
+    from inertiaproof.symbolic.claims import CLAIMS
+
+    claim, out = CLAIMS[claim_id], []
+    for d in profile_derivations(ctx):
+        ctx.progress(f"on {d.key.label}: deciding with {len(claim.controls)} negative controls")
+        out.append(run_claim(claim, d, rng=ctx.rng(f"{claim_id}:{d.key.label}")))
+    return out
