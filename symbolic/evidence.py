@@ -12,6 +12,7 @@ disagree or a negative control was not detected where it changes something
 from __future__ import annotations
 
 import dataclasses
+import time
 from dataclasses import dataclass, field
 
 from inertiaproof.result import Result, Verdict, quantity
@@ -77,8 +78,11 @@ class Probe:
 def run_claim(claim, d, *, rng=None, randomised_points=2, controls=True):
     """Decide a claim on one derivation, with its negative controls."""
     calc = d.calc
+    start = time.perf_counter()
     residual, impure = entries(claim.residual(d))
+    formed = time.perf_counter() - start
     exact = decide_exact(calc, residual)
+    exact.seconds += formed  # forming the residual (products, sums: expansion in the ring) is part of deciding
     randomised = None
     if rng is not None:
         randomised = decide_randomised(lambda at: entries(claim.residual(at))[0], d, rng, randomised_points)
