@@ -77,4 +77,4 @@ IDS = tuple(e.id for e in ENTRIES)
 
 def order(entry_id):
     """Position in the paper; unknown IDs (e.g. the gate) sort last."""
-    return IDS.index(entry_id) if entry_id in BY_ID else len(IDS)
+    return IDS.index(entry_id) if entry_id in IDS else len(IDS)

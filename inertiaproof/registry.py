@@ -41,12 +41,14 @@ class Profile:
     symbolic_max_n: int  # largest n for the abstract symbolic derivation
     derandomize: bool  # Hypothesis: same examples every run, no database
     concrete_chains: tuple = ("2R", "3R")  # concrete chains derived symbolically
+    symbolic_parameters: int = 2  # generic M^h, U^h of the abstract derivation (linearity covers any 10N)
+    symbolic_rows: int = 2  # generic rows of QJ of the abstract derivation (linearity covers any 6N)
 
 
 PROFILES = {
     "ci": Profile("ci", examples=60, samples=2000, refine_s=0.5, symbolic_max_n=3, derandomize=True),
     "deep": Profile("deep", examples=2000, samples=50000, refine_s=20.0, symbolic_max_n=5, derandomize=False,
-                    concrete_chains=("2R", "3R", "6R")),
+                    concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6),
 }
 
 

@@ -1,0 +1,50 @@
+"""Floating-point cross-checks of the symbolic chain against the numeric model (an extra, not a proof).
+
+At a rational point the symbolic QJ and the symbolic left side of
+(RoboticEquation) are evaluated exactly and compared with
+:meth:`Chain.body_jacobian` and :func:`inertiaproof.dynamics.generalized_forces`
+(the numeric model verified against Pinocchio) at the same point in floats.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from inertiaproof import dynamics
+from inertiaproof.symbolic.robotics_equation import left_side
+
+
+def numeric_motion(jets, point):
+    """The floats of a point: theta (N, 10), theta_dot, psi (6N), psi_dot, qd, qdd."""
+    get = lambda role, *i: float(point.get((role, tuple(i)), 0))  # noqa: E731
+    n, bodies = jets.n, jets.bodies
+    return {
+        "qd": np.array([get("qd", k) for k in range(1, n + 1)]),
+        "qdd": np.array([get("qdd", k) for k in range(1, n + 1)]),
+        "theta": np.array([[get("theta", l, i) for i in range(10)] for l in range(1, bodies + 1)]),
+        "theta_dot": np.array([[get("theta_dot", l, i) for i in range(10)] for l in range(1, bodies + 1)]),
+        "psi": np.array([get("psi", l, i) for l in range(1, bodies + 1) for i in range(6)]),
+        "psi_dot": np.array([get("psi_dot", l, i) for l in range(1, bodies + 1) for i in range(6)]),
+    }
+
+
+def body_jacobian_error(d, point):
+    """max |QJ_symbolic - Chain.body_jacobian| at the point."""
+    twin, jets = d.system.twin, d.calc
+    exact = np.array([[float(jets.evaluate(x, point)) for x in row] for row in d.system.body_jacobian])
+    return float(np.max(np.abs(exact - twin.chain.body_jacobian(twin.numeric_point(point)))))
+
+
+def generalized_forces_error(d, point):
+    """(max relative error, symbolic values, numeric values) of tau + w from (RoboticEquation) at the point."""
+    twin, jets = d.system.twin, d.calc
+    chain = twin.chain
+    q = twin.numeric_point(point)
+    motion = numeric_motion(jets, point)
+    rotations, _ = chain.forward_kinematics(q)
+    numeric = dynamics.generalized_forces(chain.body_jacobian(q), chain.body_jacobian_derivative(q), rotations,
+                                          np.array(chain.gravity), motion["qdd"], motion["qd"], motion["theta"],
+                                          motion["theta_dot"], motion["psi"], motion["psi_dot"])
+    symbolic = np.array([float(jets.evaluate(x, point)) for x in left_side(jets, d.equation)])
+    scale = max(1.0, float(np.max(np.abs(numeric))))
+    return float(np.max(np.abs(symbolic - numeric)) / scale), symbolic, numeric
