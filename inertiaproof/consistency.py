@@ -34,12 +34,21 @@ RESOLUTION = 64.0
 EPS = np.finfo(float).eps
 
 
+def _power_of_two_scale(columns):
+    """Per row, the exponent k with 2^(k-1) <= max |entry| < 2^k (0 for a zero row): dividing by 2^k is exact."""
+    return np.frexp(np.max(np.abs(columns), axis=0))[1]
+
+
 def _sym3_eigenvalues(a, b, c, d, e, f):
     """Ascending eigenvalues of [[a, d, f], [d, b, e], [f, e, c]], column-wise.
 
-    Trigonometric closed form; it loses half the digits where two eigenvalues
-    nearly coincide (|r| -> 1), so those rows are recomputed with LAPACK.
+    Trigonometric closed form on the entries scaled by a power of two to at
+    most 1 (squares neither overflow nor underflow); it loses half the digits
+    where two eigenvalues nearly coincide (|r| -> 1), so those rows are
+    recomputed with LAPACK.
     """
+    k = _power_of_two_scale(np.stack([a, b, c, d, e, f]))
+    a, b, c, d, e, f = (np.ldexp(x, -k) for x in (a, b, c, d, e, f))
     q = (a + b + c) / 3.0
     p1 = d * d + e * e + f * f
     p = np.sqrt(((a - q) ** 2 + (b - q) ** 2 + (c - q) ** 2 + 2.0 * p1) / 6.0)
@@ -55,7 +64,7 @@ def _sym3_eigenvalues(a, b, c, d, e, f):
     if close.size:
         rows = np.stack([a, d, f, d, b, e, f, e, c], -1)[close].reshape(-1, 3, 3)
         eig[close] = np.linalg.eigvalsh(rows)
-    return eig
+    return np.ldexp(eig, k[:, None])
 
 
 def _pseudo_inertia_lambda_min(m, h, s):
@@ -225,7 +234,9 @@ def physical_consistency(phi, *, margins=True):
     invalid = ~finite.all(axis=1)
     invalid_field = np.where(invalid, np.argmin(finite, axis=1), -1)
     cols = np.where(finite, flat, 0.0).T.copy()
-    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = cols
+    mass = cols[0].copy()
+    exponent = _power_of_two_scale(cols)  # f(2^-k Phi) = 2^-k f(Phi): verdicts and relative margins unchanged
+    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = np.ldexp(cols, -exponent)
 
     half_tr = 0.5 * (i11 + i22 + i33)
     positive = m > 0
@@ -262,8 +273,8 @@ def physical_consistency(phi, *, margins=True):
 
     return Consistency(
         verdict=verdict.reshape(shape),
-        mass=m.reshape(shape),
-        sigma_com_eigenvalues=eig.reshape(shape + (3,)),
+        mass=mass.reshape(shape),
+        sigma_com_eigenvalues=np.ldexp(eig, exponent[:, None]).reshape(shape + (3,)),
         triangle_slack=slack.reshape(shape),
         lambda_min_rel=lam.reshape(shape),
         decided_exactly=unresolved.reshape(shape),
