@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from inertiaproof import exact
 from inertiaproof.checks.identities import all_of, identity_result
 from inertiaproof.consistency import CONSISTENT, decide_exactly, physical_consistency
-from inertiaproof.counterexamples.boundary import boundary_phi, near_boundary_phi, principal_inertia
+from inertiaproof.counterexamples.boundary import boundary_phi, near_boundary_phi, principal_inertia, shifted_com_phi
 from inertiaproof.counterexamples.inertias import any_phi, consistent_phi, pseudo_inertia_pd
 from inertiaproof.hunt import hunt
 from inertiaproof.inertia import pseudo_inertia, pseudo_inertia_inverse, sigma_com, unpack
@@ -59,10 +59,11 @@ def schur_side(phi, schur_complement=sigma_com):
     m, h, inertia = unpack(phi)
     if not m > 0:
         return False, False
-    s = schur_complement(phi)
-    lam = np.linalg.eigvalsh(s)[0]
-    scale = np.linalg.norm(s) + np.linalg.norm(inertia) + h @ h / m
-    if abs(lam) > RESOLUTION * scale:
+    with np.errstate(over="ignore", invalid="ignore"):
+        s = schur_complement(phi)
+        lam = np.linalg.eigvalsh(s)[0] if np.all(np.isfinite(s)) else np.nan
+        scale = np.linalg.norm(s) + np.linalg.norm(inertia) + h @ h / m
+    if np.isfinite(scale) and abs(lam) > RESOLUTION * scale:
         return bool(lam > 0), False
     return decide_exactly(phi)[0] == CONSISTENT, True
 
@@ -77,7 +78,7 @@ def schur_margin(phi, rhs=schur_side, record=None):
 
 
 def phi_strategy():
-    return st.one_of(any_phi, consistent_phi(), boundary_phi(), near_boundary_phi(),
+    return st.one_of(any_phi, consistent_phi(), shifted_com_phi(), boundary_phi(), near_boundary_phi(),
                      pseudo_inertia_pd().map(pseudo_inertia_inverse))
 
 
@@ -124,7 +125,8 @@ def schur_numeric(ctx, rhs=schur_side, strategy=None):
     """Hypothesis hunt and a batched sweep for disagreements of f > 0 and (m > 0, Sigma_CoM > 0)."""
     record = {"exact": 0}
     ctx.progress("hunting Phi where f > 0 and (m > 0, Sigma_CoM > 0) disagree")
-    h = hunt(strategy or phi_strategy(), lambda phi: schur_margin(phi, rhs, record), ctx, label="EQ-schur")
+    h = hunt(phi_strategy() if strategy is None else strategy, lambda phi: schur_margin(phi, rhs, record), ctx,
+             label="EQ-schur")
     evidence = {"hunt": {**h.summary(), "margins": h.margins},
                 "hunt_exact_decisions": quantity(record["exact"], "count",
                                                  "examples with a side below float resolution, decided in rational arithmetic"),

@@ -143,11 +143,13 @@ def quadrature_part(densities, closed_form=density.moments):
 
 def monte_carlo_part(densities, rng, samples, closed_form=density.moments):
     """Closed forms against Monte Carlo integration of the pointwise density (union, overlapping mixture)."""
-    worst, worst_name, entries = 0.0, None, 0
+    worst, worst_name, entries, detectable = 0.0, None, 0, 0.0
     for name, spec in densities.items():
         estimate, error = quadrature.monte_carlo(spec, samples, rng)
-        diff = np.abs(_flat(closed_form(spec)) - _flat(estimate))
+        closed = _flat(closed_form(spec))
+        diff = np.abs(closed - _flat(estimate))
         se = _flat(error)
+        detectable = max(detectable, float(np.max(Z_LIMIT * se / np.maximum(np.abs(closed), np.finfo(float).tiny))))
         z = np.where(se > 0, diff / np.where(se > 0, se, 1.0), np.where(diff > 0, np.inf, 0.0))
         entries += z.size
         if z.max() > worst:
@@ -156,6 +158,8 @@ def monte_carlo_part(densities, rng, samples, closed_form=density.moments):
         "samples": quantity(samples, "count", "uniform points per density in a box around its carrier (fixed seed)"),
         "largest_z": quantity(worst, "estimate", f"max |closed - Monte Carlo| / standard error ({worst_name})"),
         "z_limit": quantity(Z_LIMIT, "tolerance", "a z-score above it is a violation"),
+        "detectable_error": quantity(detectable, "tolerance", "relative error of an entry this comparison is sure to "
+                                                              "catch: 6 standard errors over |entry| (the largest)"),
         "false_alarm": quantity(entries * P_TWO_SIDED_6, "error_probability",
                                 "probability that a correct closed form exceeds the limit (normal approximation, union bound)"),
     }

@@ -56,7 +56,7 @@ def precise_margins(f):
     m, h = f[3, 3], f[:3, 3]
     with mpmath.workdps(DIGITS):
         norm = mpmath.sqrt(sum(mpmath.mpf((x * x).numerator) / (x * x).denominator for x in f.flat))
-        lam = _eigenvalues(f)[0] / norm
+        lam = _eigenvalues(f)[0] / norm if norm > 0 else mpmath.mpf(0)
         if not m > 0:
             return float(lam), float("nan")
         s = _eigenvalues(f[:3, :3] - np.outer(h, h) / m)
@@ -73,7 +73,7 @@ def density_margins(spec):
     """
     c = physical_consistency(density.phi(spec))
     lam, slack = float(c.lambda_min_rel[()]), float(c.triangle_slack[()])
-    if abs(lam) > RESOLUTION and not c.decided_exactly[()] and np.isfinite(slack):
+    if abs(lam) > RESOLUTION and not c.decided_exactly[()]:
         return lam, slack, lam > 0, int(c.verdict[()]) == CONSISTENT, False
     f = density.pseudo_inertia_exact(spec)
     f_pd, sigma_pd = exact_decisions(spec, f)
@@ -96,7 +96,7 @@ class _Hunts:
         self.worst_example = min(hunts, key=lambda h: h.worst_margin).worst_example
 
 
-def sufficiency_hunt(ctx, strategies=None):
+def sufficiency_hunt(ctx, strategies=None, **hunt_settings):
     """The hunts both Def1/Thm1-suff and Rem2 read: one per density family, run once per (seed, profile)."""
     key = (ctx.seed, ctx.profile.name)
     if strategies is None and key in _SHARED:
@@ -114,7 +114,8 @@ def sufficiency_hunt(ctx, strategies=None):
     hunts = []
     for name, strategy in families.items():
         ctx.progress(f"hunting {name} densities with f(Phi) not > 0 or a non-strict triangle inequality")
-        hunts.append(hunt(strategy, margin, ctx, label=f"Def1/Thm1-suff:{name}", max_examples=per_family))
+        hunts.append(hunt(strategy, margin, ctx, label=f"Def1/Thm1-suff:{name}",
+                          **{"max_examples": per_family, **hunt_settings}))
         if hunts[-1].violation is not None:
             break
     shared = (_Hunts(hunts), records)
@@ -125,7 +126,7 @@ def sufficiency_hunt(ctx, strategies=None):
 
 def _hunt_evidence(found, records, field, meaning):
     values = [r[field] for r in records]
-    worst = int(np.argmin(values))
+    worst = int(np.nanargmin(values)) if not np.all(np.isnan(values)) else 0
     families = {}
     for r in records:
         families[r["family"]] = families.get(r["family"], 0) + 1
@@ -153,8 +154,8 @@ def _violation(check_id, found, statement):
          f"{'nonnegative' if nonnegative else 'NOT nonnegative: negative mass somewhere'})")
 
 
-def sufficiency_result(ctx, strategies=None):
-    found, records = sufficiency_hunt(ctx, strategies)
+def sufficiency_result(ctx, strategies=None, **hunt_settings):
+    found, records = sufficiency_hunt(ctx, strategies, **hunt_settings)
     evidence = _hunt_evidence(found, records, "lambda", "lambda_min(f)/||f||_F")
     if found.violation is not None and not exact_decisions(found.violation)[0]:
         counterexample, summary = _violation("Def1/Thm1-suff", found, "f(Phi) > 0")
@@ -163,8 +164,8 @@ def sufficiency_result(ctx, strategies=None):
                   f"lambda_min(f)/||f||_F = {min(r['lambda'] for r in records):.2e}", evidence)
 
 
-def remark2_result(ctx, strategies=None):
-    found, records = sufficiency_hunt(ctx, strategies)
+def remark2_result(ctx, strategies=None, **hunt_settings):
+    found, records = sufficiency_hunt(ctx, strategies, **hunt_settings)
     evidence = _hunt_evidence(found, records, "slack", "smallest triangle slack of I_CoM / tr(I_CoM)")
     evidence["shared_with"] = "the hunt of Def1/Thm1-suff (same densities, run once)"
     if found.violation is not None and not exact_decisions(found.violation)[1]:
@@ -227,7 +228,7 @@ def _exact_matrix(a):
     return np.vectorize(Fraction, otypes=[object])(np.asarray(a, dtype=float))
 
 
-def necessity_result(ctx, strategy=None):
+def necessity_result(ctx, strategy=None, **hunt_settings):
     records = []
 
     def margin(f):
@@ -236,7 +237,8 @@ def necessity_result(ctx, strategy=None):
         return value
 
     ctx.progress("realising hunted f > 0 by uniform ellipsoids and boxes, moments by quadrature")
-    found = hunt(strategy or pseudo_inertia_pd(), margin, ctx, label="Thm1-nec")
+    found = hunt(pseudo_inertia_pd((1e-14, 1.0)) if strategy is None else strategy, margin, ctx, label="Thm1-nec",
+                 **hunt_settings)
     done = [r for r in records if r["residuals"]]
     unresolved = sum(r.get("unresolved", False) for r in records)
     evidence = {

@@ -3,8 +3,9 @@
 Point masses at integer points of a line or of a plane in general position
 have integer Phi, exact in floats: f >= 0 singular (a point, line or planar
 mass). ``near_boundary_phi`` moves one entry of such a Phi by a few ulps, so
-only exact arithmetic can tell on which side it lies. ``principal_inertia``
-draws I_CoM = R diag(lambda) R^T with dyadic lambda (including triangle
+only exact arithmetic can tell on which side it lies. ``shifted_com_phi``
+moves the centre of mass of a consistent body without moving its mass.
+``principal_inertia`` draws I_CoM = R diag(lambda) R^T with dyadic lambda (including triangle
 equalities lambda_3 = lambda_1 + lambda_2) and a rational rotation R.
 """
 
@@ -15,6 +16,7 @@ from fractions import Fraction
 import numpy as np
 from hypothesis import strategies as st
 
+from inertiaproof.counterexamples.inertias import consistent_phi
 from inertiaproof.density import rotation
 from inertiaproof.singular import point_masses
 
@@ -46,6 +48,17 @@ def near_boundary_phi(draw):
     direction = draw(st.sampled_from([-np.inf, np.inf]))
     for _ in range(draw(st.integers(1, 4))):
         phi[k] = np.nextafter(phi[k], direction)
+    return phi
+
+
+@st.composite
+def shifted_com_phi(draw):
+    """A consistent Phi with h scaled by a factor in [0, 3] and I kept: the centre of mass moved without the mass.
+
+    Sigma_CoM = Sigma - k^2 h h^T / m crosses the boundary as k grows: consistent for small k, inconsistent beyond.
+    """
+    phi = draw(consistent_phi(thinness=3)).copy()
+    phi[1:4] *= draw(st.floats(0.0, 3.0))
     return phi
 
 

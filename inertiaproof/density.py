@@ -202,22 +202,29 @@ def evaluate(spec, x):
 
 
 def bounding_box(spec):
-    """(lower, upper) corners of an axis-aligned box that contains the carrier."""
+    """(lower, upper) corners of an axis-aligned box that contains the carrier.
+
+    Each component's own-frame box (cone: [-r, r]^2 x [0, h]), turned and moved;
+    ellipsoids get their exact extents sqrt(sum_j R_ij^2 a_j^2).
+    """
     lows, highs = [], []
     for c in spec["components"]:
-        if c["type"] == "bernstein_box":
-            radius = 0.5 * float(np.linalg.norm(c["sides"]))
-            centre = np.asarray(c["position"])
-        elif c["shape"] == "tetrahedron":
-            v = np.asarray(c["dims"]).reshape(4, 3) @ rotation(np.asarray(c["quaternion"])).T + c["position"]
-            lows.append(v.min(axis=0))
-            highs.append(v.max(axis=0))
+        r = rotation(np.asarray(c["quaternion"], dtype=float))
+        p = np.asarray(c["position"], dtype=float)
+        d = np.asarray(c.get("dims", c.get("sides")), dtype=float)
+        if c["type"] == "solid" and c["shape"] == "tetrahedron":
+            corners = d.reshape(4, 3)
+        elif c["type"] == "solid" and c["shape"] in ("ellipsoid", "sphere"):
+            extent = np.sqrt((r**2) @ (np.broadcast_to(d, (3,)) ** 2))
+            lows.append(p - extent)
+            highs.append(p + extent)
             continue
         else:
-            d = np.asarray(c["dims"])
-            radius = {"box": 0.5 * np.linalg.norm(d), "cylinder": np.hypot(d[0], d[-1] / 2),
-                      "cone": np.hypot(d[0], d[-1])}.get(c["shape"], d.max())
-            centre = np.asarray(c["position"])
-        lows.append(centre - radius)
-        highs.append(centre + radius)
+            half = {"cylinder": lambda: [d[0], d[0], d[1] / 2], "cone": lambda: [d[0], d[0], d[1] / 2]}.get(
+                c.get("shape"), lambda: d / 2)()
+            centre = np.array([0.0, 0.0, d[1] / 2]) if c.get("shape") == "cone" else np.zeros(3)
+            corners = centre + np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half
+        world = corners @ r.T + p
+        lows.append(world.min(axis=0))
+        highs.append(world.max(axis=0))
     return np.min(lows, axis=0), np.max(highs, axis=0)

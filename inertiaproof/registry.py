@@ -41,14 +41,14 @@ class Profile:
     symbolic_max_n: int  # largest n for the abstract symbolic derivation
     derandomize: bool  # Hypothesis: same examples every run, no database
     concrete_chains: tuple = ("2R", "3R")  # concrete chains derived symbolically
-    moment_samples: int = 2**16  # Monte Carlo points per density (EQ-moments)
+    moment_samples: int = 2**18  # Monte Carlo points per density (EQ-moments)
     bernstein_degree: int = 3  # highest Bernstein degree checked symbolically (EQ-moments)
 
 
 PROFILES = {
     "ci": Profile("ci", examples=60, samples=2000, refine_s=0.5, symbolic_max_n=3, derandomize=True),
     "deep": Profile("deep", examples=2000, samples=50000, refine_s=20.0, symbolic_max_n=5, derandomize=False,
-                    concrete_chains=("2R", "3R", "6R"), moment_samples=2**20, bernstein_degree=8),
+                    concrete_chains=("2R", "3R", "6R"), moment_samples=2**22, bernstein_degree=8),
 }
 
 
