@@ -173,3 +173,25 @@ def test_decide_exactly_matches_the_oracle():
     phi = np.concatenate([boundary_rows(rng, 100)[0], rng.integers(-3, 4, size=(100, 10)).astype(float)])
     for row in phi:
         assert LABELS[decide_exactly(row)[0]] == verdict_of_phi(row)
+
+
+def test_lambda_min_is_accurate_on_graded_clustered_and_singular_f():
+    """lambda_min(f) (Laguerre with an a-posteriori bound, else LAPACK) within max(1e-6 |lambda|, 64 eps ||f||) of
+    eigvalsh: robot-like graded f in SI units, two nearly equal smallest eigenvalues, and exactly singular f."""
+    rng = np.random.default_rng(RNG_SEED + 6)
+    n = 20000
+    q, _ = np.linalg.qr(rng.normal(size=(n, 4, 4)))
+    d = 10.0 ** rng.uniform(-14, -1, size=n)
+    lam = np.stack([d, d * (1 + 10.0 ** rng.uniform(-16, 0, size=n)), 10.0 ** rng.uniform(-3, 0, size=n),
+                    np.ones(n)], -1) * np.where(rng.random((n, 1)) < 0.3, -1, 1)
+    clustered = pseudo_inertia_inverse((q * lam[:, None, :]) @ np.swapaxes(q, 1, 2))
+    m = 10.0 ** rng.uniform(-2, 1, size=n)
+    size = 10.0 ** rng.uniform(-2, -0.3, size=n)
+    graded = np.array([solid("box", mi, si * 10.0 ** rng.uniform(-1.2, 0, size=3), position=si * rng.normal(size=3))
+                       for mi, si in zip(m[:2000], size[:2000])])
+    phi = np.concatenate([clustered, graded, boundary_rows(rng, 4000)[0]])
+    f = pseudo_inertia(phi)
+    norm = np.linalg.norm(f, axis=(1, 2))
+    exact = np.linalg.eigvalsh(f)[:, 0]
+    ours = physical_consistency(phi).lambda_min_rel * norm
+    assert np.all(np.abs(ours - exact) <= np.maximum(1e-6 * np.abs(exact), 64 * np.finfo(float).eps * norm))
