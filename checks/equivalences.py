@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 
 from inertiaproof import exact
 from inertiaproof.checks.identities import all_of, identity_result
+from inertiaproof.errors import InputError, numbers
 from inertiaproof.consistency import CONSISTENT, decide_exactly, physical_consistency
 from inertiaproof.counterexamples.boundary import boundary_phi, near_boundary_phi, principal_inertia, shifted_com_phi
 from inertiaproof.counterexamples.inertias import any_phi, consistent_phi, pseudo_inertia_pd
@@ -222,17 +223,33 @@ def eq_triangle(ctx):
     ], "Sigma_CoM > 0 iff I_CoM satisfies the strict triangle inequalities, which imply I_CoM > 0")
 
 
+def _fractions(values, where, count):
+    if not isinstance(values, list) or len(values) != count:
+        raise InputError(f"{where}: needs {count} numbers")
+    try:
+        return [Fraction(str(x)) for x in values]
+    except (ValueError, ZeroDivisionError):
+        raise InputError(f"{where}: not exact numbers: {values!r}") from None
+
+
 @replayer("equivalence")
 def replay_equivalence(data, ctx):
     """Decide both sides of the equivalence again on the saved example."""
-    if data["id"] == "EQ-schur":
-        phi = np.asarray(data["phi"], dtype=float)
+    if data.get("id") == "EQ-schur":
+        phi = numbers(data.get("phi"), "counterexample data: field 'phi'", (10,))
         lhs, _, margin = pseudo_inertia_side(phi)
         rhs, _ = schur_side(phi)
         verdict = Verdict.HOLDS if lhs == rhs else Verdict.VIOLATED
         return Result("EQ-schur", verdict, f"f > 0: {lhs}; m > 0 and Sigma_CoM > 0: {rhs} (lambda_min(f)/||f|| = {margin:.3e})")
-    lam = [Fraction(x) for x in data["lambda"]]
-    rot = np.array([[Fraction(x) for x in row] for row in data["rotation"]], dtype=object)
+    if data.get("id") != "EQ-triangle":
+        raise InputError(f"counterexample data: field 'id' must be EQ-schur or EQ-triangle, got {data.get('id')!r}")
+    lam = _fractions(data.get("lambda"), "counterexample data: field 'lambda'", 3)
+    rows = data.get("rotation")
+    rot = np.array([_fractions(r, "counterexample data: field 'rotation'", 3) for r in rows]
+                   if isinstance(rows, list) and len(rows) == 3 else _fractions(rows, "counterexample data: field 'rotation'", 9),
+                   dtype=object)
+    if not (rot @ rot.T == np.eye(3, dtype=int)).all():
+        raise InputError("counterexample data: field 'rotation' is not exactly orthogonal")
     sigma_pd, strict, i_pd, _ = triangle_decisions(lam, rot)
     verdict = Verdict.HOLDS if sigma_pd == strict and (i_pd or not strict) else Verdict.VIOLATED
     return Result("EQ-triangle", verdict, f"Sigma_CoM > 0: {sigma_pd}; strict triangle inequalities: {strict}; I_CoM > 0: {i_pd}")

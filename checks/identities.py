@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
+from inertiaproof.errors import InputError
 from inertiaproof.inertia import pseudo_inertia, pseudo_inertia_inverse
 from inertiaproof.registry import CHECKS, check, replayer
 from inertiaproof.result import Result, Verdict, combine, quantity
@@ -121,4 +122,6 @@ def eq_translation(ctx):
 @replayer("identity")
 def replay_identity(data, ctx):
     """Re-derive the identity with the current code."""
+    if data.get("id") not in CHECKS:
+        raise InputError(f"counterexample data: field 'id' names no check: {data.get('id')!r}")
     return CHECKS[data["id"]].fn(ctx)

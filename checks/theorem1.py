@@ -24,6 +24,7 @@ from inertiaproof.checks.equivalences import definiteness
 from inertiaproof.consistency import CONSISTENT, physical_consistency
 from inertiaproof.counterexamples.densities import density_families
 from inertiaproof.counterexamples.inertias import pseudo_inertia_pd
+from inertiaproof.errors import InputError, numbers
 from inertiaproof.hunt import hunt
 from inertiaproof.inertia import pseudo_inertia, pseudo_inertia_inverse
 from inertiaproof.realise import realising_solid
@@ -272,7 +273,8 @@ def theorem1_necessity(ctx):
 
 @replayer("pseudo_inertia")
 def replay_pseudo_inertia(data, ctx):
-    f = np.asarray(data["f"], dtype=float)
+    """Realise the saved f again and verify the moments by quadrature."""
+    f = numbers(data.get("f"), "counterexample data: field 'f'", (4, 4))
     value, record = realisation(f)
     holds = value >= 0
     return Result("Thm1-nec", Verdict.HOLDS if holds else Verdict.VIOLATED,
@@ -404,8 +406,13 @@ def boundary_result(ctx, examples=None):
         why = (f"{name}: f is {rows[name]['f']} of rank {rows[name]['rank_f']}, not a singular f >= 0 of rank "
                f"{rows[name]['carrier_dimension'] + 1}") if failures else \
             ("a flattened solid has f not > 0" if not all_pd else "the margin does not go to 0 with the thickness")
-        data = {"example": name, **({"row": rows[name]} if failures else {"slopes": slopes})}
+        data = {"example": name, **({"row": rows[name], "carrier_dimension": rows[name]["carrier_dimension"],
+                                     "moments": _exact_text(dict((n, mo) for n, _, mo in examples)[name])}
+                                    if failures else {"slopes": slopes})}
         return Result("Thm1-boundary", verdict, why, evidence, counterexample={"kind": "boundary", "data": data})
+    evidence["why"] = ("a Lebesgue density has a carrier of positive volume, so f > 0 (Def1/Thm1-suff); point, line and "
+                       "planar masses are not such densities and reach f >= 0 singular: without the restriction of "
+                       "Definition 1, f > 0 would not characterise physical consistency")
     return Result("Thm1-boundary", Verdict.HOLDS,
                   f"{len(rows)} point/line/planar masses have lambda_min(f) = 0 exactly with 3, 2, 1 triangle "
                   f"equalities; flattened solids keep f > 0 with margin ~ t^{np.mean(list(slopes.values())):.2f} -> 0",
@@ -417,6 +424,29 @@ def theorem1_boundary(ctx):
     return boundary_result(ctx)
 
 
+def _exact_text(moments):
+    m, h, sigma = moments
+    text = lambda x: str(Fraction(x))  # noqa: E731  exact, also for floats
+    return {"m": text(m), "h": [text(x) for x in h], "sigma": [[text(x) for x in row] for row in sigma]}
+
+
+def _exact_moments(data, where):
+    try:
+        m = Fraction(data["m"])
+        h = np.array([Fraction(x) for x in data["h"]], dtype=object)
+        sigma = np.array([[Fraction(x) for x in row] for row in data["sigma"]], dtype=object)
+    except (KeyError, TypeError, ValueError, ZeroDivisionError):
+        raise InputError(f"{where}: needs exact m, h (3) and sigma (3x3) as numbers or fractions") from None
+    if h.shape != (3,) or sigma.shape != (3, 3):
+        raise InputError(f"{where}: needs h of 3 and sigma of 3x3 entries")
+    return m, h, sigma
+
+
 @replayer("boundary")
 def replay_boundary(data, ctx):
-    return boundary_result(ctx)
+    """The saved example decided exactly again, or (for a series failure) the whole check."""
+    if "moments" not in data:
+        return boundary_result(ctx)
+    moments = _exact_moments(data["moments"], "counterexample data: field 'moments'")
+    name = str(data.get("example", "example"))
+    return boundary_result(ctx, examples=[(name, int(data.get("carrier_dimension", 2)), moments)])

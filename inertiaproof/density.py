@@ -30,7 +30,7 @@ from fractions import Fraction
 import numpy as np
 
 from . import solids
-from .errors import InputError
+from .errors import InputError, numbers
 from .inertia import inertia_from_sigma, pack
 
 TYPES = ("solid", "bernstein_box")
@@ -48,18 +48,6 @@ def rotation(q):
     ]) / n
 
 
-def _numbers(value, where, size=None):
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{where}: not a list of numbers: {value!r}") from None
-    if size is not None and a.shape != (size,):
-        raise InputError(f"{where}: needs {size} numbers, got shape {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise InputError(f"{where}: not finite: {a.tolist()}")
-    return a
-
-
 def parse(spec, where="density"):
     """A validated copy of a density spec (plain lists of floats); InputError naming the field otherwise."""
     if not isinstance(spec, dict) or not isinstance(spec.get("components"), list) or not spec["components"]:
@@ -69,25 +57,25 @@ def parse(spec, where="density"):
         at = f"{where}: component {i}"
         if not isinstance(c, dict) or c.get("type") not in TYPES:
             raise InputError(f"{at}: 'type' must be one of {', '.join(TYPES)}")
-        q = _numbers(c.get("quaternion", [1, 0, 0, 0]), f"{at}: field 'quaternion'", 4)
+        q = numbers(c.get("quaternion", [1, 0, 0, 0]), f"{at}: field 'quaternion'", (4,))
         if not q @ q > 0:
             raise InputError(f"{at}: field 'quaternion' is zero")
         entry = {"type": c["type"], "quaternion": q.tolist(),
-                 "position": _numbers(c.get("position", [0, 0, 0]), f"{at}: field 'position'", 3).tolist()}
+                 "position": numbers(c.get("position", [0, 0, 0]), f"{at}: field 'position'", (3,)).tolist()}
         if c["type"] == "solid":
-            mass = _numbers(c.get("mass"), f"{at}: field 'mass'")
+            mass = numbers(c.get("mass"), f"{at}: field 'mass'")
             if mass.shape != () or mass == 0:
                 raise InputError(f"{at}: field 'mass' must be one nonzero number")
             try:
-                dims = solids.validate(c.get("shape"), _numbers(c.get("dims"), f"{at}: field 'dims'"))
+                dims = solids.validate(c.get("shape"), numbers(c.get("dims"), f"{at}: field 'dims'"))
             except ValueError as exc:
                 raise InputError(f"{at}: {exc}") from None
             entry.update(shape=c["shape"], mass=float(mass), dims=dims.tolist())
         else:
-            sides = _numbers(c.get("sides"), f"{at}: field 'sides'", 3)
+            sides = numbers(c.get("sides"), f"{at}: field 'sides'", (3,))
             if not np.all(sides > 0):
                 raise InputError(f"{at}: field 'sides' must be > 0, got {sides.tolist()}")
-            coef = _numbers(c.get("coefficients"), f"{at}: field 'coefficients'")
+            coef = numbers(c.get("coefficients"), f"{at}: field 'coefficients'")
             if coef.ndim != 3 or max(coef.shape) > MAX_DEGREE + 1 or not np.any(coef != 0):
                 raise InputError(f"{at}: field 'coefficients' must be a nonzero 3-D nested list of at most "
                                  f"{MAX_DEGREE + 1} per axis, got shape {coef.shape}")

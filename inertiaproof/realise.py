@@ -1,17 +1,17 @@
 """A nonnegative density with given inertial parameters (Theorem 1, necessity; Thm1-nec).
 
 For f(Phi) > 0 the mass is m > 0 and Sigma_CoM = Q diag(sigma) Q^T > 0
-(fPosDef_IFF_PosMassPosDefSigmaCoM). A uniform solid whose covariance about
-its centre is diag(k_i^2 m / d) on its own axes, turned by Q and centred at
-c = h / m, has exactly these moments:
+(fPosDef_IFF_PosMassPosDefSigmaCoM). A uniform solid of mass m centred at
+c = h / m and turned by Q has Sigma_CoM = Q diag(m k_i^2 / d) Q^T in terms
+of its dimensions k_i, so the dimensions follow from sigma:
 
-- the solid ellipsoid with semi-axes a_i = sqrt(5 sigma_i / m);
-- the box with sides l_i = sqrt(12 sigma_i / m) = sqrt(6 (J_j + J_k - J_i) / m),
-  J the principal moments of I_CoM: real exactly when the triangle
-  inequalities hold.
+- the solid ellipsoid (d = 5) with semi-axes a_i = sqrt(5 sigma_i / m);
+- the box (d = 12) with sides l_i = sqrt(12 sigma_i / m)
+  = sqrt(6 (J_j + J_k - J_i) / m), J the principal moments of I_CoM: real
+  exactly when the triangle inequalities hold.
 
-Both are nonnegative densities with a 3-D carrier. Without f > 0 the
-construction fails and says why.
+Both are nonnegative Lebesgue densities with a 3-D carrier. Without f > 0
+the construction fails and says why.
 """
 
 from __future__ import annotations

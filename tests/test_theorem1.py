@@ -145,14 +145,31 @@ def test_boundary_holds_with_exact_zero_eigenvalues(ctx):
     assert result.evidence["members_decided_exactly"]["value"] > 0
 
 
-def test_a_solid_passed_off_as_planar_is_violated(ctx):
-    F = Fraction
+def test_a_solid_passed_off_as_planar_is_violated_and_replays(ctx, capsys):
     box = density.moments(density.parse({"components": [{"type": "solid", "shape": "box", "mass": 3.0,
                                                          "dims": [0.5, 0.25, 0.125]}]}), exact=True)
     result = t1.boundary_result(ctx, examples=t1.boundary_examples() + [("thin box", 2, box)])
     assert result.verdict == Verdict.VIOLATED
     assert result.counterexample["data"]["row"]["f"] == "pd"
-    assert F(1) > 0
+    path = ctx.save_counterexample(result)
+    assert main(["replay", str(path)]) == 1
+    assert "thin box" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("kind,data,where", [
+    ("pseudo_inertia", {"f": [[1, 0], [0, 1]]}, "field 'f'"),
+    ("boundary", {"moments": {"m": "1", "h": ["0"], "sigma": []}}, "field 'moments'"),
+    ("equivalence", {"id": "EQ-schur", "phi": [1, 2, "x"]}, "field 'phi'"),
+    ("equivalence", {"id": "EQ-triangle", "lambda": ["1", "2", "3"], "rotation": [["1", "1", "0"], ["0", "1", "0"],
+                                                                                     ["0", "0", "1"]]}, "orthogonal"),
+    ("identity", {"id": "nope"}, "names no check"),
+])
+def test_malformed_counterexamples_fail_in_one_line(tmp_path, capsys, kind, data, where):
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps({"schema": "inertiaproof.counterexample/1", "kind": kind, "data": data}))
+    assert main(["replay", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and where in err[0]
 
 
 def test_flattening_series_is_monotone_and_positive():
