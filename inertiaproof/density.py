@@ -175,7 +175,7 @@ def evaluate(spec, x):
     x = np.asarray(x, dtype=float)
     total = np.zeros(x.shape[:-1])
     for c in spec["components"]:
-        y = (x - np.asarray(c["position"])) @ rotation(np.asarray(c["quaternion"]))
+        y = np.einsum("...i,ij->...j", x - np.asarray(c["position"]), rotation(np.asarray(c["quaternion"])))
         if c["type"] == "solid":
             inside = solids.contains(c["shape"], c["dims"], y)
             total += inside * (c["mass"] / solids.volume(c["shape"], c["dims"]))
@@ -184,8 +184,9 @@ def evaluate(spec, x):
         coef = np.asarray(c["coefficients"])
         t = y / sides + 0.5
         inside = np.all((t >= 0) & (t <= 1), axis=-1)
-        b = [_bernstein_values(np.clip(t[..., i], 0.0, 1.0), coef.shape[i] - 1) for i in range(3)]
-        total += inside * np.einsum("abc,...a,...b,...c->...", coef, *b)
+        t = t[inside]
+        b = [_bernstein_values(t[:, i], coef.shape[i] - 1) for i in range(3)]
+        total[inside] += np.einsum("abc,na,nb,nc->n", coef, *b)
     return total
 
 

@@ -110,8 +110,10 @@ def monte_carlo(spec, samples, rng):
     volume = float(np.prod(upper - lower))
     x = lower + (upper - lower) * rng.random((samples, 3))
     rho = evaluate(spec, x)
-    terms = np.concatenate([rho[:, None], rho[:, None] * x, (rho[:, None, None] * x[:, :, None] * x[:, None, :]).reshape(-1, 9)], 1)
-    mean = volume * terms.mean(axis=0)
-    error = volume * terms.std(axis=0, ddof=1) / np.sqrt(samples)
+    carrier = rho != 0
+    r, y = rho[carrier], x[carrier]
+    terms = np.concatenate([r[:, None], r[:, None] * y, (r[:, None, None] * y[:, :, None] * y[:, None, :]).reshape(-1, 9)], 1)
+    mean = terms.sum(axis=0) / samples
+    variance = np.maximum((terms * terms).sum(axis=0) - samples * mean * mean, 0.0) / (samples - 1)
     split = lambda a: (a[0], a[1:4], a[4:].reshape(3, 3))  # noqa: E731
-    return split(mean), split(error)
+    return split(volume * mean), split(volume * np.sqrt(variance / samples))
