@@ -138,7 +138,8 @@ def schur_numeric(ctx, rhs=schur_side, strategy=None):
         return Result("EQ-schur", Verdict.VIOLATED, f"f > 0 and (m > 0, Sigma_CoM > 0) disagree at Phi = {phi.tolist()}",
                       evidence, counterexample={"kind": "equivalence", "data": {"id": "EQ-schur", "phi": phi.tolist()}})
     if rhs is schur_side:
-        phi, disagree, lhs_exact, rhs_exact = schur_sweep(ctx.rng("EQ-schur"))
+        phi, disagree, lhs_exact, rhs_exact = schur_sweep(ctx.rng("EQ-schur"), 2 * ctx.profile.samples,
+                                                          ctx.profile.samples // 5)
         evidence["sweep"] = {
             "rows": quantity(len(phi), "count", "batched: random f > 0, arbitrary Phi, point masses and their 1-ulp moves"),
             "disagreements": quantity(disagree.size, "count", "rows where eigvalsh(f) and physical_consistency disagree"),

@@ -175,12 +175,18 @@ def monte_carlo_part(densities, rng, samples, closed_form=density.moments):
 def eq_moments(ctx, closed_form=density.moments, closed_solid=solids.moments):
     rng = ctx.rng("EQ-moments")
     pieces = {f"{c.get('shape', c['type'])}#{i}": density.parse({"components": [c]})
-              for i, c in enumerate(random_components(rng))}
+              for i, c in enumerate(random_components(rng, max(3, ctx.profile.examples // 20)))}
     pieces.update({k: density.parse(v) for k, v in union_and_mixture().items()})
     ctx.progress("symbolic integration of the canonical solids")
     symbolic = symbolic_part(closed_solid, ctx.profile.bernstein_degree)
     ctx.progress(f"quadrature of {len(pieces)} densities")
     quad = quadrature_part(pieces, closed_form)
+    table = quad.evidence.pop("per_density")
+    written = ctx.write_data("eq-moments-quadrature.json", {"columns": ["density", "ratio_to_bound", "relative_residual"],
+                                                            "rows": [[k, v["ratio_to_bound"], v["relative_residual"]]
+                                                                     for k, v in table.items()]})
+    if written:
+        quad.evidence["per_density_table"] = written
     mc = monte_carlo_part({k: pieces[k] for k in ("union", "mixture")}, rng, ctx.profile.moment_samples, closed_form)
     return all_of("EQ-moments", [("symbolic", symbolic), ("quadrature", quad), ("monte carlo", mc)],
                   "m, h, I of uniform solids, Bernstein boxes, unions and mixtures in any pose")

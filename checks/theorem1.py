@@ -1,6 +1,6 @@
 """Theorem 1 and Remark 2: densities give f > 0, f > 0 gives a density, and what lies on the boundary.
 
-- Def1/Thm1-suff and Rem2 share one Hypothesis hunt over nonnegative
+- Def1/Thm1-suff and Rem2 share one set of Hypothesis hunts (one per family) over nonnegative
   densities with a 3-D carrier; Phi is computed from each density's moments
   (EQ-moments checks those), f > 0 and the strict triangle inequalities of
   I_CoM are decided in floats above the resolution and in rational arithmetic
@@ -140,7 +140,7 @@ def _hunt_evidence(found, records, field, meaning):
                                     "examples whose margin was below the resolution, decided in rational arithmetic "
                                     "on the density's exact parameters"),
         "resolution": quantity(RESOLUTION, "tolerance", "64 eps: below it the sign is decided exactly"),
-        "families": families,
+        "families": {k: quantity(v, "count", "examples of this family") for k, v in families.items()},
         "nonnegativity": "by construction: positive masses and nonnegative Bernstein coefficients; every component "
                          "has positive volume (3-D carrier)",
         "smallest_margin_density": found.worst_example,
@@ -308,9 +308,13 @@ def boundary_example_result(name, dimension, moments):
     phi = np.array([[float(x) for x in pseudo_inertia_inverse_exact(f)]])
     c = physical_consistency(phi)
     ok = kind == "psd" and rank == dimension + 1 and sigma_rank == dimension
-    row = {"carrier_dimension": dimension, "f": kind, "rank_f": rank, "rank_sigma_com": sigma_rank,
-           "triangle_equalities": 3 - sigma_rank if sigma_kind != "indefinite" else None,
-           "classifier": c.labels[0], "classifier_rank": int(c.degenerate_rank[0])}
+    row = {"carrier_dimension": quantity(dimension, "exact", "dimension of the carrier (point 0, line 1, plane 2)"),
+           "f": kind, "rank_f": quantity(rank, "exact", "rank of f, exact minors"),
+           "rank_sigma_com": quantity(sigma_rank, "exact", "rank of Sigma_CoM, exact minors"),
+           "triangle_equalities": quantity(3 - sigma_rank if sigma_kind != "indefinite" else None, "exact",
+                                           "triangle inequalities of I_CoM holding with equality"),
+           "classifier": c.labels[0],
+           "classifier_rank": quantity(int(c.degenerate_rank[0]), "value", "physical_consistency's degenerate_rank")}
     return ok, row
 
 
@@ -403,10 +407,10 @@ def boundary_result(ctx, examples=None):
     verdict = combine(verdicts)
     if verdict == Verdict.VIOLATED:
         name = failures[0] if failures else "flattening series"
-        why = (f"{name}: f is {rows[name]['f']} of rank {rows[name]['rank_f']}, not a singular f >= 0 of rank "
-               f"{rows[name]['carrier_dimension'] + 1}") if failures else \
+        why = (f"{name}: f is {rows[name]['f']} of rank {rows[name]['rank_f']['value']}, not a singular f >= 0 of rank "
+               f"{rows[name]['carrier_dimension']['value'] + 1}") if failures else \
             ("a flattened solid has f not > 0" if not all_pd else "the margin does not go to 0 with the thickness")
-        data = {"example": name, **({"row": rows[name], "carrier_dimension": rows[name]["carrier_dimension"],
+        data = {"example": name, **({"row": rows[name], "carrier_dimension": rows[name]["carrier_dimension"]["value"],
                                      "moments": _exact_text(dict((n, mo) for n, _, mo in examples)[name])}
                                     if failures else {"slopes": slopes})}
         return Result("Thm1-boundary", verdict, why, evidence, counterexample={"kind": "boundary", "data": data})

@@ -138,8 +138,9 @@ def test_boundary_holds_with_exact_zero_eigenvalues(ctx):
     result = t1.theorem1_boundary(ctx)
     assert result.verdict == Verdict.HOLDS, result.summary
     rows = result.evidence["examples"]
-    assert {r["triangle_equalities"] for r in rows.values()} == {1, 2, 3}
-    assert all(r["classifier"] == "degenerate" and r["classifier_rank"] == r["carrier_dimension"] for r in rows.values())
+    assert {r["triangle_equalities"]["value"] for r in rows.values()} == {1, 2, 3}
+    assert all(r["classifier"] == "degenerate" and r["classifier_rank"]["value"] == r["carrier_dimension"]["value"]
+               for r in rows.values())
     slopes = [q["value"] for q in result.evidence["fitted_slopes"].values()]
     assert all(1.8 < s < 2.2 for s in slopes)
     assert result.evidence["members_decided_exactly"]["value"] > 0
