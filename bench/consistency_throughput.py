@@ -126,7 +126,7 @@ def main(argv=None):
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(document, indent=1))
-    print(f"ratios to Cholesky: " + ", ".join(f"{k} {v:.2f}" for k, v in ratios.items()))
+    print("ratios to Cholesky: " + ", ".join(f"{k} {v:.2f}" for k, v in ratios.items()))
     print(f"written: {out}")
     return 0
 

@@ -14,10 +14,10 @@ from hypothesis import strategies as st
 
 from inertiaproof import exact
 from inertiaproof.checks.identities import all_of, identity_result
-from inertiaproof.errors import InputError, numbers
 from inertiaproof.consistency import CONSISTENT, decide_exactly, physical_consistency
 from inertiaproof.counterexamples.boundary import boundary_phi, near_boundary_phi, principal_inertia, shifted_com_phi
 from inertiaproof.counterexamples.inertias import any_phi, consistent_phi, pseudo_inertia_pd
+from inertiaproof.errors import InputError, numbers
 from inertiaproof.hunt import hunt
 from inertiaproof.inertia import pseudo_inertia, pseudo_inertia_inverse, sigma_com, unpack
 from inertiaproof.registry import check, replayer

@@ -42,7 +42,7 @@ def symbolic_part(closed_form=solids.moments, max_degree=3):
                 mismatches.append({"shape": shape, "entry": name, "integrated": str(a), "closed_form": str(b)})
     for degree in range(max_degree + 1):
         side, integrated = symbolic_moments.bernstein_moments(degree)
-        closed = density._bernstein_axis(side, degree, sp.Integer(1))
+        closed = density.bernstein_axis_moments(side, degree, sp.Integer(1))
         for j in range(3):
             for k in range(degree + 1):
                 compared += 1

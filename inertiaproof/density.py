@@ -92,7 +92,7 @@ def certified_nonnegative(spec):
     )
 
 
-def _bernstein_axis(side, degree, one):
+def bernstein_axis_moments(side, degree, one):
     """int y^j B_{k,d}(y / L + 1/2) dy over [-L/2, L/2] for j = 0, 1, 2 and k = 0..d (three arrays)."""
     k = np.arange(degree + 1)
     d1, d2, d3 = degree + 1, degree + 2, degree + 3
@@ -104,7 +104,7 @@ def _bernstein_axis(side, degree, one):
 
 def _bernstein_moments(sides, coef, one):
     """(m, h, Sigma) of a Bernstein box in its own frame."""
-    axes = [_bernstein_axis(s, n - 1, one) for s, n in zip(sides, coef.shape)]
+    axes = [bernstein_axis_moments(s, n - 1, one) for s, n in zip(sides, coef.shape)]
     zeroth = [a[0] for a in axes]
 
     def contract(vectors):
@@ -163,7 +163,7 @@ def pseudo_inertia_exact(spec):
     return moment_matrix(*moments(spec, exact=True))
 
 
-def _bernstein_values(t, degree):
+def bernstein_values(t, degree):
     """B_{k,d}(t) for k = 0..d, shape (..., d + 1)."""
     k = np.arange(degree + 1)
     binom = np.array([math.comb(degree, i) for i in k], dtype=float)
@@ -185,7 +185,7 @@ def evaluate(spec, x):
         t = y / sides + 0.5
         inside = np.all((t >= 0) & (t <= 1), axis=-1)
         t = t[inside]
-        b = [_bernstein_values(t[:, i], coef.shape[i] - 1) for i in range(3)]
+        b = [bernstein_values(t[:, i], coef.shape[i] - 1) for i in range(3)]
         total[inside] += np.einsum("abc,na,nb,nc->n", coef, *b)
     return total
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import solids
-from .density import _bernstein_values, bounding_box, evaluate, rotation
+from .density import bernstein_values, bounding_box, evaluate, rotation
 
 EPS = np.finfo(float).eps
 
@@ -84,7 +84,7 @@ def component_rule(c, n=4):
         sides = np.asarray(c["sides"], dtype=float)
         y, w = _tensor(*[gauss_legendre(max(n, (k + 4) // 2), -s / 2, s / 2) for s, k in zip(sides, coef.shape)])
         t = y / sides + 0.5
-        b = [_bernstein_values(t[:, i], coef.shape[i] - 1) for i in range(3)]
+        b = [bernstein_values(t[:, i], coef.shape[i] - 1) for i in range(3)]
         masses = w * np.einsum("abc,na,nb,nc->n", coef, *b)
     return y @ r.T + np.asarray(c["position"], dtype=float), masses
 

@@ -1,7 +1,6 @@
 """Def1/Thm1-suff, Rem2, Thm1-nec, Thm1-boundary: they hold; wrong input is VIOLATED and replays."""
 
 import json
-from fractions import Fraction
 
 import numpy as np
 import pytest
