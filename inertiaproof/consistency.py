@@ -34,12 +34,21 @@ RESOLUTION = 64.0
 EPS = np.finfo(float).eps
 
 
+def _power_of_two_scale(columns):
+    """Per row, the exponent k with 2^(k-1) <= max |entry| < 2^k (0 for a zero row): dividing by 2^k is exact."""
+    return np.frexp(np.max(np.abs(columns), axis=0))[1]
+
+
 def _sym3_eigenvalues(a, b, c, d, e, f):
     """Ascending eigenvalues of [[a, d, f], [d, b, e], [f, e, c]], column-wise.
 
-    Trigonometric closed form; it loses half the digits where two eigenvalues
-    nearly coincide (|r| -> 1), so those rows are recomputed with LAPACK.
+    Trigonometric closed form on the entries scaled by a power of two to at
+    most 1 (squares neither overflow nor underflow); it loses half the digits
+    where two eigenvalues nearly coincide (|r| -> 1), so those rows are
+    recomputed with LAPACK.
     """
+    k = _power_of_two_scale(np.stack([a, b, c, d, e, f]))
+    a, b, c, d, e, f = (np.ldexp(x, -k) for x in (a, b, c, d, e, f))
     q = (a + b + c) / 3.0
     p1 = d * d + e * e + f * f
     p = np.sqrt(((a - q) ** 2 + (b - q) ** 2 + (c - q) ** 2 + 2.0 * p1) / 6.0)
@@ -55,7 +64,7 @@ def _sym3_eigenvalues(a, b, c, d, e, f):
     if close.size:
         rows = np.stack([a, d, f, d, b, e, f, e, c], -1)[close].reshape(-1, 3, 3)
         eig[close] = np.linalg.eigvalsh(rows)
-    return eig
+    return np.ldexp(eig, k[:, None])
 
 
 def _pseudo_inertia_lambda_min(m, h, s):
@@ -63,9 +72,15 @@ def _pseudo_inertia_lambda_min(m, h, s):
 
     Laguerre's method on the characteristic polynomial, started at the
     Gershgorin lower bound, converges monotonically and cubically to the
-    smallest root (the polynomial is real-rooted). Where that root is
-    ill-conditioned as a polynomial root (near-multiple, small against ||f||,
-    or not converged) the row is recomputed with LAPACK's eigvalsh.
+    smallest root (the polynomial is real-rooted). The root is kept where an
+    a-posteriori bound shows it accurate: every coefficient c_k is a sum of
+    products of k entries, so its rounding error is below 64 eps e_k(r), e_k
+    the elementary symmetric polynomials of the absolute row sums r of
+    D f D^-1 for any positive diagonal D (a permanent bound; the products
+    along permutations do not change under D); with the residual |p(x)| this bounds |dp|, and a root of
+    the exact polynomial lies within about |dp| / |p'(x)| of x where
+    |dp| |p''(x)| <= p'(x)^2 / 10 (a Newton step, no second root nearby). Rows whose bound exceeds max(1e-6 |x|, 16 eps ||f||)
+    or that did not converge are recomputed with LAPACK's eigvalsh.
     """
     h1, h2, h3 = h
     s11, s22, s33, s12, s23, s13 = s
@@ -89,7 +104,6 @@ def _pseudo_inertia_lambda_min(m, h, s):
         s33 - np.abs(s13) - np.abs(s23) - np.abs(h3),
         m - np.abs(h1) - np.abs(h2) - np.abs(h3),
     ])
-    dp = np.zeros_like(x)
     rows = slice(None)
     for sweep in range(20):
         xa, a1, a2, a3, a4 = x[rows], c1[rows], c2[rows], c3[rows], c4[rows]
@@ -101,15 +115,31 @@ def _pseudo_inertia_lambda_min(m, h, s):
             root = np.sqrt(np.maximum(3.0 * (4.0 * (g * g - d2 / p) - g * g), 0.0))
             den = np.where(g >= 0, g + root, g - root)
             step = np.where((p != 0) & (den != 0), 4.0 / den, 0.0)
-        x[rows], dp[rows] = xa - step, d1
+        x[rows] = xa - step
         moving = np.abs(step) > 1e-12 * norm[rows]
         if not moving.any():
             rows = np.arange(0)
             break
         if sweep >= 3:  # the few slow rows go on alone
             rows = (np.arange(x.size) if isinstance(rows, slice) else rows)[moving]
-    bad = np.abs(dp) < 1e-3 * norm**3
-    bad |= np.abs(x) < 1e-6 * norm
+    diag = (np.abs(s11) + np.abs(s22) + np.abs(s33)) / 3
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.sqrt(np.abs(m) / diag)
+    t = np.where(np.isfinite(t) & (t > 0), t, 1.0)  # D = diag(1, 1, 1, t): D f D^-1 balances Sigma against m
+    r1 = np.abs(s11) + np.abs(s12) + np.abs(s13) + np.abs(h1) / t
+    r2 = np.abs(s12) + np.abs(s22) + np.abs(s23) + np.abs(h2) / t
+    r3 = np.abs(s13) + np.abs(s23) + np.abs(s33) + np.abs(h3) / t
+    r4 = t * (np.abs(h1) + np.abs(h2) + np.abs(h3)) + np.abs(m)
+    e1, e2 = r1 + r2 + r3 + r4, r1 * (r2 + r3 + r4) + r2 * (r3 + r4) + r3 * r4
+    e3, e4 = r1 * r2 * (r3 + r4) + (r1 + r2) * r3 * r4, r1 * r2 * r3 * r4
+    ax = np.abs(x)
+    p_error = 64 * EPS * ((((ax + e1) * ax + e2) * ax + e3) * ax + e4)
+    p_error += np.abs((((x - c1) * x + c2) * x - c3) * x + c4)
+    d1 = ((4 * x - 3 * c1) * x + 2 * c2) * x - c3
+    d2 = (12 * x - 6 * c1) * x + 2 * c2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        accurate = (p_error <= np.maximum(1e-6 * ax, 16 * EPS * norm) * np.abs(d1)) & (p_error * np.abs(d2) <= 0.1 * d1 * d1)
+    bad = ~accurate
     bad[rows] = True
     idx = np.flatnonzero(bad)
     if idx.size:
@@ -225,7 +255,9 @@ def physical_consistency(phi, *, margins=True):
     invalid = ~finite.all(axis=1)
     invalid_field = np.where(invalid, np.argmin(finite, axis=1), -1)
     cols = np.where(finite, flat, 0.0).T.copy()
-    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = cols
+    mass = cols[0].copy()
+    exponent = _power_of_two_scale(cols)  # f(2^-k Phi) = 2^-k f(Phi): verdicts and relative margins unchanged
+    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = np.ldexp(cols, -exponent)
 
     half_tr = 0.5 * (i11 + i22 + i33)
     positive = m > 0
@@ -262,8 +294,8 @@ def physical_consistency(phi, *, margins=True):
 
     return Consistency(
         verdict=verdict.reshape(shape),
-        mass=m.reshape(shape),
-        sigma_com_eigenvalues=eig.reshape(shape + (3,)),
+        mass=mass.reshape(shape),
+        sigma_com_eigenvalues=np.ldexp(eig, exponent[:, None]).reshape(shape + (3,)),
         triangle_slack=slack.reshape(shape),
         lambda_min_rel=lam.reshape(shape),
         decided_exactly=unresolved.reshape(shape),

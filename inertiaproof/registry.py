@@ -43,12 +43,15 @@ class Profile:
     concrete_chains: tuple = ("2R", "3R")  # concrete chains derived symbolically
     symbolic_parameters: int = 2  # generic M^h, U^h of the abstract derivation (linearity covers any 10N)
     symbolic_rows: int = 2  # generic rows of QJ of the abstract derivation (linearity covers any 6N)
+    moment_samples: int = 2**18  # Monte Carlo points per density (EQ-moments)
+    bernstein_degree: int = 3  # highest Bernstein degree checked symbolically (EQ-moments)
 
 
 PROFILES = {
     "ci": Profile("ci", examples=60, samples=2000, refine_s=0.5, symbolic_max_n=3, derandomize=True),
     "deep": Profile("deep", examples=2000, samples=50000, refine_s=20.0, symbolic_max_n=5, derandomize=False,
-                    concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6),
+                    concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6,
+                    moment_samples=2**22, bernstein_degree=8),
 }
 
 

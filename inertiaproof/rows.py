@@ -1,6 +1,13 @@
 """Rows of inertial parameters from CSV or JSON, in the paper's or the URDF's columns.
 
 Each row becomes Phi or a per-row error; a malformed row never stops the others.
+
+URDF rows give the mass, the CoM in the link frame, the inertia about the
+CoM in the inertial frame's axes and, optionally, that frame's orientation
+(``roll``, ``pitch``, ``yaw``). Their verdict is decided on (m, 0, I_c) as
+given: consistency does not depend on where the frame is nor how it is
+turned (I_Sigma_IsTranslationInvariant), and moving the inertia to the link
+frame in floats would round boundary cases (a rod, a plate) off the boundary.
 """
 
 from __future__ import annotations
@@ -15,7 +22,9 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .inertia import PHI_FIELDS, URDF_FIELDS, from_urdf_row
+from .inertia import PHI_FIELDS, URDF_FIELDS, from_urdf, pack, rotation_rpy, urdf_inertia
+
+URDF_ORIENTATION = ("roll", "pitch", "yaw")
 
 
 @dataclass
@@ -24,6 +33,12 @@ class Row:
     name: str
     phi: np.ndarray | None = None
     error: str | None = None
+    about_com: np.ndarray | None = None  # URDF rows: (m, 0, I_c) as given
+
+    @property
+    def decided_on(self):
+        """The Phi whose exact values the verdict is decided on."""
+        return self.phi if self.about_com is None else self.about_com
 
 
 def _columns(keys, source):
@@ -40,7 +55,8 @@ def _columns(keys, source):
 def _parse_row(number, record, fields, convention):
     name = str(record.get("name", "") or "")
     values = []
-    for f in fields:
+    optional = [f for f in URDF_ORIENTATION if convention == "urdf" and _given(record.get(f))]
+    for f in fields + tuple(optional):
         raw = record.get(f)
         if raw is None or (isinstance(raw, str) and not raw.strip()):
             return Row(number, name, error=f"missing field {f}")
@@ -54,7 +70,17 @@ def _parse_row(number, record, fields, convention):
             return Row(number, name, error=f"field {f} is not finite: {raw!r}")
         values.append(value)
     values = np.array(values)
-    return Row(number, name, phi=values if convention == "paper" else from_urdf_row(values))
+    if convention == "paper":
+        return Row(number, name, phi=values)
+    rpy = np.zeros(3)
+    rpy[[URDF_ORIENTATION.index(f) for f in optional]] = values[len(fields):]
+    inertia = urdf_inertia(*values[4:10])
+    return Row(number, name, phi=from_urdf(values[0], values[1:4], inertia, rotation_rpy(rpy)),
+               about_com=pack(values[0], np.zeros(3), inertia))
+
+
+def _given(raw):
+    return raw is not None and not (isinstance(raw, str) and not raw.strip())
 
 
 def read_rows(path):
