@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 from scipy import integrate
 
-from inertiaproof import density, quadrature, singular, solids
+from inertiaproof import degenerate, density, quadrature, solids
 from inertiaproof.checks import moments
 from inertiaproof.cli import main
 from inertiaproof.errors import InputError
@@ -153,14 +153,14 @@ def test_evaluate_integrates_to_the_mass():
     assert abs(m - 2.7) < 6 * se
 
 
-def test_singular_distributions_against_sympy():
+def test_degenerate_distributions_against_sympy():
     s, t = sp.symbols("s t", real=True)
     a, b, c = [sp.Matrix(v) for v in ([1, -2, 3], [2, 0, 1], [0, 1, 1])]
     x = a + s * (b - a)
-    m, h, sigma = singular.rod(sp.Integer(6), np.array(list(a), dtype=object), np.array(list(b), dtype=object))
+    m, h, sigma = degenerate.rod(sp.Integer(6), np.array(list(a), dtype=object), np.array(list(b), dtype=object))
     assert sp.Matrix(sigma) == 6 * (x * x.T).applyfunc(lambda e: sp.integrate(e, (s, 0, 1)))
     y = a + s * (b - a) + t * (c - a)
-    m, h, sigma = singular.triangle_lamina(sp.Integer(12), *[np.array(list(v), dtype=object) for v in (a, b, c)])
+    m, h, sigma = degenerate.triangle_lamina(sp.Integer(12), *[np.array(list(v), dtype=object) for v in (a, b, c)])
     integral = (y * y.T).applyfunc(lambda e: sp.integrate(e, (t, 0, 1 - s), (s, 0, 1)))
     assert sp.Matrix(sigma) == 12 * 2 * integral  # area of the unit triangle in (s, t) is 1/2
 
