@@ -18,6 +18,8 @@ row is decided again exactly, in rational arithmetic on the float values.
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +33,7 @@ DEGENERATE_KIND = {0: "point mass", 1: "line mass", 2: "planar mass"}
 
 # |s1| below RESOLUTION * eps * scale cannot be signed reliably in floats.
 RESOLUTION = 64.0
+CHUNK = 50_000  # rows from which a batch is split over threads
 EPS = np.finfo(float).eps
 
 
@@ -244,13 +247,25 @@ def physical_consistency(phi, *, margins=True):
     """Classify inertial parameters ``phi`` of shape (..., 10); see the module docstring.
 
     ``margins=False`` skips lambda_min(f)/||f||_F (the one margin that needs an
-    iterative solve per row); the verdict does not depend on it.
+    iterative solve per row); the verdict does not depend on it. Large batches
+    are split over the machine's cores (NumPy releases the GIL in its loops).
     """
     phi = np.asarray(phi, dtype=float)
     if phi.shape[-1:] != (10,):
         raise ValueError(f"inertial parameters need 10 entries per row, got shape {phi.shape}")
     shape = phi.shape[:-1]
     flat = phi.reshape(-1, 10)
+    workers = min(os.cpu_count() or 1, 8)
+    if workers > 1 and len(flat) >= CHUNK:
+        with ThreadPoolExecutor(workers) as pool:
+            parts = list(pool.map(lambda rows: _classify(rows, margins), np.array_split(flat, workers)))
+    else:
+        parts = [_classify(flat, margins)]
+    return Consistency(*(np.concatenate(arrays).reshape(shape + arrays[0].shape[1:]) for arrays in zip(*parts)))
+
+
+def _classify(flat, margins):
+    """The fields of :class:`Consistency` for rows (K, 10), in field order."""
     finite = np.isfinite(flat)
     invalid = ~finite.all(axis=1)
     invalid_field = np.where(invalid, np.argmin(finite, axis=1), -1)
@@ -292,13 +307,4 @@ def physical_consistency(phi, *, margins=True):
     lam[invalid] = np.nan
     slack[invalid] = np.nan
 
-    return Consistency(
-        verdict=verdict.reshape(shape),
-        mass=mass.reshape(shape),
-        sigma_com_eigenvalues=np.ldexp(eig, exponent[:, None]).reshape(shape + (3,)),
-        triangle_slack=slack.reshape(shape),
-        lambda_min_rel=lam.reshape(shape),
-        decided_exactly=unresolved.reshape(shape),
-        degenerate_rank=rank.reshape(shape),
-        invalid_field=invalid_field.reshape(shape),
-    )
+    return (verdict, mass, np.ldexp(eig, exponent[:, None]), slack, lam, unresolved, rank, invalid_field)
