@@ -81,6 +81,18 @@ def chain_of(key):
     return CHAINS[key.name]().chain
 
 
+def scene_key(scene):
+    """A key for a scene's chain, registered under the scene's name and a digest of its exact kinematics
+    (two scenes of one name never share a derivation)."""
+    import hashlib
+    import json
+
+    digest = hashlib.sha256(json.dumps(chain_inputs(scene.chain), sort_keys=True).encode()).hexdigest()[:10]
+    name = f"scene {scene.name} {digest}"
+    CHAINS[name] = lambda: scene
+    return SystemKey("chain", name)
+
+
 def chain_system(key, chain=None):
     chain = chain or chain_of(key)
     twin = ChainTwin(chain)

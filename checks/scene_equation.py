@@ -1,0 +1,28 @@
+"""GRE, GRE-F, Prop1 and Prop2 derived symbolically on a scene's own chain (``--scene FILE --symbolic``)."""
+
+from __future__ import annotations
+
+from inertiaproof.errors import InputError
+from inertiaproof.registry import check
+from inertiaproof.result import Result, Verdict
+from inertiaproof.symbolic.claims import CLAIMS
+from inertiaproof.symbolic.derivations import derivation
+from inertiaproof.symbolic.evidence import claim_result, run_claim
+from inertiaproof.symbolic.systems import scene_key
+
+
+def decide_on_scene(claim_id, ctx):
+    """The claim decided exactly (and by randomised identity testing) on the scene's chain."""
+    try:
+        key = scene_key(ctx.scene)
+        d = derivation(key, progress=ctx.progress)
+    except InputError as exc:
+        return Result(claim_id, Verdict.INCONCLUSIVE, f"no exact symbolic twin of the scene's chain: {exc}")
+    ctx.progress(f"on {key.label}: deciding with {len(CLAIMS[claim_id].controls)} negative controls")
+    outcome = run_claim(CLAIMS[claim_id], d, rng=ctx.rng(f"{claim_id}:{key.label}"))
+    return claim_result(CLAIMS[claim_id], [outcome])
+
+
+for _claim in ("GRE", "GRE-F", "Prop1", "Prop2"):
+    check(_claim, needs={"chain", "symbolic"}, variant="scene")(
+        lambda ctx, claim_id=_claim: decide_on_scene(claim_id, ctx))
