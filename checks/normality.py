@@ -5,11 +5,12 @@ from __future__ import annotations
 import numpy as np
 
 from inertiaproof import bounds, robots
-from inertiaproof.bound_cases import cached, kw
 from inertiaproof.dynamics import mass_matrix
 from inertiaproof.inertia import pseudo_inertia, spatial_inertia, unit_body
 from inertiaproof.registry import check, replayer
 from inertiaproof.result import Result, Verdict, combine, quantity
+
+from inertiaproof.checks.bound_verdicts import cached, kw
 
 EPS = np.finfo(float).eps
 
@@ -54,7 +55,7 @@ def def2_result(ctx, scenes, theta_for_identity=None):
                             "tolerance": quantity(64 * EPS * chain.n, "tolerance")}
     verdict = combine(verdicts)
     first = next(iter(rows.values()))
-    return Result("Def2", verdict, f"{verdict}: " + "; ".join(f"{n}: {r['status']}" for n, r in rows.items()),
+    return Result("Def2", verdict, "; ".join(f"{n}: {r['status']}" for n, r in rows.items()),
                   {"chains": rows, "bracket": first["bracket"]},
                   counterexample=None if verdict != Verdict.VIOLATED else
                   {"kind": "gram-identity", "data": {"scene": next(n for n, r in rows.items())}})
@@ -83,7 +84,7 @@ def cx_normal_result(scene, theta=None):
     ok = column_zero and exact_zero and residual <= 64 * EPS and consistent
     verdict = Verdict.HOLDS if ok else Verdict.VIOLATED
     return Result("CX-normal", verdict,
-                  f"{verdict}: {chain.name}: at q_1 = 0 the first column of QJ is exactly 0, so lambda_min(M) = 0 "
+                  f"{chain.name}: at q_1 = 0 the first column of QJ is exactly 0, so lambda_min(M) = 0 "
                   f"exactly for the unit bodies (1, 0, I3) and for the arm's own bodies; M = (QJ)^T QJ to "
                   f"{residual:.1e}",
                   {"chain": chain.name, "column_exactly_zero": column_zero, "lambda_min_exactly_zero": exact_zero,
@@ -124,7 +125,7 @@ def lem1(ctx):
     verdicts.append(cx.verdict)
     rows["non-normal-2r"] = {"direction": "not normal => inf lambda_min(M) = 0 for the unit bodies", **cx.evidence}
     verdict = combine(verdicts)
-    return Result("Lem1", verdict, f"{verdict}: certified inf lambda_min(M) > 0 on the normal chains "
+    return Result("Lem1", verdict, f"certified inf lambda_min(M) > 0 on the normal chains "
                   f"({', '.join(list(rows)[:-1])}); exactly 0 on the non-normal 2R", {"chains": rows})
 
 
@@ -156,7 +157,7 @@ def asm2_lem2(ctx):
     lower_growth = bool(np.all(lam >= m2 * np.maximum(x - offset, 0) ** 2 * (1 - 1e-12)))
     verdict = Verdict.HOLDS if growth and finite and lower_growth else Verdict.VIOLATED
     return Result("Asm2/Lem2", verdict,
-                  f"{verdict}: unlimited slide: sigma_max(QJ) >= |x| - {offset:.2g} and lambda_max(M) >= m_2 (|x| - "
+                  f"unlimited slide: sigma_max(QJ) >= |x| - {offset:.2g} and lambda_max(M) >= m_2 (|x| - "
                   f"{offset:.2g})^2 (lambda_max/x^2 -> {ratio[-1]:.4g}, m_2 = {m2:g}): both suprema infinite; slide "
                   f"limited to 1 m: sup sigma_max(QJ) in [{s_b.lower:.4g}, {s_b.upper:.4g}], sup lambda_max(M) in "
                   f"[{m_b.lower:.4g}, {m_b.upper:.4g}]",
@@ -191,7 +192,7 @@ def cor2(ctx):
     rows["rp-unbounded"] = {"normal_and_bounded": False, "why": f"not bounded: lambda_max(M) = {lam[-1]:.3g} at x = {x[-1]:g}"}
     verdicts.append(Verdict.HOLDS if growth else Verdict.VIOLATED)
     verdict = combine(verdicts)
-    return Result("Cor2", verdict, f"{verdict}: normal and bounded planar 2R has certified 0 < alpha1 = "
+    return Result("Cor2", verdict, f"normal and bounded planar 2R has certified 0 < alpha1 = "
                   f"{lo.lower:.4g} <= alpha2 = {hi.upper:.4g}; the non-normal 2R has no positive alpha1; the unlimited "
                   f"RP chain has no finite alpha2", {"chains": rows})
 
@@ -235,7 +236,7 @@ def cx_sphere(ctx):
     ramp = Scene("sphere-ramp", restored.chain, ParameterTrajectory(restored.trajectory.base,
                                                                     (Scaling(0, Profile("cosine", 0.0, 2.0)),), (0.5, 5.0)),
                  "sphere whose mass ramps from 0.15 to 1: uniformly consistent and upper bounded")
-    from inertiaproof.bound_cases import lower_bound_case, upper_bound_case
+    from inertiaproof.checks.mass_matrix_bounds import lower_bound_case, upper_bound_case
 
     v1, _, e1, _ = lower_bound_case(ctx, ramp)
     v2, _, e2, _ = upper_bound_case(ctx, ramp)
@@ -245,6 +246,6 @@ def cx_sphere(ctx):
                        Verdict.HOLDS if restored_ok else Verdict.INCONCLUSIVE])
     rows["restored"] = {"scene": ramp.description, "alpha1": e1["constants"], "alpha2": e2["constants"]}
     return Result("CX-sphere", verdict,
-                  f"{verdict}: f(Phi(t)) = m(t) diag(r^2/5 I3, 1) and M = m(t) exactly; consistent at every time yet "
+                  f"f(Phi(t)) = m(t) diag(r^2/5 I3, 1) and M = m(t) exactly; consistent at every time yet "
                   f"inf M = 0 (m -> 0) and sup M = inf (m -> inf); a uniformly consistent, upper bounded ramp restores "
                   f"Cor1 with certified {a1:.4g} <= M <= {a2:.4g}", {"cases": rows})

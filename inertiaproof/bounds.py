@@ -31,7 +31,7 @@ import itertools
 
 import numpy as np
 
-from .dynamics import mass_matrix, mass_matrix_partials
+from . import composite
 from .extremes import Bracket, bracket_extreme
 from .inertia import pseudo_inertia, spatial_inertia
 from .positive_map import key_step_certificate
@@ -99,12 +99,10 @@ def mass_family(chain, thetas):
     thetas = np.asarray(thetas, float)
 
     def evaluate(q, derivatives=True):
-        qj = chain.body_jacobian(q)[:, None]
-        m = mass_matrix(qj, thetas[None])
+        m = composite.mass_matrix(chain, q[:, None], thetas[None])
         if not derivatives:
             return m
-        dqj = chain.body_jacobian_derivative(q)[:, None]
-        return m, mass_matrix_partials(qj, dqj, thetas[None])
+        return m, composite.mass_matrix_partials(chain, q[:, None], thetas[None])
     return evaluate, 2
 
 

@@ -164,6 +164,19 @@ class Chain:
             ))
         return cls(tuple(joints), name=name, gravity=tuple(gravity))
 
+    def to_data(self):
+        """Plain data (counterexample files); :meth:`from_data` rebuilds the chain."""
+        return {"name": self.name, "gravity": list(self.gravity), "joints": [
+            {"kind": j.kind, "axis": list(j.axis), "before": np.asarray(j.before).tolist(),
+             "after": np.asarray(j.after).tolist(), "coordinate": j.coordinate.name,
+             "limits": None if j.limits is None else list(j.limits), "name": j.name} for j in self.joints]}
+
+    @classmethod
+    def from_data(cls, data):
+        return cls(tuple(Joint(j["kind"], tuple(j["axis"]), np.array(j["before"]), np.array(j["after"]),
+                               Coordinate(j["coordinate"]), None if j["limits"] is None else tuple(j["limits"]),
+                               j["name"]) for j in data["joints"]), name=data["name"], gravity=tuple(data["gravity"]))
+
     # -- kinematics -------------------------------------------------------
 
     def _check_q(self, q):

@@ -148,3 +148,14 @@ def mass_matrix(chain, q, theta):
         arena = Arena("composite", size, dtype)
         _fill(chain, x[:, part], phi if phi.shape[-1] == 1 else phi[..., part], m[..., part], arena)
     return np.moveaxis(m, -1, 0).reshape(batch + (n, n))
+
+
+def mass_matrix_partials(chain, q, theta):
+    """dM/dq (..., n, n, n), entry [k, j, i] = d M_kj / d q_i (as dynamics.mass_matrix_partials), by a complex
+    step in each coordinate through :func:`mass_matrix` (exact to round-off)."""
+    from .chain import COMPLEX_STEP
+
+    q, theta = np.asarray(q, dtype=float), np.asarray(theta)
+    steps = q[..., None, :] + 1j * COMPLEX_STEP * np.eye(chain.n)  # (..., n_i, n)
+    m = mass_matrix(chain, steps, theta[..., None, :, :] if theta.ndim > 2 else theta)
+    return np.moveaxis(m.imag / COMPLEX_STEP, -3, -1)
