@@ -124,7 +124,8 @@ def thm3(ctx):
 @check("Cor1", needs={"chain"})
 def cor1(ctx):
     """Corollary 1: both bounds with 0 < alpha1 <= alpha2 < inf certified on scenes with normal, bounded QJ."""
-    scenes = [ctx.scene] if ctx.scene is not None else [robots.planar_2r(payload=1.0), robots.spatial_3r()]
+    scenes = [ctx.scene] if ctx.scene is not None else [robots.planar_2r(payload=1.0), robots.spatial_3r(),
+                                                         robots.panda(payload=2.0)]
     low, high = run_scenes("Thm2", ctx, lower_bound_case, scenes), run_scenes("Thm3", ctx, upper_bound_case, scenes)
     rows, verdicts = {}, [low.verdict, high.verdict]
     for name in low.evidence["scenes"]:

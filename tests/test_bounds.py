@@ -206,3 +206,26 @@ def test_moving_mass_bounds_are_valid():
     for name in bounds.BODY_FUNCTIONS:
         d = bounds.time_extreme(traj, name, samples=4001)
         assert (d["certified"] <= d["observed"] + 1e-12) if d["sense"] == "min" else (d["observed"] <= d["certified"] + 1e-12)
+
+
+def test_triangular_normality_floor_is_valid_on_random_chains():
+    from hypothesis import given, settings
+    from inertiaproof.counterexamples.chains import chains
+
+    @settings(max_examples=40)
+    @given(chains())
+    def floor_below_every_sample(drawn):
+        chain, _ = drawn
+        floor = bounds.triangular_normality_floor(chain)
+        lo, hi = chain.coordinate_box()
+        q = lo + (hi - lo) * np.random.default_rng(0).random((500, chain.n))
+        smallest = np.linalg.svd(chain.body_jacobian(q), compute_uv=False)[:, -1].min() ** 2
+        assert 0 <= floor <= smallest * (1 + 1e-12)
+
+    floor_below_every_sample()
+
+
+def test_triangular_normality_floor_certifies_the_arms_and_not_the_non_normal_chain():
+    assert bounds.triangular_normality_floor(robots.panda().chain) > 1e-2
+    assert bounds.triangular_normality_floor(robots.ur5().chain) > 1e-2
+    assert bounds.triangular_normality_floor(robots.non_normal_2r().chain) == 0.0
