@@ -322,14 +322,22 @@ def _neighbour_bound(joint, s, previous, limits):
 
 
 def apriori_bound(chain, thetas, kind):
-    """A certified (crude) bound of sup sigma_max(QJ) (thetas None) or sup ||M(q, Theta_v)|| over all q."""
+    """A certified bound of sup_q sigma_max(QJ) (thetas None) or of sup_q ||M(q, Theta_v)|| over all q, from lengths.
+
+    With G[l, k] >= ||QJ_l[:, k]|| (column_bounds), ||QJ x||^2 = sum_l ||QJ_l x||^2 <=
+    ||G |x| ||^2, so sigma_max(QJ) <= ||G||_2; and |x^T M x| <= sum_l max|lambda(Z_l)|
+    ||QJ_l x||^2 <= ||D G||_2^2 with D = diag(max|lambda(Z_l)|^(1/2)). The computed
+    spectral norm is inflated by its rounding allowance.
+    """
     if certification_obstacle(chain) is not None:
         return np.inf
-    blocks = apriori_jacobian_blocks(chain)
+    linear, angular = column_bounds(chain)
+    g = np.sqrt(linear**2 + angular**2)
+    inflate = 1 + ROUNDING * EPS * chain.n
     if thetas is None:
-        return float(np.sqrt((blocks**2).sum()))
+        return float(np.linalg.norm(g, 2) * inflate)
     z = spectral(spatial_inertia(np.asarray(thetas, float)), "absmax")  # (V, N)
-    return float((z * blocks**2).sum(-1).max())
+    return float(max(np.linalg.norm(np.sqrt(zv)[:, None] * g, 2) ** 2 for zv in z) * inflate**2)
 
 
 # -- the ingredients over configurations ----------------------------------------------

@@ -82,11 +82,16 @@ def test_bracket_contains_dense_grid_extreme():
 
 
 def test_a_priori_bound_is_valid():
-    chain = robots.panda().chain
+    from inertiaproof import composite
+
     rng = np.random.default_rng(3)
-    lo, hi = chain.coordinate_box()
-    q = lo + (hi - lo) * rng.random((2000, chain.n))
-    assert np.linalg.svd(chain.body_jacobian(q), compute_uv=False)[:, 0].max() <= bounds.apriori_bound(chain, None, "sup")
+    for chain in (robots.panda().chain, robots.ur5().chain, robots.revolute_prismatic(1.0).chain):
+        lo, hi = chain.coordinate_box()
+        q = lo + (hi - lo) * rng.random((2000, chain.n))
+        assert np.linalg.svd(chain.body_jacobian(q), compute_uv=False)[:, 0].max() <= bounds.apriori_bound(chain, None, "sup")
+        thetas = rng.normal(size=(2, chain.n, 10))  # indefinite Z too: the bound is on sigma_max(M)
+        sigma_m = np.abs(np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], thetas[None]))).max()
+        assert sigma_m <= bounds.apriori_bound(chain, thetas, "sup")
 
 
 SCENE = robots.planar_2r(payload=1.0)
