@@ -52,16 +52,11 @@ def lower_bound_case(ctx, scene, k=1.0):
     zmin = bounds.time_extreme(traj, "lmin_Z")
     gamma = cached(ctx, scene, "gamma", lambda: bounds.jacobian_normality(chain, **kw(ctx, scene, "gamma")))
     lhs = _extreme_over_time(ctx, scene, "lmin", "mass_inf")
-    paper = xi["certified"] * max(gamma.lower, 0.0)
-    paper_observed = xi["observed"] * gamma.upper
-    structural = zmin["certified"] * max(gamma.lower, 0.0)
-    direct = lhs.lower if np.isfinite(lhs.lower) else -np.inf
-    certified = max(structural, direct, paper)
-    how = ("certified lower side of inf lambda_min(M) by branch and bound" if direct >= structural else
-           "min_l inf_t lambda_min(Z(Phi_l)) times the certified lower side of inf_q sigma_min(QJ)^2 "
-           "(the proof of Theorem 2 at the level of Z)")
+    found = bounds.lower_constants(xi["certified"], zmin["certified"], gamma, lhs, xi_observed=xi["observed"])
+    paper, paper_observed = found["paper"]["lower"], found["paper"]["upper"]
+    certified = found["certified"]["value"]
     constants = constants_evidence("lower", "alpha1 = min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ)",
-                                   paper, paper_observed, certified, how, lhs.observed,
+                                   paper, paper_observed, certified, found["certified"]["how"], lhs.observed,
                                    "inf lambda_min(M) attained at the witness: an upper estimate of the true infimum")
     extra = {"ingredients": {"xi": time_quantities(xi, "min_l inf_t lambda_min(f(Phi_l(t)))"),
                              "lambda_min_Z": time_quantities(zmin, "min_l inf_t lambda_min(Z(Phi_l(t)))"),
@@ -80,14 +75,11 @@ def upper_bound_case(ctx, scene, k=1.0):
     zmax = bounds.time_extreme(traj, "lmax_Z")
     sigma = cached(ctx, scene, "sigma", lambda: bounds.jacobian_sup(chain, **kw(ctx, scene, "sigma")))
     lhs = _extreme_over_time(ctx, scene, "lmax", "mass_sup")
-    paper = 2 * zeta["certified"] * sigma.upper**2
-    paper_observed = 2 * zeta["observed"] * sigma.lower**2
-    structural = zmax["certified"] * sigma.upper**2
-    certified = min(structural, lhs.upper, paper)
-    how = ("certified upper side of sup lambda_max(M) by branch and bound" if lhs.upper <= structural else
-           "max_l sup_t lambda_max(Z(Phi_l)) times the certified sup_q sigma_max(QJ)^2 (the proof at the level of Z)")
+    found = bounds.upper_constants(zeta["certified"], zmax["certified"], sigma, lhs, zeta_observed=zeta["observed"])
+    paper, paper_observed = found["paper"]["upper"], found["paper"]["lower"]
+    certified = found["certified"]["value"]
     constants = constants_evidence("upper", "alpha2 = 2 max_l sup_t lambda_max(f(Phi_l)) sup_q sigma_max(QJ)^2",
-                                   paper, paper_observed, certified, how, lhs.observed,
+                                   paper, paper_observed, certified, found["certified"]["how"], lhs.observed,
                                    "sup lambda_max(M) attained at the witness: a lower estimate of the true supremum")
     extra = {"ingredients": {"zeta": time_quantities(zeta, "max_l sup_t lambda_max(f(Phi_l(t)))"),
                              "lambda_max_Z": time_quantities(zmax, "max_l sup_t lambda_max(Z(Phi_l(t)))"),

@@ -365,9 +365,21 @@ def jacobian_normality(chain, **kw):
 
 
 def mass_inf(chain, thetas, **kw):
-    """inf over q and the parameter sets of lambda_min(M(q, Theta))."""
-    return configuration_bracket(chain, mass_family(chain, thetas), "lmin",
-                                 quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
+    """inf over q and the parameter sets of lambda_min(M(q, Theta)); where branch and bound certifies less, the
+    proof of Theorem 2 does: lambda_min(M) >= min_l lambda_min(Z(Phi_l)) inf_q sigma_min(QJ)^2 with the
+    :func:`triangular_normality_floor`."""
+    result = configuration_bracket(chain, mass_family(chain, thetas), "lmin",
+                                   quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
+    z = spatial_inertia(np.asarray(thetas, float))
+    z_min = float((spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")).min())  # less its rounding
+    floor = max(z_min, 0.0) * triangular_normality_floor(chain) * (1 - ROUNDING * EPS)
+    if floor > (result.certified if result.certified is not None else -np.inf):
+        result.certified = floor
+        result.note = (result.note + "; " if result.note else "") + (
+            "certified side min_l lambda_min(Z(Phi_l)) times the block-triangular floor of inf sigma_min(QJ)^2")
+        for point in result.convergence:
+            point[1] = max(point[1] if point[1] is not None else -np.inf, floor)
+    return result
 
 
 def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **kw):
@@ -624,26 +636,46 @@ def _bracket_data(b: Bracket):
             "convergence": b.convergence}
 
 
-def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket):
-    """Theorem 2: alpha1 = xi gamma (paper); certified: max(lambda_min(Z) gamma_lower, certified inf of lambda_min(M))."""
-    paper = {"value": xi * gamma.upper, "lower": xi * max(gamma.lower, 0.0), "upper": xi * gamma.upper,
-             "note": "min_l inf_t lambda_min(f(Phi_l)) * inf_q lambda_min((QJ)^T QJ); the infimum over q is bracketed"}
+def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=None):
+    """Theorem 2: the paper's alpha1 = xi gamma and the sharpest certified constant.
+
+    ``xi`` is min_l inf_t lambda_min(f(Phi_l)) (a certified lower bound; for constant Phi exact), ``xi_observed``
+    its observed value (default: xi), ``z_min`` a certified min_l inf_t lambda_min(Z(Phi_l)), ``gamma`` the
+    bracket of inf_q sigma_min(QJ)^2, ``observed`` that of inf lambda_min(M). The paper's alpha1 lies in
+    [paper.lower, paper.upper]: its ingredients at their certified sides and at their observed values;
+    paper.value is the upper end (observed ingredients), an estimate, not the paper's constant itself.
+    """
+    xi_observed = xi if xi_observed is None else xi_observed
+    paper = {"value": xi_observed * gamma.upper, "lower": xi * max(gamma.lower, 0.0), "upper": xi_observed * gamma.upper,
+             "note": "min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ) lies in [lower, upper] (certified, "
+                     "observed ingredients); value = upper, an upper estimate"}
     structural = z_min * max(gamma.lower, 0.0)
     direct = observed.lower if np.isfinite(observed.lower) else -np.inf
     certified = max(structural, direct, paper["lower"])
-    how = ("certified lower side of inf lambda_min(M) (branch and bound)" if direct >= structural else
-           "min_l inf_t lambda_min(Z(Phi_l)) * certified lower side of inf_q sigma_min(QJ)^2")
+    how = ("certified lower side of inf lambda_min(M) (branch and bound, or the proof of Theorem 2 with the "
+           "block-triangular normality floor)" if direct >= structural else
+           "min_l inf_t lambda_min(Z(Phi_l)) times the certified lower side of inf_q sigma_min(QJ)^2 (the proof of "
+           "Theorem 2 at the level of Z)")
     return {"paper": paper, "certified": {"value": certified, "how": how},
             "observed": _bracket_data(observed)}
 
 
-def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket):
-    """Theorem 3: alpha2 = 2 zeta sup sigma_max(QJ)^2 (paper); certified: min(lambda_max(Z) S^2, certified sup lambda_max(M))."""
-    paper = {"value": 2 * zeta * sigma.lower**2, "lower": 2 * zeta * sigma.lower**2, "upper": 2 * zeta * sigma.upper**2,
-             "note": "2 max_l sup_t lambda_max(f(Phi_l)) * sup_q sigma_max(QJ)^2; the supremum over q is bracketed"}
+def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observed=None):
+    """Theorem 3: the paper's alpha2 = 2 zeta S^2 and the sharpest certified constant.
+
+    ``zeta`` is max_l sup_t lambda_max(f(Phi_l)) (a certified upper bound), ``zeta_observed`` its observed value
+    (default: zeta), ``z_max`` a certified max_l sup_t lambda_max(Z(Phi_l)), ``sigma`` the bracket of
+    sup_q sigma_max(QJ), ``observed`` that of sup lambda_max(M). The paper's alpha2 lies in
+    [paper.lower, paper.upper]; paper.value is the lower end (observed ingredients), an estimate.
+    """
+    zeta_observed = zeta if zeta_observed is None else zeta_observed
+    paper = {"value": 2 * zeta_observed * sigma.lower**2, "lower": 2 * zeta_observed * sigma.lower**2,
+             "upper": 2 * zeta * sigma.upper**2,
+             "note": "2 max_l sup_t lambda_max(f(Phi_l)) sup_q sigma_max(QJ)^2 lies in [lower, upper] (observed, "
+                     "certified ingredients); value = lower, a lower estimate"}
     structural = z_max * sigma.upper**2
     direct = observed.upper
     certified = min(structural, direct, paper["upper"])
-    how = ("certified upper side of sup lambda_max(M) (branch and bound)" if direct <= structural else
-           "max_l sup_t lambda_max(Z(Phi_l)) * certified sup_q sigma_max(QJ)^2")
+    how = ("certified upper side of sup lambda_max(M) by branch and bound (or from lengths)" if direct <= structural
+           else "max_l sup_t lambda_max(Z(Phi_l)) times the certified sup_q sigma_max(QJ)^2 (the proof at the level of Z)")
     return {"paper": paper, "certified": {"value": certified, "how": how}, "observed": _bracket_data(observed)}
