@@ -68,17 +68,22 @@ def pointwise_on_scene(check_id, ctx, scene, k):
     q, t = scene_samples(ctx, scene, check_id)
     state = state_at(scene.trajectory, t)
     margin, resolution, lhs, rhs = margins(check_id, scene.chain, q, state, k)
-    i = int(np.argmin(margin + resolution))
+    compared = ~np.isnan(margin)
+    if not compared.any():
+        return {"violated": False, "counterexample": None,
+                "evidence": {"samples": quantity(len(q), "count", "random (q, t) pairs; both sides vanish at all")}}
+    i = int(np.nanargmin(margin + resolution))
     point = (i, float(margin[i]), float(resolution[i]), float(lhs[i]), float(rhs[i]))
     return {"violated": bool(margin[i] < -resolution[i]),
             "counterexample": point_counterexample(check_id, scene.chain, q, state, k, point),
-            "evidence": {"smallest_margin": quantity(float(margin.min()), "margin",
+            "evidence": {"smallest_margin": quantity(float(np.nanmin(margin)), "margin",
                                                      "relative margin of the proof's pointwise inequality"),
                          "resolution": quantity(float(resolution[i]), "tolerance",
                                                 "resolution at the point closest to failing"),
-                         "unresolved": quantity(int(np.sum(np.abs(margin) <= resolution)), "count",
+                         "unresolved": quantity(int(np.sum(np.abs(margin[compared]) <= resolution[compared])), "count",
                                                 "points whose margin is within their resolution"),
-                         "samples": quantity(len(q), "count", "random (q, t) pairs")}}
+                         "samples": quantity(int(compared.sum()), "count",
+                                             "random (q, t) pairs compared (both sides vanish at the others)")}}
 
 
 def judge(sense, lhs, constant_lower, constant_upper, *, proof_covers, pointwise_violated):

@@ -101,12 +101,15 @@ POINTWISE = {  # id: (function, sense: "upper" means lhs <= rhs)
 
 
 def margins(check_id, chain, q, state, k):
-    """Relative margin and resolution of the pointwise inequality at every configuration, with lhs and rhs."""
+    """Relative margin and resolution of the pointwise inequality at every configuration, with lhs and rhs.
+
+    Where both sides vanish (no internal motion at that time, say) there is nothing to compare: margin NaN."""
     fn, sense = POINTWISE[check_id]
     lhs, rhs, size = fn(chain, q, state, k)
-    scale = np.maximum(np.abs(lhs) + np.abs(rhs), np.finfo(float).tiny)
-    margin = (rhs - lhs) / scale if sense == "upper" else (lhs - rhs) / scale
-    resolution = RESOLUTION + ROUNDING * EPS * size / scale
+    scale = np.abs(lhs) + np.abs(rhs)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        margin = (rhs - lhs) / scale if sense == "upper" else (lhs - rhs) / scale
+        resolution = RESOLUTION + ROUNDING * EPS * size / scale
     return margin, resolution, lhs, rhs
 
 
@@ -120,7 +123,9 @@ def state_at(trajectory, t):
 def worst_point(check_id, chain, q, state, k):
     """The sampled point closest to a resolved violation: (index, margin, resolution, lhs, rhs)."""
     margin, resolution, lhs, rhs = margins(check_id, chain, q, state, k)
-    i = int(np.argmin(margin + resolution))
+    if np.all(np.isnan(margin)):
+        return 0, np.nan, np.nan, float(lhs[0]), float(rhs[0])
+    i = int(np.nanargmin(margin + resolution))
     return i, float(margin[i]), float(resolution[i]), float(lhs[i]), float(rhs[i])
 
 
