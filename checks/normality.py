@@ -104,9 +104,14 @@ def cx_normal(ctx):
 
 @check("Lem1", needs=())
 def lem1(ctx):
-    """Lemma 1 both ways: normal chains give a certified positive inf lambda_min(M); a non-normal one gives 0."""
+    return lem1_result(ctx, (robots.planar_2r(), robots.spatial_3r(), robots.revolute_prismatic(1.0)))
+
+
+def lem1_result(ctx, scenes):
+    """Lemma 1 both ways: normal chains give a certified positive inf lambda_min(M); a non-normal one gives 0.
+    A scene whose bodies break the lemma's hypothesis (not consistent) may show lambda_min(M) < 0: VIOLATED."""
     rows, verdicts = {}, []
-    for scene in (robots.planar_2r(), robots.spatial_3r(), robots.revolute_prismatic(1.0)):
+    for scene in scenes:
         gamma = cached(ctx, scene, "gamma", lambda: bounds.jacobian_normality(scene.chain, **kw(ctx, scene, "gamma")))
         low = cached(ctx, scene, "mass_inf_const", lambda: bounds.mass_inf(
             scene.chain, scene.trajectory.base[None], **kw(ctx, scene, "mass_inf_const", share=2.0)))
@@ -131,7 +136,7 @@ def lem1(ctx):
                   f"({', '.join(list(rows)[:-1])}); exactly 0 on the non-normal 2R", {"chains": rows})
 
 
-def growth_result(scale_points=(1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6)):
+def growth_result(scale_points=(1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6), claimed_offset=None):
     """Asm2/Lem2: on the unlimited RP chain sigma_max(QJ) >= |x| - r0 (certified), so sup sigma_max(QJ) and
     sup lambda_max(M) are infinite; with the slide limited both suprema are finite (certified brackets)."""
     scene = robots.revolute_prismatic(None)
@@ -141,6 +146,7 @@ def growth_result(scale_points=(1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6)):
     qj = chain.body_jacobian(q)
     sigma = np.linalg.svd(qj, compute_uv=False)[..., 0]
     offset = sum(np.linalg.norm(j.before[:3, 3]) + np.linalg.norm(j.after[:3, 3]) for j in chain.joints)
+    offset = offset if claimed_offset is None else claimed_offset
     lam = np.linalg.eigvalsh(mass_matrix(qj, scene.trajectory.base))[..., -1]
     m2 = scene.trajectory.base[1, 0]
     certified_growth = bool(np.all(sigma >= x - offset - 64 * EPS * x))
@@ -150,7 +156,12 @@ def growth_result(scale_points=(1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6)):
 
 @check("Asm2/Lem2", needs=())
 def asm2_lem2(ctx):
-    scene, x, sigma, lam, offset, growth, ratio, m2 = growth_result()
+    return asm2_lem2_result(ctx)
+
+
+def asm2_lem2_result(ctx, claimed_offset=None):
+    """``claimed_offset`` replaces the lever offset r0 of the growth bound (a test claims a wrong one)."""
+    scene, x, sigma, lam, offset, growth, ratio, m2 = growth_result(claimed_offset=claimed_offset)
     bounded = robots.revolute_prismatic(1.0)
     s_b = cached(ctx, bounded, "sigma", lambda: bounds.jacobian_sup(bounded.chain, **kw(ctx, bounded, "sigma")))
     m_b = cached(ctx, bounded, "mass_sup_const", lambda: bounds.mass_sup(
@@ -176,7 +187,12 @@ def asm2_lem2(ctx):
 
 @check("Cor2", needs=())
 def cor2(ctx):
-    """Corollary 2: uniform bounds for constant consistent Phi exactly when QJ is normal and bounded."""
+    return cor2_result(ctx, robots.non_normal_2r())
+
+
+def cor2_result(ctx, non_normal):
+    """Corollary 2: uniform bounds for constant consistent Phi exactly when QJ is normal and bounded;
+    ``non_normal`` is the scene shown to lack a positive alpha1."""
     rows, verdicts = {}, []
     normal = robots.planar_2r()
     g = cached(ctx, normal, "gamma", lambda: bounds.jacobian_normality(normal.chain, **kw(ctx, normal, "gamma")))
@@ -187,8 +203,8 @@ def cor2(ctx):
     both = g.lower > 0 and lo.lower > 0 and np.isfinite(hi.upper)
     rows["planar-2r"] = {"normal_and_bounded": bool(g.lower > 0), "alpha1": lo.evidence(), "alpha2": hi.evidence()}
     verdicts.append(Verdict.HOLDS if both else Verdict.INCONCLUSIVE)
-    cx = cx_normal_result(robots.non_normal_2r())
-    rows["non-normal-2r"] = {"normal_and_bounded": False, "why": "not normal: lambda_min(M) = 0 exactly at q_1 = 0"}
+    cx = cx_normal_result(non_normal)
+    rows[non_normal.name] = {"normal_and_bounded": False, "why": "not normal: lambda_min(M) = 0 exactly at q_1 = 0"}
     verdicts.append(cx.verdict)
     _, x, sigma, lam, _, growth, _, _ = growth_result()
     rows["rp-unbounded"] = {"normal_and_bounded": False, "why": f"not bounded: lambda_max(M) = {lam[-1]:.3g} at x = {x[-1]:g}"}
@@ -199,15 +215,17 @@ def cor2(ctx):
                   f"RP chain has no finite alpha2", {"chains": rows})
 
 
-def sphere_result(rates=(-0.5, 0.5), times=np.linspace(0.0, 60.0, 241), radius=0.1):
-    """CX-sphere: f(Phi(t)) = m(t) diag(r^2/5 I3, 1) and M = m(t) exactly; m -> 0 or inf leaves no uniform bound."""
+def sphere_result(rates=(-0.5, 0.5), times=np.linspace(0.0, 60.0, 241), radius=0.1, claimed_radius=None):
+    """CX-sphere: f(Phi(t)) = m(t) diag(r^2/5 I3, 1) and M = m(t) exactly; m -> 0 or inf leaves no uniform bound.
+    ``claimed_radius`` replaces r in the claimed f (a test claims a wrong one)."""
     rows, ok = {}, True
     for rate in rates:
         scene = robots.translating_sphere(rate, radius=radius)
         theta, _ = scene.trajectory.theta(times)
         m = theta[:, 0, 0]
         f = pseudo_inertia(theta[:, 0])
-        expected = m[:, None, None] * np.diag([radius**2 / 5] * 3 + [1.0])
+        r = radius if claimed_radius is None else claimed_radius
+        expected = m[:, None, None] * np.diag([r**2 / 5] * 3 + [1.0])
         f_res = float(np.abs(f - expected).max() / np.abs(expected).max())
         mm = mass_matrix(scene.chain.body_jacobian(np.zeros((len(times), 1))), theta)[..., 0, 0]
         m_res = float(np.abs(mm - m).max() / m.max())
@@ -230,7 +248,11 @@ def sphere_result(rates=(-0.5, 0.5), times=np.linspace(0.0, 60.0, 241), radius=0
 
 @check("CX-sphere", needs=())
 def cx_sphere(ctx):
-    ok, rows = sphere_result()
+    return cx_sphere_result(ctx)
+
+
+def cx_sphere_result(ctx, claimed_radius=None):
+    ok, rows = sphere_result(claimed_radius=claimed_radius)
     restored = robots.translating_sphere(-0.5)
     from inertiaproof.scene import Scene
     from inertiaproof.trajectory import ParameterTrajectory, Profile, Scaling

@@ -234,3 +234,47 @@ def test_triangular_normality_floor_certifies_the_arms_and_not_the_non_normal_ch
     assert bounds.triangular_normality_floor(robots.panda().chain) > 1e-2
     assert bounds.triangular_normality_floor(robots.ur5().chain) > 1e-2
     assert bounds.triangular_normality_floor(robots.non_normal_2r().chain) == 0.0
+
+
+def test_cor1_with_a_misstated_alpha2_is_violated():
+    from inertiaproof.checks.mass_matrix_bounds import cor1_result
+
+    assert cor1_result(ctx(), [SCENE]).verdict == Verdict.HOLDS
+    bad = cor1_result(ctx(), [SCENE], k_upper=0.01)
+    assert bad.verdict == Verdict.VIOLATED
+    assert REPLAYERS[bad.counterexample["kind"]](bad.counterexample["data"], ctx()).verdict == Verdict.VIOLATED
+
+
+def test_lem1_with_an_inconsistent_body_is_violated():
+    """Lemma 1 needs consistent bodies: a negative mass on a normal chain gives lambda_min(M) < 0."""
+    from dataclasses import replace
+
+    from inertiaproof.checks.normality import lem1_result
+
+    scene = robots.planar_2r()
+    assert lem1_result(ctx(), [scene]).verdict == Verdict.HOLDS
+    base = scene.trajectory.base.copy()
+    base[1] *= -1
+    bad = replace(scene, name="planar-2r-negative-mass", trajectory=replace(scene.trajectory, base=base))
+    assert lem1_result(ctx(), [bad]).verdict == Verdict.VIOLATED
+
+
+def test_asm2_lem2_with_a_wrong_growth_offset_is_violated():
+    from inertiaproof.checks.normality import asm2_lem2_result
+
+    assert asm2_lem2_result(ctx()).verdict == Verdict.HOLDS
+    assert asm2_lem2_result(ctx(), claimed_offset=-1.0).verdict == Verdict.VIOLATED
+
+
+def test_cor2_with_a_normal_chain_as_the_non_normal_one_is_violated():
+    from inertiaproof.checks.normality import cor2_result
+
+    assert cor2_result(ctx(), robots.non_normal_2r()).verdict == Verdict.HOLDS
+    assert cor2_result(ctx(), robots.planar_2r()).verdict == Verdict.VIOLATED
+
+
+def test_cx_sphere_with_a_wrong_radius_is_violated():
+    from inertiaproof.checks.normality import cx_sphere_result
+
+    assert cx_sphere_result(ctx()).verdict == Verdict.HOLDS
+    assert cx_sphere_result(ctx(), claimed_radius=0.1 * (1 + 1e-6)).verdict == Verdict.VIOLATED
