@@ -35,6 +35,18 @@ def side(q):
     return float(q["value"] if isinstance(q, dict) else q)
 
 
+def tail_exponent(convergence):
+    """p in width ~ seconds^p fitted (log-log) to the points after the first tenth of the run time, or None."""
+    points = [(t, hi - lo) for t, lo, hi in convergence if lo is not None and hi is not None and hi - lo > 0 and t > 0]
+    if len(points) < 4:
+        return None
+    t, w = np.array(points).T
+    tail = t >= t[0] + 0.1 * (t[-1] - t[0])
+    if tail.sum() < 3 or t[tail][-1] < 2 * t[tail][0]:
+        return None
+    return float(np.polyfit(np.log10(t[tail]), np.log10(w[tail]), 1)[0])
+
+
 def rate(convergence):
     """(log10 width per second, log10 width per point, points used) of the finite, shrinking part, or None."""
     points = [(t, hi - lo) for t, lo, hi in convergence if lo is not None and hi is not None and hi - lo > 0]
@@ -54,7 +66,8 @@ def main(results_path):
     run = json.loads(Path(results_path).read_text())
     rows, seen = [], set()
     for result in run["checks"]:
-        for path, b in brackets(result["evidence"], (result["id"],)):
+        found = sorted(brackets(result["evidence"], (result["id"],)), key=lambda pb: -len(pb[0]))  # scene copies first
+        for path, b in found:
             scene = next((p for p in path if p not in ("scenes", "chains", "bracket", "ingredients", result["id"])), "")
             lower, upper = side(b["lower"]), side(b["upper"])
             key = (b["quantity"], round(lower, 12), round(upper, 12))
@@ -71,7 +84,8 @@ def main(results_path):
                          "seconds": conv[-1][0] if conv else None,
                          "width_against_seconds": [[t, hi - lo] for t, lo, hi in conv if lo is not None and hi is not None],
                          "log10_width_per_second": None if fit is None else fit[0],
-                         "log10_width_per_point": None if fit is None else fit[1]})
+                         "log10_width_per_point": None if fit is None else fit[1],
+                         "tail_power_law_exponent": tail_exponent(conv)})
     out = {"profile": run.get("profile"), "runtime_s": run.get("runtime_s"), "brackets": rows,
            "note": "a rate is fitted only to the shrinking, finite part of a bracket's convergence; brackets whose "
                    "certified side comes from a structural bound (no branch and bound) have no convergence to fit"}
@@ -79,7 +93,9 @@ def main(results_path):
     target.parent.mkdir(exist_ok=True)
     target.write_text(json.dumps(out, indent=1))
     for r in rows:
-        rate_text = "" if r["log10_width_per_second"] is None else f"  {r['log10_width_per_second']:+.2f} decades/s"
+        rate_text = "" if r["log10_width_per_point"] is None else f"  {r['log10_width_per_point']:+.2f} decades/point"
+        if r["tail_power_law_exponent"] is not None:
+            rate_text += f", width ~ t^{r['tail_power_law_exponent']:.2f} in the tail"
         print(f"{r['check']:10s} {r['where'][:44]:44s} [{r['lower']:.10g}, {r['upper']:.10g}] "
               f"t={r['seconds']}{rate_text}")
     print(target)
