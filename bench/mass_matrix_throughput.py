@@ -1,12 +1,25 @@
-"""Batched M(q) per configuration against Pinocchio's crba called once per configuration from Python.
+"""Batched M(q) per configuration against Pinocchio's crba called once per configuration from Python (7-DoF Panda).
 
-Writes bench/results/mass_matrix_throughput.json (median of repeats; the machine may be shared).
-Run: python bench/mass_matrix_throughput.py
+Both are timed the same way: one call over a batch of K configurations
+(ours: one batched call; Pinocchio: a Python loop of crba calls), wall
+clock and process CPU time, the two taken in turn (A B A B ...) so that a
+drift of the machine's speed hits both, median over repeats. Reported per
+configuration, with the ratio ours / Pinocchio per pair (median). The
+machine may be shared: absolute figures are inflated, ratios much less.
+
+Ours:
+- composite: inertiaproof.composite.mass_matrix(chain, q, theta) (composite rigid bodies);
+- jacobian+formula: dynamics.mass_matrix(chain.body_jacobian(q), theta) ((MassMatrix) as written);
+- body_jacobian alone, and dQJ/dq by complex steps (per configuration, n complex evaluations).
+
+Writes bench/results/mass_matrix_throughput.json. Run: python bench/mass_matrix_throughput.py [--repeats R]
 """
 
 from __future__ import annotations
 
+import argparse
 import json
+import platform
 import sys
 import time
 from pathlib import Path
@@ -17,20 +30,29 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from pinocchio_oracle import joint_variables, pinocchio_model  # noqa: E402
 
-from inertiaproof import robots  # noqa: E402
+from inertiaproof import composite, robots  # noqa: E402
 from inertiaproof.dynamics import mass_matrix  # noqa: E402
 
 
-def median_time(fn, repeats=7):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times))
+def timed(fn):
+    """(wall seconds, CPU seconds) of one call."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    fn()
+    return time.perf_counter() - wall, time.process_time() - cpu
 
 
-def main(count=2000):
+def paired(ours, theirs, count, repeats):
+    """Per-configuration wall and CPU microseconds of both (medians) and the median of the pairwise ratios."""
+    rows = np.array([timed(ours) + timed(theirs) for _ in range(repeats)])  # wall_a, cpu_a, wall_b, cpu_b
+    per = 1e6 * rows / count
+    return {"ours_wall_us": float(np.median(per[:, 0])), "ours_cpu_us": float(np.median(per[:, 1])),
+            "pinocchio_wall_us": float(np.median(per[:, 2])), "pinocchio_cpu_us": float(np.median(per[:, 3])),
+            "ratio_wall": float(np.median(rows[:, 0] / rows[:, 2])),
+            "ratio_cpu": float(np.median(rows[:, 1] / rows[:, 3])),
+            "ratio_wall_range": [float(np.min(rows[:, 0] / rows[:, 2])), float(np.max(rows[:, 0] / rows[:, 2]))]}
+
+
+def main(counts=(100, 1000, 10000), repeats=9):
     import pinocchio as pin
 
     scene = robots.panda()
@@ -38,30 +60,45 @@ def main(count=2000):
     model = pinocchio_model(chain, theta)
     data = model.createData()
     lo, hi = chain.coordinate_box()
-    q = lo + (hi - lo) * np.random.default_rng(0).random((count, chain.n))
-    pin_q = np.array([joint_variables(chain, x) for x in q])
-    batched = median_time(lambda: mass_matrix(chain.body_jacobian(q), theta))
+    rng = np.random.default_rng(0)
+    results = []
+    for count in counts:
+        q = lo + (hi - lo) * rng.random((count, chain.n))
+        pin_q = [joint_variables(chain, x) for x in q]
 
-    def loop():
-        for x in pin_q:
-            pin.crba(model, data, x)
+        def crba_loop():
+            for x in pin_q:
+                pin.crba(model, data, x)
 
-    looped = median_time(loop)
-    ours = mass_matrix(chain.body_jacobian(q[:5]), theta)
-    theirs = []
-    for x in pin_q[:5]:
-        m = pin.crba(model, data, x)
-        theirs.append(np.triu(m) + np.triu(m, 1).T)
-    agreement = float(np.abs(ours - np.array(theirs)).max())
-    out = {"robot": "panda (7-DoF)", "configurations": count,
-           "batched_us_per_configuration": 1e6 * batched / count,
-           "pinocchio_crba_loop_us_per_configuration": 1e6 * looped / count,
-           "ratio_batched_over_pinocchio": batched / looped, "max_abs_difference": agreement,
-           "note": "median of 7 repeats on a shared 2-core machine; batched = body_jacobian + mass_matrix"}
+        ours = {
+            "composite": lambda: composite.mass_matrix(chain, q, theta),
+            "jacobian+formula": lambda: mass_matrix(chain.body_jacobian(q), theta),
+            "body_jacobian": lambda: chain.body_jacobian(q),
+            "body_jacobian_derivative": lambda: chain.body_jacobian_derivative(q),
+        }
+        crba_loop()
+        for name, fn in ours.items():
+            fn()
+            results.append({"configurations": count, "ours": name, **paired(fn, crba_loop, count, repeats)})
+            print(json.dumps(results[-1]))
+    reference = np.array([pin.crba(model, data, x) for x in [joint_variables(chain, x) for x in q[:50]]])
+    reference = np.triu(reference) + np.swapaxes(np.triu(reference, 1), -1, -2)
+    agreement = {
+        "composite": float(np.abs(composite.mass_matrix(chain, q[:50], theta) - reference).max()),
+        "jacobian+formula": float(np.abs(mass_matrix(chain.body_jacobian(q[:50]), theta) - reference).max()),
+    }
+    out = {"robot": "panda (7-DoF)", "repeats": repeats, "results": results,
+           "max_abs_difference_to_crba": agreement, "python": platform.python_version(),
+           "pinocchio": pin.__version__, "numpy": np.__version__,
+           "note": "medians of paired runs (ours, crba loop, ours, ...); ratio < 1: ours is faster per configuration. "
+                   "The machine had 2 cores shared with other jobs."}
     path = Path(__file__).parent / "results" / "mass_matrix_throughput.json"
+    path.parent.mkdir(exist_ok=True)
     path.write_text(json.dumps(out, indent=1))
-    print(json.dumps(out, indent=1))
+    print(path)
 
 
 if __name__ == "__main__":
-    main()
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--repeats", type=int, default=9)
+    main(repeats=parser.parse_args().repeats)

@@ -5,11 +5,12 @@ from __future__ import annotations
 import numpy as np
 
 from inertiaproof import bounds, robots
-from inertiaproof.bound_cases import cached, kw
 from inertiaproof.dynamics import mass_matrix
 from inertiaproof.inertia import pseudo_inertia, spatial_inertia, unit_body
 from inertiaproof.registry import check, replayer
 from inertiaproof.result import Result, Verdict, combine, quantity
+
+from inertiaproof.checks.bound_verdicts import cached, kw
 
 EPS = np.finfo(float).eps
 
@@ -54,7 +55,7 @@ def def2_result(ctx, scenes, theta_for_identity=None):
                             "tolerance": quantity(64 * EPS * chain.n, "tolerance")}
     verdict = combine(verdicts)
     first = next(iter(rows.values()))
-    return Result("Def2", verdict, f"{verdict}: " + "; ".join(f"{n}: {r['status']}" for n, r in rows.items()),
+    return Result("Def2", verdict, "; ".join(f"{n}: {r['status']}" for n, r in rows.items()),
                   {"chains": rows, "bracket": first["bracket"]},
                   counterexample=None if verdict != Verdict.VIOLATED else
                   {"kind": "gram-identity", "data": {"scene": next(n for n, r in rows.items())}})
@@ -83,7 +84,7 @@ def cx_normal_result(scene, theta=None):
     ok = column_zero and exact_zero and residual <= 64 * EPS and consistent
     verdict = Verdict.HOLDS if ok else Verdict.VIOLATED
     return Result("CX-normal", verdict,
-                  f"{verdict}: {chain.name}: at q_1 = 0 the first column of QJ is exactly 0, so lambda_min(M) = 0 "
+                  f"{chain.name}: at q_1 = 0 the first column of QJ is exactly 0, so lambda_min(M) = 0 "
                   f"exactly for the unit bodies (1, 0, I3) and for the arm's own bodies; M = (QJ)^T QJ to "
                   f"{residual:.1e}",
                   {"chain": chain.name, "column_exactly_zero": column_zero, "lambda_min_exactly_zero": exact_zero,
@@ -103,9 +104,14 @@ def cx_normal(ctx):
 
 @check("Lem1", needs=())
 def lem1(ctx):
-    """Lemma 1 both ways: normal chains give a certified positive inf lambda_min(M); a non-normal one gives 0."""
+    return lem1_result(ctx, (robots.planar_2r(), robots.spatial_3r(), robots.revolute_prismatic(1.0)))
+
+
+def lem1_result(ctx, scenes):
+    """Lemma 1 both ways: normal chains give a certified positive inf lambda_min(M); a non-normal one gives 0.
+    A scene whose bodies break the lemma's hypothesis (not consistent) may show lambda_min(M) < 0: VIOLATED."""
     rows, verdicts = {}, []
-    for scene in (robots.planar_2r(), robots.spatial_3r(), robots.revolute_prismatic(1.0)):
+    for scene in scenes:
         gamma = cached(ctx, scene, "gamma", lambda: bounds.jacobian_normality(scene.chain, **kw(ctx, scene, "gamma")))
         low = cached(ctx, scene, "mass_inf_const", lambda: bounds.mass_inf(
             scene.chain, scene.trajectory.base[None], **kw(ctx, scene, "mass_inf_const", share=2.0)))
@@ -113,7 +119,9 @@ def lem1(ctx):
         structural = z_min * gamma.lower
         certified = max(low.lower, structural)
         ok = gamma.lower > 0 and certified > 0
-        bad = gamma.lower > 0 and low.observed <= 0
+        at_witness = np.abs(np.linalg.eigvalsh(mass_matrix(scene.chain.body_jacobian(low.witness),
+                                                           scene.trajectory.base))).max()
+        bad = gamma.lower > 0 and low.observed < -64 * EPS * at_witness  # below what rounding can do there
         verdicts.append(Verdict.VIOLATED if bad else Verdict.HOLDS if ok else Verdict.INCONCLUSIVE)
         rows[scene.name] = {"direction": "normal => positive lower bound", "normality": gamma.evidence(),
                             "inf_lambda_min_M": low.evidence(),
@@ -124,11 +132,11 @@ def lem1(ctx):
     verdicts.append(cx.verdict)
     rows["non-normal-2r"] = {"direction": "not normal => inf lambda_min(M) = 0 for the unit bodies", **cx.evidence}
     verdict = combine(verdicts)
-    return Result("Lem1", verdict, f"{verdict}: certified inf lambda_min(M) > 0 on the normal chains "
+    return Result("Lem1", verdict, f"certified inf lambda_min(M) > 0 on the normal chains "
                   f"({', '.join(list(rows)[:-1])}); exactly 0 on the non-normal 2R", {"chains": rows})
 
 
-def growth_result(scale_points=(1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6)):
+def growth_result(scale_points=(1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6), claimed_offset=None):
     """Asm2/Lem2: on the unlimited RP chain sigma_max(QJ) >= |x| - r0 (certified), so sup sigma_max(QJ) and
     sup lambda_max(M) are infinite; with the slide limited both suprema are finite (certified brackets)."""
     scene = robots.revolute_prismatic(None)
@@ -138,6 +146,7 @@ def growth_result(scale_points=(1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6)):
     qj = chain.body_jacobian(q)
     sigma = np.linalg.svd(qj, compute_uv=False)[..., 0]
     offset = sum(np.linalg.norm(j.before[:3, 3]) + np.linalg.norm(j.after[:3, 3]) for j in chain.joints)
+    offset = offset if claimed_offset is None else claimed_offset
     lam = np.linalg.eigvalsh(mass_matrix(qj, scene.trajectory.base))[..., -1]
     m2 = scene.trajectory.base[1, 0]
     certified_growth = bool(np.all(sigma >= x - offset - 64 * EPS * x))
@@ -147,7 +156,12 @@ def growth_result(scale_points=(1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6)):
 
 @check("Asm2/Lem2", needs=())
 def asm2_lem2(ctx):
-    scene, x, sigma, lam, offset, growth, ratio, m2 = growth_result()
+    return asm2_lem2_result(ctx)
+
+
+def asm2_lem2_result(ctx, claimed_offset=None):
+    """``claimed_offset`` replaces the lever offset r0 of the growth bound (a test claims a wrong one)."""
+    scene, x, sigma, lam, offset, growth, ratio, m2 = growth_result(claimed_offset=claimed_offset)
     bounded = robots.revolute_prismatic(1.0)
     s_b = cached(ctx, bounded, "sigma", lambda: bounds.jacobian_sup(bounded.chain, **kw(ctx, bounded, "sigma")))
     m_b = cached(ctx, bounded, "mass_sup_const", lambda: bounds.mass_sup(
@@ -156,7 +170,7 @@ def asm2_lem2(ctx):
     lower_growth = bool(np.all(lam >= m2 * np.maximum(x - offset, 0) ** 2 * (1 - 1e-12)))
     verdict = Verdict.HOLDS if growth and finite and lower_growth else Verdict.VIOLATED
     return Result("Asm2/Lem2", verdict,
-                  f"{verdict}: unlimited slide: sigma_max(QJ) >= |x| - {offset:.2g} and lambda_max(M) >= m_2 (|x| - "
+                  f"unlimited slide: sigma_max(QJ) >= |x| - {offset:.2g} and lambda_max(M) >= m_2 (|x| - "
                   f"{offset:.2g})^2 (lambda_max/x^2 -> {ratio[-1]:.4g}, m_2 = {m2:g}): both suprema infinite; slide "
                   f"limited to 1 m: sup sigma_max(QJ) in [{s_b.lower:.4g}, {s_b.upper:.4g}], sup lambda_max(M) in "
                   f"[{m_b.lower:.4g}, {m_b.upper:.4g}]",
@@ -173,7 +187,12 @@ def asm2_lem2(ctx):
 
 @check("Cor2", needs=())
 def cor2(ctx):
-    """Corollary 2: uniform bounds for constant consistent Phi exactly when QJ is normal and bounded."""
+    return cor2_result(ctx, robots.non_normal_2r())
+
+
+def cor2_result(ctx, non_normal):
+    """Corollary 2: uniform bounds for constant consistent Phi exactly when QJ is normal and bounded;
+    ``non_normal`` is the scene shown to lack a positive alpha1."""
     rows, verdicts = {}, []
     normal = robots.planar_2r()
     g = cached(ctx, normal, "gamma", lambda: bounds.jacobian_normality(normal.chain, **kw(ctx, normal, "gamma")))
@@ -184,27 +203,29 @@ def cor2(ctx):
     both = g.lower > 0 and lo.lower > 0 and np.isfinite(hi.upper)
     rows["planar-2r"] = {"normal_and_bounded": bool(g.lower > 0), "alpha1": lo.evidence(), "alpha2": hi.evidence()}
     verdicts.append(Verdict.HOLDS if both else Verdict.INCONCLUSIVE)
-    cx = cx_normal_result(robots.non_normal_2r())
-    rows["non-normal-2r"] = {"normal_and_bounded": False, "why": "not normal: lambda_min(M) = 0 exactly at q_1 = 0"}
+    cx = cx_normal_result(non_normal)
+    rows[non_normal.name] = {"normal_and_bounded": False, "why": "not normal: lambda_min(M) = 0 exactly at q_1 = 0"}
     verdicts.append(cx.verdict)
     _, x, sigma, lam, _, growth, _, _ = growth_result()
     rows["rp-unbounded"] = {"normal_and_bounded": False, "why": f"not bounded: lambda_max(M) = {lam[-1]:.3g} at x = {x[-1]:g}"}
     verdicts.append(Verdict.HOLDS if growth else Verdict.VIOLATED)
     verdict = combine(verdicts)
-    return Result("Cor2", verdict, f"{verdict}: normal and bounded planar 2R has certified 0 < alpha1 = "
+    return Result("Cor2", verdict, f"normal and bounded planar 2R has certified 0 < alpha1 = "
                   f"{lo.lower:.4g} <= alpha2 = {hi.upper:.4g}; the non-normal 2R has no positive alpha1; the unlimited "
                   f"RP chain has no finite alpha2", {"chains": rows})
 
 
-def sphere_result(rates=(-0.5, 0.5), times=np.linspace(0.0, 60.0, 241), radius=0.1):
-    """CX-sphere: f(Phi(t)) = m(t) diag(r^2/5 I3, 1) and M = m(t) exactly; m -> 0 or inf leaves no uniform bound."""
+def sphere_result(rates=(-0.5, 0.5), times=np.linspace(0.0, 60.0, 241), radius=0.1, claimed_radius=None):
+    """CX-sphere: f(Phi(t)) = m(t) diag(r^2/5 I3, 1) and M = m(t) exactly; m -> 0 or inf leaves no uniform bound.
+    ``claimed_radius`` replaces r in the claimed f (a test claims a wrong one)."""
     rows, ok = {}, True
     for rate in rates:
         scene = robots.translating_sphere(rate, radius=radius)
         theta, _ = scene.trajectory.theta(times)
         m = theta[:, 0, 0]
         f = pseudo_inertia(theta[:, 0])
-        expected = m[:, None, None] * np.diag([radius**2 / 5] * 3 + [1.0])
+        r = radius if claimed_radius is None else claimed_radius
+        expected = m[:, None, None] * np.diag([r**2 / 5] * 3 + [1.0])
         f_res = float(np.abs(f - expected).max() / np.abs(expected).max())
         mm = mass_matrix(scene.chain.body_jacobian(np.zeros((len(times), 1))), theta)[..., 0, 0]
         m_res = float(np.abs(mm - m).max() / m.max())
@@ -227,7 +248,11 @@ def sphere_result(rates=(-0.5, 0.5), times=np.linspace(0.0, 60.0, 241), radius=0
 
 @check("CX-sphere", needs=())
 def cx_sphere(ctx):
-    ok, rows = sphere_result()
+    return cx_sphere_result(ctx)
+
+
+def cx_sphere_result(ctx, claimed_radius=None):
+    ok, rows = sphere_result(claimed_radius=claimed_radius)
     restored = robots.translating_sphere(-0.5)
     from inertiaproof.scene import Scene
     from inertiaproof.trajectory import ParameterTrajectory, Profile, Scaling
@@ -235,7 +260,7 @@ def cx_sphere(ctx):
     ramp = Scene("sphere-ramp", restored.chain, ParameterTrajectory(restored.trajectory.base,
                                                                     (Scaling(0, Profile("cosine", 0.0, 2.0)),), (0.5, 5.0)),
                  "sphere whose mass ramps from 0.15 to 1: uniformly consistent and upper bounded")
-    from inertiaproof.bound_cases import lower_bound_case, upper_bound_case
+    from inertiaproof.checks.mass_matrix_bounds import lower_bound_case, upper_bound_case
 
     v1, _, e1, _ = lower_bound_case(ctx, ramp)
     v2, _, e2, _ = upper_bound_case(ctx, ramp)
@@ -245,6 +270,6 @@ def cx_sphere(ctx):
                        Verdict.HOLDS if restored_ok else Verdict.INCONCLUSIVE])
     rows["restored"] = {"scene": ramp.description, "alpha1": e1["constants"], "alpha2": e2["constants"]}
     return Result("CX-sphere", verdict,
-                  f"{verdict}: f(Phi(t)) = m(t) diag(r^2/5 I3, 1) and M = m(t) exactly; consistent at every time yet "
+                  f"f(Phi(t)) = m(t) diag(r^2/5 I3, 1) and M = m(t) exactly; consistent at every time yet "
                   f"inf M = 0 (m -> 0) and sup M = inf (m -> inf); a uniformly consistent, upper bounded ramp restores "
                   f"Cor1 with certified {a1:.4g} <= M <= {a2:.4g}", {"cases": rows})

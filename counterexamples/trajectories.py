@@ -23,9 +23,11 @@ def trajectories(draw, bodies, length, moving_mass=False, thinness=6):
     body = draw(st.integers(0, bodies - 1))
     profile = draw(profiles())
     if moving_mass:
-        pts = [length * np.array([draw(st.floats(-1, 1)) for _ in range(3)]) for _ in range(2)]
-        load = MovingMass(body, draw(log_uniform(1e-2, 1e2)), np.zeros((3, 3)), Path("line", profile, tuple(pts[0]),
-                                                                                   tuple(pts[1])))
+        start = length * np.array([draw(st.floats(-1, 1)) for _ in range(3)])
+        direction = np.array([draw(st.floats(-1, 1)) for _ in range(3)]) + np.array([0.0, 0.0, 1e-3])
+        travel = draw(log_uniform(1e-2, 2.0)) * length * direction / np.linalg.norm(direction)  # it does move
+        load = MovingMass(body, draw(log_uniform(1e-2, 1e2)), np.zeros((3, 3)), Path("line", profile, tuple(start),
+                                                                                   tuple(start + travel)))
     else:
         load = Payload(body, draw(consistent_phi(size=(length / 10, length), thinness=thinness)), profile)
     end = profile.start + profile.duration

@@ -31,7 +31,7 @@ import itertools
 
 import numpy as np
 
-from .dynamics import mass_matrix, mass_matrix_partials
+from . import composite
 from .extremes import Bracket, bracket_extreme
 from .inertia import pseudo_inertia, spatial_inertia
 from .positive_map import key_step_certificate
@@ -99,12 +99,10 @@ def mass_family(chain, thetas):
     thetas = np.asarray(thetas, float)
 
     def evaluate(q, derivatives=True):
-        qj = chain.body_jacobian(q)[:, None]
-        m = mass_matrix(qj, thetas[None])
+        m = composite.mass_matrix(chain, q[:, None], thetas[None])
         if not derivatives:
             return m
-        dqj = chain.body_jacobian_derivative(q)[:, None]
-        return m, mass_matrix_partials(qj, dqj, thetas[None])
+        return m, composite.mass_matrix_partials(chain, q[:, None], thetas[None])
     return evaluate, 2
 
 
@@ -234,40 +232,112 @@ def value_for_norm(evaluate, kind):
     return value
 
 
-def apriori_jacobian_blocks(chain):
-    """Certified ||QJ_l||_F per body l for all q, from lengths alone (identity coordinate maps, bounded slides).
-
-    Column k of body l's block is R_l^T (u_k x (z_l - p_k), u_k) (revolute) or
-    (R_l^T u_k, 0) (prismatic); rotations keep lengths, so |z_l - p_k| is at most
-    the sum of the translations of the fixed transforms and of the slides between.
-    """
+def lever_bounds(chain):
+    """Certified |z_l - p_k| (l >= k) for all q: the sum of the translations of the fixed transforms and of the slides
+    from joint k's axis to body l's origin (rotations keep lengths). Lower triangle of an n x n array; a slide
+    without limits counts as 0 only as the first joint (it moves the joint points too): see certification_obstacle."""
     lengths = []
-    for joint in chain.joints:  # a first joint's slide never enters a lever (it moves the joint points too)
+    for joint in chain.joints:
         slide = 0.0 if joint.revolute or joint.limits is None else max(abs(joint.limits[0]), abs(joint.limits[1]))
         lengths.append((np.linalg.norm(joint.before[:3, 3]), np.linalg.norm(joint.after[:3, 3]), slide))
-    out = np.zeros(chain.bodies)
+    out = np.zeros((chain.n, chain.n))
     for l in range(chain.n):
-        total = 0.0
         for k in range(l + 1):
-            if chain.joints[k].revolute:
-                lever = sum(lengths[m][1] + lengths[m][2] for m in range(k, l + 1)) + sum(
-                    lengths[m][0] for m in range(k + 1, l + 1))
-                total += lever**2 + 1.0
-            else:
-                total += 1.0
-        out[l] = np.sqrt(total)
+            out[l, k] = sum(lengths[m][1] + lengths[m][2] for m in range(k, l + 1)) + sum(
+                lengths[m][0] for m in range(k + 1, l + 1))
     return out
 
 
+def column_bounds(chain):
+    """Certified bounds (n x n, lower triangle) of the linear and angular parts of column k of body l's block:
+    revolute R_l^T (u_k x (z_l - p_k), u_k) gives (|z_l - p_k|, 1), prismatic (R_l^T u_k, 0) gives (1, 0)."""
+    revolute = np.array([j.revolute for j in chain.joints])
+    mask = np.tril(np.ones((chain.n, chain.n), bool))
+    linear = np.where(mask, np.where(revolute[None, :], lever_bounds(chain), 1.0), 0.0)
+    angular = np.where(mask, np.where(revolute[None, :], 1.0, 0.0), 0.0)
+    return linear, angular
+
+
+def apriori_jacobian_blocks(chain):
+    """Certified ||QJ_l||_F per body l for all q, from lengths alone (identity coordinate maps, bounded slides)."""
+    linear, angular = column_bounds(chain)
+    return np.sqrt((linear**2 + angular**2).sum(1))
+
+
+def triangular_normality_floor(chain):
+    """A certified lower bound of inf_q sigma_min(QJ)^2 over all q (0 when none is available).
+
+    Column l of body l's block is the joint's constant unit twist s_l (identity
+    coordinate maps), and the block has no columns right of l. With the projector
+    P_l onto s_l, (QJ)^T QJ = sum_l QJ_l^T QJ_l >= sum_l QJ_l^T P_l QJ_l = W^T W,
+    W lower triangular with rows s_l^T QJ_l / |s_l|: W_ll = |s_l| and
+    |W_lk| <= (|s_l,v| lin_lk + |s_l,w| ang_lk) / |s_l| (column_bounds). The
+    neighbour entry W_l,l-1 depends on joint l alone, a + b cos x_l + c sin x_l
+    (a slide: affine in x_l), and is bounded exactly. The comparison matrix C
+    (|W_ll| on, minus those bounds off the diagonal) has C^-1 >= |W^-1| entrywise,
+    so sigma_min(QJ)^2 >= 1 / ||C^-1||_2^2 with ||C^-1||_2 <= min(||C^-1||_F,
+    (||C^-1||_1 ||C^-1||_inf)^(1/2)), computed in rational arithmetic, rounded down.
+    """
+    from fractions import Fraction
+
+    if certification_obstacle(chain) is not None:
+        return 0.0
+    linear, angular = column_bounds(chain)
+    twists = [j.unit_twist for j in chain.z_joints]
+    n = chain.n
+    c = [[Fraction(0)] * n for _ in range(n)]
+    for l, s in enumerate(twists):
+        size = np.linalg.norm(s)
+        c[l][l] = Fraction(float(np.nextafter(size, 0)))
+        for k in range(l):
+            bound = (np.linalg.norm(s[:3]) * linear[l, k] + np.linalg.norm(s[3:]) * angular[l, k]) / size
+            if k == l - 1:
+                bound = min(bound, _neighbour_bound(chain.z_joints[l], s, twists[k], chain.joints[l].limits) / size)
+            c[l][k] = -Fraction(float(np.nextafter(bound * (1 + 1e-12) + 1e-300, np.inf)))
+    inverse = [[Fraction(0)] * n for _ in range(n)]
+    for col in range(n):  # forward substitution, exact
+        for l in range(n):
+            rhs = Fraction(int(l == col)) - sum((c[l][k] * inverse[k][col] for k in range(l)), Fraction(0))
+            inverse[l][col] = rhs / c[l][l]
+    frobenius = sum(x * x for row in inverse for x in row)
+    ones = max(sum(abs(inverse[l][col]) for l in range(n)) for col in range(n))
+    infinity = max(sum(abs(x) for x in row) for row in inverse)
+    return float(np.nextafter(float(1 / min(frobenius, ones * infinity)), 0))
+
+
+def _neighbour_bound(joint, s, previous, limits):
+    """max over x of |s . X_after J(x) X_before s_prev|: a + b cos x + c sin x for a turn (|a| + (b^2 + c^2)^(1/2)),
+    affine in x for a slide (its ends over the limits)."""
+    y = previous if joint.before_twist is None else joint.before_twist @ previous
+    v = s if joint.after_twist is None else joint.after_twist.T @ s
+    if joint.revolute:
+        a = v[2] * y[2] + v[5] * y[5]
+        b = v[0] * y[0] + v[1] * y[1] + v[3] * y[3] + v[4] * y[4]
+        c = v[0] * y[1] - v[1] * y[0] + v[3] * y[4] - v[4] * y[3]
+        return abs(a) + np.hypot(b, c)
+    if limits is None:
+        return np.inf
+    base, slope = v @ y, v[0] * y[4] - v[1] * y[3]
+    return max(abs(base + slope * x) for x in limits)
+
+
 def apriori_bound(chain, thetas, kind):
-    """A certified (crude) bound of sup sigma_max(QJ) (thetas None) or sup ||M(q, Theta_v)|| over all q."""
+    """A certified bound of sup_q sigma_max(QJ) (thetas None) or of sup_q ||M(q, Theta_v)|| over all q, from lengths.
+
+    With G[l, k] >= ||QJ_l[:, k]|| (column_bounds), ||QJ x||^2 = sum_l ||QJ_l x||^2 <=
+    ||G |x| ||^2, so sigma_max(QJ) <= ||G||_2; and |x^T M x| <= sum_l max|lambda(Z_l)|
+    ||QJ_l x||^2 <= ||D G||_2^2 with D = diag(max|lambda(Z_l)|^(1/2)). The computed
+    spectral norm is inflated by its rounding allowance.
+    """
     if certification_obstacle(chain) is not None:
         return np.inf
-    blocks = apriori_jacobian_blocks(chain)
+    linear, angular = column_bounds(chain)
+    g = np.sqrt(linear**2 + angular**2)
+    inflate = 1 + ROUNDING * EPS * chain.n
     if thetas is None:
-        return float(np.sqrt((blocks**2).sum()))
+        return float(np.linalg.norm(g, 2) * inflate)
     z = spectral(spatial_inertia(np.asarray(thetas, float)), "absmax")  # (V, N)
-    return float((z * blocks**2).sum(-1).max())
+    return float(max(np.linalg.norm(np.sqrt(zv)[:, None] * g, 2) ** 2 for zv in z) * inflate**2)
 
 
 # -- the ingredients over configurations ----------------------------------------------
@@ -278,16 +348,38 @@ def jacobian_sup(chain, **kw):
 
 
 def jacobian_normality(chain, **kw):
-    """inf_q sigma_min(QJ)^2 = inf_q lambda_min((QJ)^T QJ) (Definition 2): observed by SVD of QJ."""
+    """inf_q sigma_min(QJ)^2 = inf_q lambda_min((QJ)^T QJ) (Definition 2): observed by SVD of QJ; the certified side is
+    the better of branch and bound and the chain's :func:`triangular_normality_floor`."""
     unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
-    return configuration_bracket(chain, mass_family(chain, unit), "lmin", value_kind="smin", square=True,
-                                 quantity_name="inf_q sigma_min(QJ)^2", thetas=unit, **kw)
+    result = configuration_bracket(chain, mass_family(chain, unit), "lmin", value_kind="smin", square=True,
+                                   quantity_name="inf_q sigma_min(QJ)^2", thetas=unit, **kw)
+    floor = triangular_normality_floor(chain)
+    if floor > (result.certified if result.certified is not None else -np.inf):
+        result.certified = floor
+        result.note = (result.note + "; " if result.note else "") + (
+            "certified side from the block-triangular structure of QJ (unit twist of joint l in column l of body "
+            "l's block, lengths bound the rest): valid for every q")
+        for point in result.convergence:
+            point[1] = max(point[1] if point[1] is not None else -np.inf, floor)
+    return result
 
 
 def mass_inf(chain, thetas, **kw):
-    """inf over q and the parameter sets of lambda_min(M(q, Theta))."""
-    return configuration_bracket(chain, mass_family(chain, thetas), "lmin",
-                                 quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
+    """inf over q and the parameter sets of lambda_min(M(q, Theta)); where branch and bound certifies less, the
+    proof of Theorem 2 does: lambda_min(M) >= min_l lambda_min(Z(Phi_l)) inf_q sigma_min(QJ)^2 with the
+    :func:`triangular_normality_floor`."""
+    result = configuration_bracket(chain, mass_family(chain, thetas), "lmin",
+                                   quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
+    z = spatial_inertia(np.asarray(thetas, float))
+    z_min = float((spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")).min())  # less its rounding
+    floor = max(z_min, 0.0) * triangular_normality_floor(chain) * (1 - ROUNDING * EPS)
+    if floor > (result.certified if result.certified is not None else -np.inf):
+        result.certified = floor
+        result.note = (result.note + "; " if result.note else "") + (
+            "certified side min_l lambda_min(Z(Phi_l)) times the block-triangular floor of inf sigma_min(QJ)^2")
+        for point in result.convergence:
+            point[1] = max(point[1] if point[1] is not None else -np.inf, floor)
+    return result
 
 
 def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **kw):
@@ -544,26 +636,46 @@ def _bracket_data(b: Bracket):
             "convergence": b.convergence}
 
 
-def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket):
-    """Theorem 2: alpha1 = xi gamma (paper); certified: max(lambda_min(Z) gamma_lower, certified inf of lambda_min(M))."""
-    paper = {"value": xi * gamma.upper, "lower": xi * max(gamma.lower, 0.0), "upper": xi * gamma.upper,
-             "note": "min_l inf_t lambda_min(f(Phi_l)) * inf_q lambda_min((QJ)^T QJ); the infimum over q is bracketed"}
+def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=None):
+    """Theorem 2: the paper's alpha1 = xi gamma and the sharpest certified constant.
+
+    ``xi`` is min_l inf_t lambda_min(f(Phi_l)) (a certified lower bound; for constant Phi exact), ``xi_observed``
+    its observed value (default: xi), ``z_min`` a certified min_l inf_t lambda_min(Z(Phi_l)), ``gamma`` the
+    bracket of inf_q sigma_min(QJ)^2, ``observed`` that of inf lambda_min(M). The paper's alpha1 lies in
+    [paper.lower, paper.upper]: its ingredients at their certified sides and at their observed values;
+    paper.value is the upper end (observed ingredients), an estimate, not the paper's constant itself.
+    """
+    xi_observed = xi if xi_observed is None else xi_observed
+    paper = {"value": xi_observed * gamma.upper, "lower": xi * max(gamma.lower, 0.0), "upper": xi_observed * gamma.upper,
+             "note": "min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ) lies in [lower, upper] (certified, "
+                     "observed ingredients); value = upper, an upper estimate"}
     structural = z_min * max(gamma.lower, 0.0)
     direct = observed.lower if np.isfinite(observed.lower) else -np.inf
     certified = max(structural, direct, paper["lower"])
-    how = ("certified lower side of inf lambda_min(M) (branch and bound)" if direct >= structural else
-           "min_l inf_t lambda_min(Z(Phi_l)) * certified lower side of inf_q sigma_min(QJ)^2")
+    how = ("certified lower side of inf lambda_min(M) (branch and bound, or the proof of Theorem 2 with the "
+           "block-triangular normality floor)" if direct >= structural else
+           "min_l inf_t lambda_min(Z(Phi_l)) times the certified lower side of inf_q sigma_min(QJ)^2 (the proof of "
+           "Theorem 2 at the level of Z)")
     return {"paper": paper, "certified": {"value": certified, "how": how},
             "observed": _bracket_data(observed)}
 
 
-def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket):
-    """Theorem 3: alpha2 = 2 zeta sup sigma_max(QJ)^2 (paper); certified: min(lambda_max(Z) S^2, certified sup lambda_max(M))."""
-    paper = {"value": 2 * zeta * sigma.lower**2, "lower": 2 * zeta * sigma.lower**2, "upper": 2 * zeta * sigma.upper**2,
-             "note": "2 max_l sup_t lambda_max(f(Phi_l)) * sup_q sigma_max(QJ)^2; the supremum over q is bracketed"}
+def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observed=None):
+    """Theorem 3: the paper's alpha2 = 2 zeta S^2 and the sharpest certified constant.
+
+    ``zeta`` is max_l sup_t lambda_max(f(Phi_l)) (a certified upper bound), ``zeta_observed`` its observed value
+    (default: zeta), ``z_max`` a certified max_l sup_t lambda_max(Z(Phi_l)), ``sigma`` the bracket of
+    sup_q sigma_max(QJ), ``observed`` that of sup lambda_max(M). The paper's alpha2 lies in
+    [paper.lower, paper.upper]; paper.value is the lower end (observed ingredients), an estimate.
+    """
+    zeta_observed = zeta if zeta_observed is None else zeta_observed
+    paper = {"value": 2 * zeta_observed * sigma.lower**2, "lower": 2 * zeta_observed * sigma.lower**2,
+             "upper": 2 * zeta * sigma.upper**2,
+             "note": "2 max_l sup_t lambda_max(f(Phi_l)) sup_q sigma_max(QJ)^2 lies in [lower, upper] (observed, "
+                     "certified ingredients); value = lower, a lower estimate"}
     structural = z_max * sigma.upper**2
     direct = observed.upper
     certified = min(structural, direct, paper["upper"])
-    how = ("certified upper side of sup lambda_max(M) (branch and bound)" if direct <= structural else
-           "max_l sup_t lambda_max(Z(Phi_l)) * certified sup_q sigma_max(QJ)^2")
+    how = ("certified upper side of sup lambda_max(M) by branch and bound (or from lengths)" if direct <= structural
+           else "max_l sup_t lambda_max(Z(Phi_l)) times the certified sup_q sigma_max(QJ)^2 (the proof at the level of Z)")
     return {"paper": paper, "certified": {"value": certified, "how": how}, "observed": _bracket_data(observed)}

@@ -19,10 +19,12 @@ to round-off.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
-from .inertia import rotation_rpy, skew
+from .inertia import rotation_rpy
+from .twists import CHUNK, Arena, Motion, ZJoint, chunks, fixed_map, turn_frames, turn_twists
 
 COMPLEX_STEP = 1e-30
 
@@ -162,6 +164,19 @@ class Chain:
             ))
         return cls(tuple(joints), name=name, gravity=tuple(gravity))
 
+    def to_data(self):
+        """Plain data (counterexample files); :meth:`from_data` rebuilds the chain."""
+        return {"name": self.name, "gravity": list(self.gravity), "joints": [
+            {"kind": j.kind, "axis": list(j.axis), "before": np.asarray(j.before).tolist(),
+             "after": np.asarray(j.after).tolist(), "coordinate": j.coordinate.name,
+             "limits": None if j.limits is None else list(j.limits), "name": j.name} for j in self.joints]}
+
+    @classmethod
+    def from_data(cls, data):
+        return cls(tuple(Joint(j["kind"], tuple(j["axis"]), np.array(j["before"]), np.array(j["after"]),
+                               Coordinate(j["coordinate"]), None if j["limits"] is None else tuple(j["limits"]),
+                               j["name"]) for j in data["joints"]), name=data["name"], gravity=tuple(data["gravity"]))
+
     # -- kinematics -------------------------------------------------------
 
     def _check_q(self, q):
@@ -170,68 +185,94 @@ class Chain:
             raise ValueError(f"chain {self.name}: configurations need {self.n} coordinates, got shape {q.shape}")
         return q if np.iscomplexobj(q) else q.astype(float)
 
+    @cached_property
+    def z_joints(self):
+        """The joints moved onto the z axis of their joint frames (:class:`inertiaproof.twists.ZJoint`)."""
+        return tuple(ZJoint.of(joint) for joint in self.joints)
+
+    def flat_coordinates(self, q):
+        """Configurations (..., n) as coordinate rows (n, K), batch last, and the batch shape."""
+        q = self._check_q(q)
+        return np.ascontiguousarray(q.reshape(-1, self.n).T), q.shape[:-1]
+
+    def motions(self, x):
+        """The joints' :class:`inertiaproof.twists.Motion` at coordinate rows x (n, K)."""
+        return [Motion(joint, row) for joint, row in zip(self.joints, x)]
+
     def joint_frames(self, q):
         """World rotation, origin, axis and axis point of every joint and body.
 
         Returns R (..., N, 3, 3) and z (..., N, 3) of the body frames, and
         u (..., n, 3), p (..., n, 3): each joint's unit axis and a point on it.
+        A frame is kept as [R^T; z^T] (4, 3, K): a fixed transform t acts by t^T [R^T; z^T].
         """
-        q = self._check_q(q)
-        batch = q.shape[:-1]
-        rot = np.broadcast_to(np.eye(3, dtype=q.dtype), batch + (3, 3))
-        pos = np.zeros(batch + (3,), dtype=q.dtype)
-        rs, zs, us, ps = [], [], [], []
-        for k, joint in enumerate(self.joints):
-            rot, pos = rot @ joint.before[:3, :3], pos + rot @ joint.before[:3, 3]
-            axis = np.asarray(joint.axis)
-            u = rot @ axis
-            us.append(u)
-            ps.append(pos)
-            x = joint.coordinate.value(q[..., k])
-            if joint.revolute:
-                s = skew(axis)
-                rx = np.eye(3) + np.sin(x)[..., None, None] * s + (1 - np.cos(x))[..., None, None] * (s @ s)
-                rot = rot @ rx
-            else:
-                pos = pos + x[..., None] * u
-            rot, pos = rot @ joint.after[:3, :3], pos + rot @ joint.after[:3, 3]
-            rs.append(rot)
-            zs.append(pos)
-        return np.stack(rs, -3), np.stack(zs, -2), np.stack(us, -2), np.stack(ps, -2)
+        x, batch = self.flat_coordinates(q)
+        count, n = x.shape[1], self.n
+        bodies = np.empty((n, 4, 3, count), x.dtype)
+        axes = np.empty((n, 2, 3, count), x.dtype)
+        for part in chunks(count):
+            frame = np.zeros((4, 3, part.stop - part.start), x.dtype)
+            frame[:3] = np.eye(3)[:, :, None]
+            for k, (joint, motion) in enumerate(zip(self.z_joints, self.motions(x[:, part]))):
+                frame = fixed_map(joint.before_frame, frame)
+                axes[k, ..., part] = frame[2:]
+                turn_frames(frame, motion)
+                frame = fixed_map(joint.after_frame, frame)
+                bodies[k, ..., part] = frame
+        rot = np.transpose(bodies[:, :3], (3, 0, 2, 1)).reshape(batch + (n, 3, 3))
+        pos, u, p = (np.transpose(a, (2, 0, 1)).reshape(batch + (n, 3)) for a in (bodies[:, 3], axes[:, 0], axes[:, 1]))
+        return rot, pos, u, p
 
     def forward_kinematics(self, q):
         """Body frames: rotations (..., N, 3, 3) and origins (..., N, 3) in the base frame (Layout)."""
         rot, pos, _, _ = self.joint_frames(q)
         return rot, pos
 
+    def jacobian_blocks(self, x):
+        """QJ at coordinate rows x (n, K) as blocks (N, 6, n, K), batch last; block l is zero right of column l.
+
+        Block l is carried along the chain: QJ_l = X_after (J(x_l) X_before QJ_{l-1} + column l), with
+        X the twist maps of the fixed transforms and J(x_l) the joint's own turn about (slide along) z;
+        two buffers take turns as source and target of the fixed maps.
+        """
+        count, n = x.shape[1], self.n
+        blocks = np.zeros((n, 6, n, count), x.dtype)
+        parts = chunks(count)
+        for part in parts:
+            size = part.stop - part.start
+            arena = Arena("jacobian", (12 * n + 4 * n) * (parts[0].stop - parts[0].start), x.dtype)
+            buffers, scratch, side = (arena.take(6, n, size), arena.take(6, n, size)), arena.take(4 * n * size), 0
+            for l, (joint, motion) in enumerate(zip(self.z_joints, self.motions(x[:, part]))):
+                if l:
+                    if joint.before_twist is not None:
+                        fixed_map(joint.before_twist, buffers[side][:, :l], out=buffers[1 - side][:, :l])
+                        side = 1 - side
+                    turn_twists(buffers[side][:, :l], motion, scratch)
+                    if joint.after_twist is not None:
+                        fixed_map(joint.after_twist, buffers[side][:, :l], out=buffers[1 - side][:, :l])
+                        side = 1 - side
+                buffers[side][:, l] = motion.scale(joint.unit_twist[:, None])
+                blocks[l, :, :l + 1, part] = buffers[side][:, :l + 1]
+        return blocks
+
     def body_jacobian(self, q):
-        """QJ (..., 6N, n): qdot -> stacked (R_l^T v_l, omega_l) (Kinematics, DefBlockmatrixQ)."""
-        q = self._check_q(q)
-        rot, pos, u, p = self.joint_frames(q)
-        n = self.n
-        dx = np.stack([joint.coordinate.derivative(q[..., k]) for k, joint in enumerate(self.joints)], -1)
-        revolute = np.array([j.revolute for j in self.joints])
-        # world columns for body l and joint k: (..., N, n, 3)
-        lever = pos[..., :, None, :] - p[..., None, :, :]  # (..., N, n, 3)
-        ub = u[..., None, :, :]
-        cross = np.stack([ub[..., 1] * lever[..., 2] - ub[..., 2] * lever[..., 1],
-                          ub[..., 2] * lever[..., 0] - ub[..., 0] * lever[..., 2],
-                          ub[..., 0] * lever[..., 1] - ub[..., 1] * lever[..., 0]], -1)
-        lin = np.where(revolute[:, None], cross, ub)
-        ang = np.where(revolute[:, None], ub, 0.0)
-        mask = np.tril(np.ones((n, n), dtype=bool))[..., None]  # body l moves with joints k <= l
-        scale = dx[..., None, :, None] * mask
-        rt = np.swapaxes(rot, -1, -2)  # R_l^T, (..., N, 3, 3)
-        lin_b = rt @ np.swapaxes(lin * scale, -1, -2)  # (..., N, 3, n)
-        ang_b = rt @ np.swapaxes(ang * scale, -1, -2)
-        return np.concatenate([lin_b, ang_b], -2).reshape(q.shape[:-1] + (6 * n, n))
+        """QJ (..., 6N, n): qdot -> stacked (R_l^T v_l, omega_l) (Kinematics, DefBlockmatrixQ); a view of
+        :meth:`jacobian_blocks`, whose storage keeps the batch last."""
+        x, batch = self.flat_coordinates(q)
+        blocks = self.jacobian_blocks(x)
+        return np.moveaxis(blocks.reshape(6 * self.n, self.n, -1), -1, 0).reshape(batch + (6 * self.n, self.n))
 
     def body_jacobian_derivative(self, q):
         """dQJ/dq (..., 6N, n, n), entry [r, k, j] = d QJ[r, k] / d q_j, by complex steps (exact to round-off)."""
-        q = np.asarray(q, dtype=float)
-        n = self.n
-        steps = q[..., None, :] + 1j * COMPLEX_STEP * np.eye(n)  # (..., n_j, n)
-        return np.moveaxis(self.body_jacobian(steps).imag / COMPLEX_STEP, -3, -1)
+        x, batch = self.flat_coordinates(np.asarray(q, dtype=float))
+        count, n = x.shape[1], self.n
+        out = np.empty((6 * n, n, n, count))
+        step = 1j * COMPLEX_STEP * np.eye(n)[:, :, None]  # (n, n_j, 1)
+        for part in chunks(count, max(CHUNK // n, 1)):
+            steps = (x[:, None, part] + step).reshape(n, -1)  # (n, n_j * k)
+            blocks = self.jacobian_blocks(steps).imag.reshape(6 * n, n, n, -1)
+            out[..., part] = blocks / COMPLEX_STEP
+        return np.moveaxis(out, -1, 0).reshape(batch + (6 * n, n, n))
 
     def coordinate_box(self, default_prismatic=(-1.0, 1.0)):
         """Lower and upper corners of the configuration domain; revolute joints default to one period."""

@@ -4,7 +4,9 @@
 ``margin(example)`` (relative; > 0 means the statement holds there, NaN means
 "not applicable, skip"), steers toward the boundary with ``target(-margin)``
 and stops at the first margin below ``-tolerance``, which Hypothesis then
-shrinks. The seed comes from the run's ``--seed`` and the label, so a hunt is
+shrinks. ``margin`` may also return (margin, resolution): the example's own
+numerical resolution, so that a violation must exceed what rounding can do
+there (margin < -max(tolerance, resolution)). The seed comes from the run's ``--seed`` and the label, so a hunt is
 deterministic for a given seed; the ci profile keeps no example database.
 """
 
@@ -29,16 +31,21 @@ class Hunt:
     violation: object = None  # the shrunk example whose margin is below -tolerance
     violation_margin: float | None = None
     margins: list = field(default_factory=list)
+    resolutions: list = field(default_factory=list)
 
     def summary(self):
         """Plain data for evidence."""
         from .result import quantity
 
-        return {
+        out = {
             "examples": quantity(self.examples, "count", "examples drawn by Hypothesis"),
             "smallest_margin": quantity(self.worst_margin, "sampled",
                                         "smallest margin over the examples: an upper estimate of the infimum"),
         }
+        if self.resolutions:
+            out["largest_resolution"] = quantity(max(self.resolutions), "tolerance",
+                                                 "largest numerical resolution of a margin over the examples")
+        return out
 
 
 def hunt(strategy, margin, ctx, *, label, tolerance=0.0, **settings_overrides):
@@ -48,14 +55,17 @@ def hunt(strategy, margin, ctx, *, label, tolerance=0.0, **settings_overrides):
     state = Hunt(label)
 
     def prop(example):
-        value = float(margin(example))
+        value = margin(example)
+        value, resolution = (float(value[0]), float(value[1])) if isinstance(value, tuple) else (float(value), None)
         assume(np.isfinite(value))
         state.examples += 1
         state.margins.append(value)
+        if resolution is not None:
+            state.resolutions.append(resolution)
         if value < state.worst_margin:
             state.worst_margin, state.worst_example = value, example
         target(-value, label=label)
-        if value < -tolerance:
+        if value < -max(tolerance, resolution or 0.0):
             state.violation, state.violation_margin = example, value
             raise _Violation(value)
 

@@ -218,3 +218,20 @@ class ParameterTrajectory:
         if not np.isfinite(t1):
             t1 = t0 + (50.0 if horizon is None else horizon)
         return np.linspace(t0, t1, count)
+
+
+@dataclass(frozen=True)
+class SineMotion:
+    """x(t) = center + amplitude sin(rate t + phase), entrywise over arrays of one shape (joint coordinates,
+    Theta (N, 10), Psi (6N,)): analytic in t, so a complex step in t passes through."""
+
+    center: np.ndarray
+    amplitude: np.ndarray
+    rate: np.ndarray
+    phase: np.ndarray
+
+    def at(self, t):
+        """(x, xdot) at times t: shapes t.shape + center.shape."""
+        t = np.asarray(t)[(...,) + (None,) * np.ndim(self.center)]
+        angle = self.rate * t + self.phase
+        return self.center + self.amplitude * np.sin(angle), self.amplitude * self.rate * np.cos(angle)

@@ -6,11 +6,10 @@ import numpy as np
 import pytest
 
 from inertiaproof import bounds, robots
-from inertiaproof.bound_cases import lower_bound_case, rate_case, upper_bound_case
-from inertiaproof.bound_check import pointwise_margin, replay_point, point_counterexample
-from inertiaproof.checks.mass_matrix_bounds import def3_result, thm2_result, thm3_result
+from inertiaproof.checks.mass_matrix_bounds import def3_result, lower_bound_case, thm2_result, thm3_result, upper_bound_case
 from inertiaproof.checks.normality import cx_normal_result, def2_result
-from inertiaproof.checks.other_components import acc_result, thm4_result, thm5_result
+from inertiaproof.checks.other_components import acc_result, rate_case, thm4_result, thm5_result
+from inertiaproof.checks.pointwise import margins, point_counterexample, replay_point, run_hunt, worst_point
 from inertiaproof.inertia import spatial_inertia, unit_body
 from inertiaproof.positive_map import (exact_map, kraus_factors, key_step_certificate, rational, spatial_from_pseudo,
                                        verify_choi)
@@ -83,11 +82,16 @@ def test_bracket_contains_dense_grid_extreme():
 
 
 def test_a_priori_bound_is_valid():
-    chain = robots.panda().chain
+    from inertiaproof import composite
+
     rng = np.random.default_rng(3)
-    lo, hi = chain.coordinate_box()
-    q = lo + (hi - lo) * rng.random((2000, chain.n))
-    assert np.linalg.svd(chain.body_jacobian(q), compute_uv=False)[:, 0].max() <= bounds.apriori_bound(chain, None, "sup")
+    for chain in (robots.panda().chain, robots.ur5().chain, robots.revolute_prismatic(1.0).chain):
+        lo, hi = chain.coordinate_box()
+        q = lo + (hi - lo) * rng.random((2000, chain.n))
+        assert np.linalg.svd(chain.body_jacobian(q), compute_uv=False)[:, 0].max() <= bounds.apriori_bound(chain, None, "sup")
+        thetas = rng.normal(size=(2, chain.n, 10))  # indefinite Z too: the bound is on sigma_max(M)
+        sigma_m = np.abs(np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], thetas[None]))).max()
+        assert sigma_m <= bounds.apriori_bound(chain, thetas, "sup")
 
 
 SCENE = robots.planar_2r(payload=1.0)
@@ -96,6 +100,7 @@ SCENE = robots.planar_2r(payload=1.0)
 def test_thm2_paper_holds_and_overstated_constant_is_violated():
     assert thm2_result(ctx(), [SCENE]).verdict == Verdict.HOLDS
     _, _, evidence, _ = lower_bound_case(ctx(), SCENE)
+    assert evidence["constants"]["paper"]["kind"] == "lower_bound"
     k = 2 * evidence["constants"]["observed"]["value"] / evidence["constants"]["paper"]["value"]
     result = thm2_result(ctx(), [SCENE], k=k)
     assert result.verdict == Verdict.VIOLATED
@@ -147,13 +152,31 @@ def test_sharp_factor_two_of_thm4_is_attained_and_below_it_the_pointwise_bound_f
     state = {"theta": unit_body()[None, None], "theta_dot": phidot[None], "psi": np.zeros((1, 6)),
              "psi_dot": np.zeros((1, 6))}
     q = np.zeros((1, 1))
-    slack, lhs, rhs = pointwise_margin("Thm4", chain, q, state, 2.0)
-    assert abs(lhs[0] - 2.0) < 1e-14 and abs(slack[0]) < 1e-14
-    slack, lhs, rhs = pointwise_margin("Thm4", chain, q, state, 1.9)
-    assert slack[0] < 0
-    cx = point_counterexample("Thm4", chain, q[0], {k: v[0] for k, v in state.items()}, 1.9, slack[0], lhs[0], rhs[0])
+    margin, resolution, lhs, rhs = margins("Thm4", chain, q, state, 2.0)
+    assert abs(lhs[0] - 2.0) < 1e-14 and abs(margin[0]) <= resolution[0] < 1e-8
+    margin, resolution, lhs, rhs = margins("Thm4", chain, q, state, 1.9)
+    assert margin[0] < -resolution[0]
+    cx = point_counterexample("Thm4", chain, q, state, 1.9, worst_point("Thm4", chain, q, state, 1.9))
     assert replay_point(cx["data"])[0] < 0
     assert REPLAYERS["bound-point"](cx["data"], ctx()).verdict == Verdict.VIOLATED
+
+
+@pytest.mark.parametrize("check_id, factor, moving_mass", [
+    ("Thm2", 3.0, False), ("Thm3", 0.05, False), ("Thm4", 0.2, False), ("EQ-acc", 0.1, True), ("Asm3/Thm5", 0.01, True)])
+def test_hunts_find_a_replayable_chain_for_a_wrong_factor(check_id, factor, moving_mass):
+    evidence, cx = run_hunt(check_id, ctx(), factor, moving_mass, examples=30)
+    assert cx is not None and evidence["smallest_margin"]["value"] < 0
+    assert REPLAYERS[cx["kind"]](cx["data"], ctx()).verdict == Verdict.VIOLATED
+
+
+def test_margin_below_rounding_is_not_a_violation():
+    """lambda_min(M) ~ 1e-17 ||M|| on a nearly singular QJ: its sign is rounding, so the margin is unresolved."""
+    chain = robots.non_normal_2r().chain
+    theta = robots.non_normal_2r().trajectory.base
+    state = {"theta": theta[None], "theta_dot": theta[None] * 0, "psi": np.zeros((1, 12)), "psi_dot": np.zeros((1, 12))}
+    q = np.array([[1e-6, 0.3]])
+    margin, resolution, lhs, rhs = margins("Thm2", chain, q, state, 1.0)
+    assert resolution[0] > 1e-6 and margin[0] > -resolution[0]
 
 
 def test_def3_with_a_wrong_spatial_inertia_is_violated():
@@ -188,3 +211,70 @@ def test_moving_mass_bounds_are_valid():
     for name in bounds.BODY_FUNCTIONS:
         d = bounds.time_extreme(traj, name, samples=4001)
         assert (d["certified"] <= d["observed"] + 1e-12) if d["sense"] == "min" else (d["observed"] <= d["certified"] + 1e-12)
+
+
+def test_triangular_normality_floor_is_valid_on_random_chains():
+    from hypothesis import given, settings
+    from inertiaproof.counterexamples.chains import chains
+
+    @settings(max_examples=40)
+    @given(chains())
+    def floor_below_every_sample(drawn):
+        chain, _ = drawn
+        floor = bounds.triangular_normality_floor(chain)
+        lo, hi = chain.coordinate_box()
+        q = lo + (hi - lo) * np.random.default_rng(0).random((500, chain.n))
+        smallest = np.linalg.svd(chain.body_jacobian(q), compute_uv=False)[:, -1].min() ** 2
+        assert 0 <= floor <= smallest * (1 + 1e-12)
+
+    floor_below_every_sample()
+
+
+def test_triangular_normality_floor_certifies_the_arms_and_not_the_non_normal_chain():
+    assert bounds.triangular_normality_floor(robots.panda().chain) > 1e-2
+    assert bounds.triangular_normality_floor(robots.ur5().chain) > 1e-2
+    assert bounds.triangular_normality_floor(robots.non_normal_2r().chain) == 0.0
+
+
+def test_cor1_with_a_misstated_alpha2_is_violated():
+    from inertiaproof.checks.mass_matrix_bounds import cor1_result
+
+    assert cor1_result(ctx(), [SCENE]).verdict == Verdict.HOLDS
+    bad = cor1_result(ctx(), [SCENE], k_upper=0.01)
+    assert bad.verdict == Verdict.VIOLATED
+    assert REPLAYERS[bad.counterexample["kind"]](bad.counterexample["data"], ctx()).verdict == Verdict.VIOLATED
+
+
+def test_lem1_with_an_inconsistent_body_is_violated():
+    """Lemma 1 needs consistent bodies: a negative mass on a normal chain gives lambda_min(M) < 0."""
+    from dataclasses import replace
+
+    from inertiaproof.checks.normality import lem1_result
+
+    scene = robots.planar_2r()
+    assert lem1_result(ctx(), [scene]).verdict == Verdict.HOLDS
+    base = scene.trajectory.base.copy()
+    base[1] *= -1
+    bad = replace(scene, name="planar-2r-negative-mass", trajectory=replace(scene.trajectory, base=base))
+    assert lem1_result(ctx(), [bad]).verdict == Verdict.VIOLATED
+
+
+def test_asm2_lem2_with_a_wrong_growth_offset_is_violated():
+    from inertiaproof.checks.normality import asm2_lem2_result
+
+    assert asm2_lem2_result(ctx()).verdict == Verdict.HOLDS
+    assert asm2_lem2_result(ctx(), claimed_offset=-1.0).verdict == Verdict.VIOLATED
+
+
+def test_cor2_with_a_normal_chain_as_the_non_normal_one_is_violated():
+    from inertiaproof.checks.normality import cor2_result
+
+    assert cor2_result(ctx(), robots.non_normal_2r()).verdict == Verdict.HOLDS
+    assert cor2_result(ctx(), robots.planar_2r()).verdict == Verdict.VIOLATED
+
+
+def test_cx_sphere_with_a_wrong_radius_is_violated():
+    from inertiaproof.checks.normality import cx_sphere_result
+
+    assert cx_sphere_result(ctx()).verdict == Verdict.HOLDS
+    assert cx_sphere_result(ctx(), claimed_radius=0.1 * (1 + 1e-6)).verdict == Verdict.VIOLATED

@@ -137,3 +137,52 @@ def test_trajectory_rates_are_time_derivatives():
     assert np.allclose(theta_dot, (traj.theta(t + h)[0] - traj.theta(t - h)[0]) / (2 * h), atol=1e-6)
     psi, psi_dot = traj.psi(t)
     assert np.allclose(psi_dot, (traj.psi(t + h)[0] - traj.psi(t - h)[0]) / (2 * h), atol=1e-5)
+
+
+@pytest.mark.parametrize("name", sorted(CHAINS))
+def test_composite_mass_matrix_matches_pinocchio_and_the_formula(name):
+    from inertiaproof import composite
+
+    chain = CHAINS[name]
+    theta = random_phi(chain.n)
+    model = pinocchio_model(chain, theta)
+    data = model.createData()
+    q = RNG.uniform(-2.5, 2.5, size=(2, 3, chain.n))
+    m = composite.mass_matrix(chain, q, theta)
+    assert m.shape == (2, 3, chain.n, chain.n)
+    for b, x in enumerate(q.reshape(-1, chain.n)):
+        dx = np.array([j.coordinate.derivative(v) for j, v in zip(chain.joints, x)])
+        mp = pin.crba(model, data, joint_variables(chain, x))
+        mp = np.triu(mp) + np.triu(mp, 1).T
+        assert np.allclose(m.reshape(-1, chain.n, chain.n)[b], dx[:, None] * mp * dx[None, :], rtol=1e-12, atol=1e-12)
+    stack = RNG.normal(size=(3, 1, chain.n, 10))  # any Theta, also inconsistent ones: M is linear in Theta
+    assert np.allclose(composite.mass_matrix(chain, q[0][:, None], stack[:, 0][None]),
+                       dynamics.mass_matrix(chain.body_jacobian(q[0])[:, None], stack[:, 0][None]), rtol=0, atol=1e-12)
+
+
+def test_composite_mass_matrix_passes_complex_steps_and_chunks():
+    from inertiaproof import composite
+    from inertiaproof.twists import CHUNK
+
+    chain = CHAINS["general-axes"]
+    theta = random_phi(chain.n)
+    q = RNG.uniform(-1, 1, size=(CHUNK + 5, chain.n))
+    m = composite.mass_matrix(chain, q, theta)
+    assert np.allclose(m, dynamics.mass_matrix(chain.body_jacobian(q), theta), rtol=0, atol=1e-12)
+    step = 1e-30
+    dm = np.stack([composite.mass_matrix(chain, q[:4] + 1j * step * e, theta).imag / step for e in np.eye(chain.n)], -1)
+    qj, dqj = chain.body_jacobian(q[:4]), chain.body_jacobian_derivative(q[:4])
+    assert np.allclose(dm, dynamics.mass_matrix_partials(qj, dqj, theta), rtol=0, atol=1e-12)
+
+
+def test_joints_moved_onto_z_keep_the_kinematics():
+    from inertiaproof.twists import axis_frame, twist_map
+
+    for axis in ((0, 0, 1.0), (0, 0, -1.0), (1.0, 0, 0), (0.3, -0.4, 0.866)):
+        a = axis_frame(np.asarray(axis) / np.linalg.norm(axis))
+        assert np.allclose(a @ [0, 0, 1], np.asarray(axis) / np.linalg.norm(axis)) and np.allclose(a.T @ a, np.eye(3))
+    assert np.array_equal(axis_frame((0, 0, 1.0)), np.eye(3))
+    t = origin((0.3, -0.2, 0.5), (0.4, 0.1, -0.7))
+    v, w = RNG.normal(size=3), RNG.normal(size=3)
+    r, p = t[:3, :3], t[:3, 3]
+    assert np.allclose(twist_map(t) @ np.r_[v, w], np.r_[r.T @ (v + np.cross(w, p)), r.T @ w])

@@ -1,0 +1,252 @@
+"""Verdict and evidence of a Section 4 bound on scenes, from brackets of both of its sides.
+
+A bound "extreme of the left-hand side <= constant" (>= for Theorem 2) is
+judged from a Bracket of the true extreme (inertiaproof.extremes) and the
+range the constant can take given its bracketed ingredients, and from the
+proof's pointwise inequality at sampled (q, t) (checks.pointwise):
+
+- VIOLATED: a value attained at a witness lies beyond every value the
+  constant can have, by more than the resolution; or a sampled point breaks
+  the pointwise inequality by more than its resolution;
+- HOLDS: the certified side of the extreme lies within every value the
+  constant can have; or the proof covers the constant (its key step is
+  certified for all Phi) and no sampled point breaks the pointwise inequality;
+- INCONCLUSIVE otherwise.
+
+The ``constants`` evidence (the report plots it) says what each number is:
+``paper`` is the paper's constant evaluated with certified ingredients (an
+upper bound of it when its ingredients are suprema, a lower bound when they
+are infima), ``paper_observed`` the same formula with the observed
+ingredients (an estimate from the other side), ``certified`` the sharpest
+constant the suite certifies, ``observed`` the worst case attained over the
+samples (a one-sided estimate of the true extreme).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from inertiaproof import bounds, composite
+from inertiaproof.chain import Chain
+from inertiaproof.dynamics import lumped_acceleration_force, lumped_velocity_matrix
+from inertiaproof.extremes import Bracket, local_search
+from inertiaproof.positive_map import key_step_certificate
+from inertiaproof.registry import replayer
+from inertiaproof.result import Result, Verdict, combine, quantity
+
+from inertiaproof.checks.pointwise import RESOLUTION, margins, point_counterexample, state_at
+
+_CACHE = {}
+
+
+def cached(ctx, scene, what, fn):
+    """fn() once per scene, quantity, profile and seed: corollaries reuse the theorems' brackets."""
+    key = (scene.name, scene.description, what, ctx.profile.name, ctx.seed)
+    if key not in _CACHE:
+        _CACHE[key] = fn()
+    return _CACHE[key]
+
+
+def kw(ctx, scene, what, share=1.0):
+    """The bracket settings of the run's profile, with a random stream per scene and quantity."""
+    return dict(samples=ctx.profile.samples, refine_s=ctx.profile.refine_s * share,
+                rng=ctx.rng(f"{scene.name}:{what}"), progress=ctx.progress)
+
+
+def scene_samples(ctx, scene, salt, count=None):
+    """Random configurations in the chain's box paired with times over the trajectory's span."""
+    rng = ctx.rng(f"{scene.name}:{salt}:pairs")
+    count = count or ctx.profile.samples
+    lo, hi = bounds.search_box(scene.chain)
+    q = lo + (hi - lo) * rng.random((count, scene.chain.n))
+    t = rng.choice(scene.trajectory.times(max(count // 4, 2)), count)
+    return q, t
+
+
+def pointwise_on_scene(check_id, ctx, scene, k):
+    """The proof's pointwise inequality at sampled (q, t) of a scene: evidence and the point closest to failing."""
+    q, t = scene_samples(ctx, scene, check_id)
+    state = state_at(scene.trajectory, t)
+    margin, resolution, lhs, rhs = margins(check_id, scene.chain, q, state, k)
+    compared = ~np.isnan(margin)
+    if not compared.any():
+        return {"violated": False, "counterexample": None,
+                "evidence": {"samples": quantity(len(q), "count", "random (q, t) pairs; both sides vanish at all")}}
+    i = int(np.nanargmin(margin + resolution))
+    point = (i, float(margin[i]), float(resolution[i]), float(lhs[i]), float(rhs[i]))
+    return {"violated": bool(margin[i] < -resolution[i]),
+            "counterexample": point_counterexample(check_id, scene.chain, q, state, k, point),
+            "evidence": {"smallest_margin": quantity(float(np.nanmin(margin)), "margin",
+                                                     "relative margin of the proof's pointwise inequality"),
+                         "resolution": quantity(float(resolution[i]), "tolerance",
+                                                "resolution at the point closest to failing"),
+                         "unresolved": quantity(int(np.sum(np.abs(margin[compared]) <= resolution[compared])), "count",
+                                                "points whose margin is within their resolution"),
+                         "samples": quantity(int(compared.sum()), "count",
+                                             "random (q, t) pairs compared (both sides vanish at the others)")}}
+
+
+def judge(sense, lhs, constant_lower, constant_upper, *, proof_covers, pointwise_violated):
+    """(verdict, why) of 'extreme of the left-hand side <= (upper) / >= (lower) the constant'.
+
+    ``lhs`` is a Bracket of the true extreme; the constant lies in [constant_lower, constant_upper].
+    """
+    bound = constant_upper if np.isfinite(constant_upper) else constant_lower
+    tol = RESOLUTION * (abs(lhs.observed) + abs(bound))
+    if sense == "upper":
+        if lhs.observed > constant_upper + tol:
+            return Verdict.VIOLATED, "a value attained at the witness exceeds the largest value the constant can have"
+        if lhs.upper < constant_lower - tol:
+            return Verdict.HOLDS, "the certified upper side of the extreme is below the constant"
+    else:
+        if lhs.observed < constant_lower - tol:
+            return Verdict.VIOLATED, "a value attained at the witness is below the smallest value the constant can have"
+        if lhs.lower > constant_upper + tol:
+            return Verdict.HOLDS, "the certified lower side of the extreme is above the constant"
+    if pointwise_violated:
+        return Verdict.VIOLATED, "the proof's pointwise inequality fails at a sampled (q, t) beyond its resolution"
+    if proof_covers:
+        return Verdict.HOLDS, ("the certified proof covers this constant (key step certified for all Phi) and its "
+                               "pointwise inequality held at every sample")
+    return Verdict.INCONCLUSIVE, "the brackets of the extreme and of the constant overlap"
+
+
+def constants_evidence(sense, formula, paper, paper_observed, certified, certified_how, observed, observed_note):
+    """The ``constants`` evidence: what each number is, in its kind and note."""
+    upper = sense == "upper"
+    return {
+        "paper": quantity(paper, "upper_bound" if upper else "lower_bound",
+                          f"the paper's {formula} with certified ingredients: "
+                          f"{'an upper' if upper else 'a lower'} bound of the paper's constant"),
+        "paper_observed": quantity(paper_observed, "sampled",
+                                   f"the paper's {formula} with the observed ingredients: "
+                                   f"{'a lower' if upper else 'an upper'} estimate of the paper's constant"),
+        "certified": quantity(certified, "certified_constant", certified_how),
+        "observed": quantity(observed, "sampled", observed_note),
+    }
+
+
+def case_result(check_id, scene, sense, lhs, constant_range, k, proof_factor, pointwise, constants, extra,
+                replay=None):
+    """(verdict, why, evidence, counterexample) of one bound on one scene; ``constant_range`` is the range of
+    the constant (times k) given its bracketed ingredients."""
+    lo, hi = constant_range
+    covers = bool(key_step_certificate()["ok"]) and (k >= proof_factor if sense == "upper" else k <= proof_factor)
+    verdict, why = judge(sense, lhs, lo, hi, proof_covers=covers, pointwise_violated=pointwise["violated"])
+    evidence = {
+        "scene": scene.name,
+        "factor": quantity(k, "value", "multiplier of the paper's constant (1 = the paper's statement)"),
+        "constants": constants,
+        "constant_range": {"lower": quantity(lo, "lower_bound", "smallest value the (scaled) constant can have"),
+                           "upper": quantity(hi, "upper_bound", "largest value the (scaled) constant can have")},
+        "bracket": lhs.evidence(),
+        "pointwise": pointwise["evidence"],
+        "why": why,
+        **extra,
+    }
+    counterexample = None
+    if verdict == Verdict.VIOLATED:
+        counterexample = pointwise["counterexample"] if pointwise["violated"] else {"kind": "bound-bracket", "data": {
+            "id": check_id, "scene": scene.name, "factor": k, "sense": sense, "chain": scene.chain.to_data(),
+            "witness": np.asarray(lhs.witness).tolist(), "observed": lhs.observed, "constant_upper": hi,
+            "constant_lower": lo, **{key: np.asarray(v).tolist() for key, v in (replay or {}).items()}}}
+    return verdict, why, evidence, counterexample
+
+
+def run_scenes(check_id, ctx, case, scenes, k=1.0):
+    """One bound on several scenes: the first VIOLATED scene (else the first) leads the evidence."""
+    verdicts, rows, first = [], {}, None
+    for scene in scenes:
+        ctx.progress(scene.name)
+        verdict, why, evidence, cx = case(ctx, scene, k)
+        verdicts.append(verdict)
+        rows[scene.name] = evidence
+        if first is None or (verdict == Verdict.VIOLATED and first[0] != Verdict.VIOLATED):
+            first = (verdict, why, evidence, cx)
+    verdict = combine(verdicts)
+    c = first[2]["constants"]
+    bound_word = "at most" if c["paper"]["kind"] == "upper_bound" else "at least"
+    summary = (f"on {', '.join(rows)}: paper's constant {bound_word} {c['paper']['value']:.4g} (certified "
+               f"ingredients; {c['paper_observed']['value']:.4g} with observed ones), sharpest certified "
+               f"{c['certified']['value']:.4g}, worst observed {c['observed']['value']:.4g}; {first[1]}")
+    evidence = {**first[2], "scenes": rows, "key_step": key_step_evidence()}
+    return Result(check_id, verdict, summary, evidence, counterexample=first[3] if verdict == Verdict.VIOLATED else None)
+
+
+def key_step_evidence():
+    return {k: v for k, v in key_step_certificate().items() if k != "choi"}
+
+
+def time_quantities(d, what):
+    """Evidence of an ingredient over time (inertiaproof.bounds.time_extreme)."""
+    inf = d["sense"] == "min"
+    return {"quantity": what,
+            "observed": quantity(d["observed"], "sampled", f"on a time grid, at t = {d['witness_time']:.4g}, body "
+                                                           f"{d['body'] + 1}"),
+            "certified": quantity(d["certified"], "lower_bound" if inf else "upper_bound", d["how"])}
+
+
+def sampled_bracket(value, chain, name, sense, ctx, scene, note):
+    """A one-sided bracket from samples plus local search (no certified side)."""
+    lo, hi = bounds.search_box(chain)
+    free = bounds.free_coordinates(chain)
+    rng = ctx.rng(f"{scene.name}:{name}")
+    q = lo + (hi - lo) * rng.random((ctx.profile.samples, chain.n))
+    vals = value(q)
+    sign = 1.0 if sense == "min" else -1.0
+    top = np.argsort(sign * vals)[:8]
+    qs, vs = local_search(value, q[top], lo, hi, free, sign=sign)
+    j = int(np.argmin(sign * vs))
+    return Bracket(name, sense, float(vs[j]), None, qs[j], [[0.0, None, None]], 0, note)
+
+
+def time_and_configuration_bracket(value, ctx, scene, name, note, certified):
+    """sup over (q, t) of value(q, t): samples of pairs, then a local search over q at the worst time."""
+    q, t = scene_samples(ctx, scene, name)
+    vals = value(q, t)
+    i = int(np.argmax(vals))
+    chain = scene.chain
+    lo, hi = bounds.search_box(chain)
+    qs, vs = local_search(lambda qq: value(qq, np.full(len(qq), t[i])), q[i:i + 1], lo, hi,
+                          bounds.free_coordinates(chain), sign=-1.0)
+    best, witness = (float(vs[0]), qs[0]) if vs[0] > vals[i] else (float(vals[i]), q[i])
+    return Bracket(name, "max", best, certified, witness, [[0.0, best, float(certified)]], 0, note), float(t[i])
+
+
+def parameter_stack(trajectory, rate, count=64):
+    """The parameter sets an extreme over time is taken over: the segment ends (payloads, scalings: exact), or
+    ``count`` sampled times (moving masses)."""
+    verts = bounds.parameter_vertices(trajectory)
+    if verts is not None:
+        return verts[1] if rate else verts[0]
+    theta, theta_dot = trajectory.theta(trajectory.times(count))
+    return theta_dot if rate else theta
+
+
+def replay_bracket(data):
+    """(value at the witness, the constant's bound it was compared with) recomputed from a saved file."""
+    chain = Chain.from_data(data["chain"])
+    q = np.asarray(data["witness"], float)[None]
+    if "thetas" in data:
+        m = composite.mass_matrix(chain, q[:, None], np.asarray(data["thetas"], float)[None])
+        vals = bounds.spectral(m, data["spectral"])[0]
+        value = vals.min() if data["spectral"] == "lmin" else vals.max()
+    elif "psi_dot" in data:
+        value = np.linalg.norm(lumped_acceleration_force(chain.body_jacobian(q), np.asarray(data["psi_dot"])[None]))
+    else:
+        h = lumped_velocity_matrix(chain.body_jacobian_derivative(q), np.asarray(data["psi"])[None])
+        value = np.linalg.svd(h, compute_uv=False)[0, 0]
+    bound = data["constant_upper"] if data["sense"] == "upper" else data["constant_lower"]
+    return float(value), float(bound)
+
+
+@replayer("bound-bracket")
+def replay_bound_bracket(data, ctx):
+    value, bound = replay_bracket(data)
+    upper = data["sense"] == "upper"
+    beyond = value > bound if upper else value < bound
+    verdict = Verdict.VIOLATED if beyond and abs(value - bound) > RESOLUTION * (abs(value) + abs(bound)) else Verdict.HOLDS
+    return Result(data["id"], verdict, f"at the witness the left-hand side is {value:.6g}; the constant (factor "
+                  f"{data['factor']:g}) is at {'most' if upper else 'least'} {bound:.6g}",
+                  {"value": quantity(value, "value"),
+                   "bound": quantity(bound, "upper_bound" if upper else "lower_bound")})
