@@ -69,7 +69,9 @@ def select(checks, *, only=None, scene=None, symbolic=False):
             raise InputError(f"unknown check ID {', '.join(unknown)}; see 'inertiaproof list'")
         specs = [s for s in specs if s.id in only or s.name in only]
     if scene is None:
-        return specs, []
+        scene_only = [s for s in specs if "symbolic" in s.needs]
+        return ([s for s in specs if s not in scene_only],
+                [(s.name, "derives a scene's own chain: run it with --scene FILE --symbolic") for s in scene_only])
     have = set(scene.features()) | ({"symbolic"} if symbolic else set())
     run, skipped = [], []
     for s in specs:
