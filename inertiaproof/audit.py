@@ -77,6 +77,7 @@ def chain_bounds(chain, theta, profile, *, seed=0):
         "lambda_max": quantity(m_high["lower"], "sampled", "largest sampled lambda_max(M(q)): a lower estimate of the sup"),
         "lambda_max_q": m_high["witness"],
         "inf_lambda_min_certified": certified_min,
+        "inf_lambda_min_sampled": sampled_min,
         "sup_lambda_max_certified": quantity(m_high["upper"], "upper_bound",
                                              "certified upper bound of sup_q lambda_max(M(q))"),
         "alpha1_paper_lower": quantity(low["paper"]["lower"], "lower_bound",
@@ -256,6 +257,19 @@ def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s):
     }
 
 
+def write_report(doc, out_dir):
+    """DIR/audit.json and the report made from it; returns the written paths."""
+    from .report.cli import build
+
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        path = out_dir / "audit.json"
+        path.write_text(json.dumps(doc, allow_nan=False), encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"{exc.filename or out_dir}: cannot write: {exc.strerror}") from None
+    return [path, *build(out_dir, only=("audit",))]
+
+
 # -- the command -----------------------------------------------------------------
 
 def configure(parser):
@@ -263,7 +277,8 @@ def configure(parser):
 
     parser.add_argument("paths", nargs="+", metavar="URDF_OR_DIR", help="URDF files, or folders searched for *.urdf")
     parser.add_argument("--json", action="store_true", help="print the audit as JSON instead of tables")
-    parser.add_argument("--html", metavar="FILE", help="also write a self-contained HTML page")
+    parser.add_argument("--report", metavar="DIR", help="also write DIR/audit.json and its report: audit.html, "
+                        "audit.tex (and audit.pdf when latexmk is installed)")
     parser.add_argument("--profile", choices=sorted(PROFILES), default="ci")
     parser.add_argument("--bounds", choices=BOUNDS_MODES, default="arms",
                         help="which chains get M(q) bounds: serial arms (default), all, none")
@@ -293,12 +308,8 @@ def main(args):
         print(json.dumps(doc, allow_nan=False))
     else:
         print(format_audit(doc))
-    if args.html:
-        from .audit_html import render
-
-        try:
-            Path(args.html).write_text(render(doc))
-        except OSError as exc:
-            raise InputError(f"{args.html}: cannot write: {exc.strerror}") from None
-        print(f"html: {args.html}", file=sys.stderr if args.json else sys.stdout)
+    if args.report:
+        say = sys.stderr if args.json else sys.stdout
+        for path in write_report(doc, Path(args.report)):
+            print(f"report: {path}", file=say)
     return doc["summary"]["exit_status"]

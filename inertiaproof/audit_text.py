@@ -14,27 +14,36 @@ def _count(items, one, many=None):
     return f"{len(items)} {one if len(items) == 1 else many or one + 's'}"
 
 
-def _role(link):
+def role(link):
+    """A link's role as a reader says it: base, body or merged into its body's anchor, and whether it moves."""
     if link["role"] == "merged":
         return f"merged into {link['group']}"
     return link["role"] + ("" if link["moving"] else " (fixed)")
+
+
+def headline(f):
+    """One readable file's robot, sizes and state, e.g. "robot 'panda', 13 links, ...: consistent"."""
+    state = "consistent" if f["consistent"] else f"NOT CONSISTENT: {', '.join(f['not_consistent'])}"
+    return (f"robot '{f['robot']}', {_count(f['links'], 'link')}, {_count(f['bodies'], 'body', 'bodies')}, "
+            f"{_count(f['chains'], 'chain')}{', serial arm' if f['serial_arm'] else ''}: {state}")
+
+
+def remarks(f):
+    """What the audit left out or simplified in one readable file, one line each."""
+    out = [f"left out: joint {j['joint']} ({j['type']}): {j['reason']}" for j in f["left_out_joints"]]
+    if f["mimic_joints"]:
+        out.append(f"mimic joints, treated as independent coordinates (as Pinocchio's URDF reader does by default): "
+                   f"{', '.join(m['joint'] + ' (' + m['mimics'] + ')' for m in f['mimic_joints'])}")
+    return out
 
 
 def format_file(path, f):
     if f["status"] == "error":
         return f"== {path}\n  UNREADABLE: {f['error']}"
     links = f["links"]
-    state = "consistent" if f["consistent"] else f"NOT CONSISTENT: {', '.join(f['not_consistent'])}"
-    out = [f"== {path}: robot '{f['robot']}', {_count(links, 'link')}, {_count(f['bodies'], 'body', 'bodies')}, "
-           f"{_count(f['chains'], 'chain')}"
-           f"{', serial arm' if f['serial_arm'] else ''}: {state}"]
-    for j in f["left_out_joints"]:
-        out.append(f"  left out: joint {j['joint']} ({j['type']}): {j['reason']}")
-    if f["mimic_joints"]:
-        out.append(f"  mimic joints, treated as independent coordinates (as Pinocchio's URDF reader does by default): "
-                   f"{', '.join(m['joint'] + ' (' + m['mimics'] + ')' for m in f['mimic_joints'])}")
+    out = [f"== {path}: {headline(f)}"] + [f"  {line}" for line in remarks(f)]
     width = max(len(name) for name in links)
-    roles = {name: _role(link) for name, link in links.items()}
+    roles = {name: role(link) for name, link in links.items()}
     role_width = max(len(r) for r in roles.values())
     out.append(f"  {'link':<{width}}  {'role':<{role_width}}  {'verdict':<12}  reason")
     for name, link in links.items():
@@ -71,12 +80,16 @@ def format_file(path, f):
     return "\n".join(out)
 
 
+def totals(summary):
+    """The audit's counts (its ``summary``) after the number of files, e.g. "43 consistent, ...; signs: ..."."""
+    links = ", ".join(f"{n} {label}" for label, n in summary["links"].items())
+    signs = ", ".join(f"{k} {v}" for k, v in sorted(summary["signs"].items())) or "none"
+    return (f"{summary['files_consistent']} consistent, {summary['files_not_consistent']} not consistent, "
+            f"{summary['unreadable']} unreadable; links: {links}; moving links or bodies not consistent: "
+            f"{summary['moving_not_consistent']}; signs: {signs}")
+
+
 def format_audit(doc):
     parts = [format_file(path, f) for path, f in doc["files"].items()]
-    s = doc["summary"]
-    links = ", ".join(f"{n} {label}" for label, n in s["links"].items())
-    signs = ", ".join(f"{k} {v}" for k, v in sorted(s["signs"].items())) or "none"
-    parts.append(f"audited {s['files']} files in {doc['runtime_s']:.2f} s: {s['files_consistent']} consistent, "
-                 f"{s['files_not_consistent']} not consistent, {s['unreadable']} unreadable; links: {links}; "
-                 f"moving links or bodies not consistent: {s['moving_not_consistent']}; signs: {signs}")
+    parts.append(f"audited {doc['summary']['files']} files in {doc['runtime_s']:.2f} s: {totals(doc['summary'])}")
     return "\n\n".join(parts)

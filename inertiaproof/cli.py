@@ -46,7 +46,7 @@ def _run(args):
     if args.report:
         from .report.cli import build
 
-        for written in build(out):
+        for written in build(out, only=("report",)):
             print(f"report: {written}")
     crashed = any(r.evidence.get("crashed") for r in run.results)
     return 1 if run.violated or crashed else 0

@@ -96,7 +96,7 @@ def _inline(x):
         text = f"<code>{escape(x.text)}</code>" if x.style == "code" else escape(x.text)
         return f'<a href="#{escape(x.target)}">{text}</a>'
     if isinstance(x, Badge):
-        return f'<span class="verdict tone-{_css(x.verdict)}">{escape(x.verdict)}</span>'
+        return f'<span class="verdict tone-{_css(x.colour)}">{escape(x.verdict)}</span>'
     raise TypeError(f"no HTML for {type(x).__name__}")
 
 

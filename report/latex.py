@@ -45,14 +45,15 @@ ACCENTS = {"\u0300": "`", "\u0301": "'", "\u0302": "^", "\u0303": "~", "\u0308":
            "\u0327": "c", "\u030c": "v", "\u0304": "=", "\u0306": "u", "\u0307": ".", "\u030b": "H"}
 
 
-def render(document):
+def render(document, figures=FIGURES):
+    """The LaTeX source; its figures are the pages of the PDF file named ``figures``, beside it."""
     preamble = resources.files(__package__).joinpath("preamble.tex").read_text(encoding="utf-8")
     out = [preamble, f"\\hypersetup{{pdftitle={{{_pdf_string(document.title)}}}}}", r"\begin{document}",
            r"\raggedright",
            r"\begin{center}", rf"{{\LARGE\bfseries {escape(document.title)}\par}}\smallskip",
            rf"{{\itshape {escape(document.subtitle)}\par}}", r"\end{center}"]
     for section in document.sections:
-        out.append(_section(section, 0))
+        out.append(_section(section, 0, figures))
     out.append(r"\end{document}")
     return "\n".join(out) + "\n"
 
@@ -94,17 +95,17 @@ def _char(c, table, code):
     return rf"\texttt{{[U+{ord(c):04X}]}}"
 
 
-def _section(section, depth):
+def _section(section, depth, figures):
     command = SECTIONS[min(depth, len(SECTIONS) - 1)]
     title = _inlines(section.title)
     bookmark = _pdf_string("".join(_plain(x) for x in section.title))
     parts = [rf"\hypertarget{{{section.key}}}{{}}%", rf"\{command}{{\texorpdfstring{{{title}}}{{{bookmark}}}}}"]
-    parts += [_block(b) for b in section.blocks]
-    parts += [_section(c, depth + 1) for c in section.children]
+    parts += [_block(b, figures) for b in section.blocks]
+    parts += [_section(c, depth + 1, figures) for c in section.children]
     return "\n".join(parts)
 
 
-def _block(block):
+def _block(block, figures):
     if isinstance(block, Paragraph):
         return _inlines(block.inlines) + "\n"
     if isinstance(block, Table):
@@ -117,10 +118,10 @@ def _block(block):
     if isinstance(block, Figure):
         return (rf"\par\medskip\noindent\begin{{minipage}}{{\linewidth}}\hypertarget{{{block.key}}}{{}}\centering"
                 "\n" rf"\includegraphics[width=\linewidth,height=0.8\textheight,keepaspectratio,page={block.number}]"
-                rf"{{{FIGURES}}}\par\smallskip" "\n"
+                rf"{{{figures}}}\par\smallskip" "\n"
                 rf"\figurecaption{{{block.number}}}{{{escape(block.caption)}}}" "\n" r"\end{minipage}\par\medskip")
     if isinstance(block, Notice):
-        inner = "\n".join(_block(b) for b in block.blocks)
+        inner = "\n".join(_block(b, figures) for b in block.blocks)
         return f"\\begin{{notice}}{{{_color(block.tone)}}}{{{escape(block.title)}}}\n{inner}\n\\end{{notice}}"
     raise TypeError(f"no LaTeX for {type(block).__name__}")
 
@@ -137,7 +138,8 @@ def _table(table):
     if any(c.title for c in table.columns):
         lines += [r"\toprule", head, r"\midrule", r"\endfirsthead", r"\toprule", head, r"\midrule", r"\endhead"]
     else:
-        lines += [r"\toprule", r"\endfirsthead", r"\toprule", r"\endhead"]
+        # an empty row of the columns in the first head fixes their widths in the first pass (one pdflatex run less)
+        lines += [r"\toprule", "&" * (n - 1) + r"\\[-\normalbaselineskip]", r"\endfirsthead", r"\toprule", r"\endhead"]
     lines += [r"\bottomrule", r"\endlastfoot"]
     for row in table.rows:
         lines.append(_span(n, _inlines(row[0])) if len(row) == 1 else " & ".join(_inlines(c) for c in row) + r" \\")
@@ -146,7 +148,8 @@ def _table(table):
 
 
 def _span(columns, content):
-    return rf"\multicolumn{{{columns}}}{{@{{}}p{{\dimexpr\linewidth-2\tabcolsep\relax}}@{{}}}}{{{content}}} \\"
+    return (rf"\multicolumn{{{columns}}}{{@{{}}>{{\raggedright\arraybackslash}}p{{\dimexpr\linewidth-2\tabcolsep\relax}}@{{}}}}"
+            rf"{{{content}}} \\")
 
 
 def _code(block):
@@ -175,7 +178,7 @@ def _inline(x):
         text = rf"\texttt{{{escape(x.text, code=True)}}}" if x.style == "code" else escape(x.text)
         return rf"\hyperlink{{{x.target}}}{{{text}}}"
     if isinstance(x, Badge):
-        return rf"\verdict{{{_color(x.verdict)}}}{{{x.verdict}}}"
+        return rf"\verdict{{{_color(x.colour)}}}{{{escape(x.verdict)}}}"
     raise TypeError(f"no LaTeX for {type(x).__name__}")
 
 

@@ -1,14 +1,42 @@
-"""Read DIR/results.json and the data files next to it, with one-line errors naming the file."""
+"""Read DIR/results.json and the data files next to it, or DIR/audit.json, with one-line errors naming the file."""
 
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 from pathlib import Path
 
 from inertiaproof.errors import InputError
 
 SCHEMA = "inertiaproof.results/1"
 VERDICTS = ("HOLDS", "VIOLATED", "INCONCLUSIVE")
+AUDIT = "audit.json"
+AUDIT_SCHEMA = "inertiaproof.audit/1"
+OPTIONAL = type(None)
+
+
+
+
+@dataclass(frozen=True)
+class Each:
+    """An object of any keys (file paths, link names), every value of this shape."""
+
+    shape: object
+
+
+# What the audit's report reads, as shapes: a type (or tuple of types), {key: shape}, [shape] a list, Each(shape).
+LINK = {"role": str, "group": str, "moving": bool, "massless_frame": bool, "verdict": str, "reason": str,
+        "signs": [{"text": str}], "repair": (dict, OPTIONAL)}
+REPAIR = {"note": str, "inertia": (dict, OPTIONAL)}
+FILE = {"robot": str, "consistent": bool, "not_consistent": [str], "serial_arm": bool, "links": Each(LINK),
+        "bodies": Each({"joint": (str, OPTIONAL), "links": [str], "verdict": str, "reason": str}),
+        "chains": Each({"name": str, "kinds": str, "joints": [str], "bodies_consistent": bool,
+                        "bounds": (dict, OPTIONAL), "singular": {"verdict": str, "argument": str}}),
+        "left_out_joints": [{"joint": str, "type": str, "reason": str}], "mimic_joints": [{"joint": str, "mimics": str}]}
+SUMMARY = {"files": int, "files_consistent": int, "files_not_consistent": int, "unreadable": int,
+           "links": Each(int), "moving_not_consistent": int, "signs": Each(int)}
+TYPE_NAMES = {dict: "an object", list: "a list", str: "a string", int: "an integer", float: "a number",
+              bool: "true or false", OPTIONAL: "null"}
 
 
 def results(out_dir):
@@ -18,7 +46,8 @@ def results(out_dir):
     if not out.is_dir():
         raise InputError(f"{out}: no such folder (make one with 'inertiaproof run --out {out}')")
     if not path.is_file():
-        raise InputError(f"{path}: not found (make it with 'inertiaproof run --out {out}')")
+        raise InputError(f"{path}: not found (make it with 'inertiaproof run --out {out}', or audit robots with "
+                         f"'inertiaproof audit URDF --report {out}')")
     doc = _json(path)
     if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
         raise InputError(f"{path}: not an inertiaproof results file (schema {SCHEMA})")
@@ -43,6 +72,47 @@ def results(out_dir):
         if doc.get(key) is not None and not isinstance(doc[key], dict):
             raise InputError(f"{path}: '{key}' must be an object")
     return doc
+
+
+def audit(path):
+    """The audit document at path (DIR/audit.json), checked well enough that the report cannot trip over it."""
+    path = Path(path)
+    doc = _json(path)
+    if not isinstance(doc, dict) or doc.get("schema") != AUDIT_SCHEMA:
+        raise InputError(f"{path}: not an inertiaproof audit file (schema {AUDIT_SCHEMA})")
+    _check(doc, {"files": Each(dict), "summary": SUMMARY}, path, "")
+    _check(doc.get("versions", {}), dict, path, "versions")
+    for name, f in doc["files"].items():
+        where = f"files[{name!r}]"
+        if f.get("status") not in ("ok", "error"):
+            raise InputError(f"{path}: {where}.status: must be 'ok' or 'error'")
+        _check(f, FILE if f["status"] == "ok" else {"error": str}, path, where)
+        for link, entry in f["links"].items() if f["status"] == "ok" else ():
+            if entry["repair"] is not None:
+                _check(entry["repair"], REPAIR, path, f"{where}.links[{link!r}].repair")
+    return doc
+
+
+def _check(x, shape, path, where):
+    """Raise a one-line error naming the file and the place where x departs from shape."""
+    if isinstance(shape, Each):
+        _check(x, dict, path, where)
+        for key, value in x.items():
+            _check(value, shape.shape, path, f"{where}[{key!r}]")
+    elif isinstance(shape, dict):
+        _check(x, dict, path, where)
+        for key, inner in shape.items():
+            if key not in x:
+                raise InputError(f"{path}: {where or 'the top level'}: no '{key}'")
+            _check(x[key], inner, path, f"{where}.{key}" if where else key)
+    elif isinstance(shape, list):
+        _check(x, list, path, where)
+        for i, item in enumerate(x):
+            _check(item, shape[0], path, f"{where}[{i}]")
+    else:
+        kinds = shape if isinstance(shape, tuple) else (shape,)
+        if not isinstance(x, kinds) or (isinstance(x, bool) and bool not in kinds):
+            raise InputError(f"{path}: {where or 'the top level'}: must be {' or '.join(TYPE_NAMES[k] for k in kinds)}")
 
 
 def data_files(out_dir, doc):

@@ -25,7 +25,12 @@ class Link:
 
 @dataclass(frozen=True)
 class Badge:
-    verdict: str  # HOLDS, VIOLATED, INCONCLUSIVE or NOT RUN
+    verdict: str  # the text; HOLDS, VIOLATED, INCONCLUSIVE or NOT RUN unless a tone is given
+    tone: str = ""  # one of those four: the colour, when the text is another word
+
+    @property
+    def colour(self):
+        return self.tone or self.verdict
 
 
 @dataclass(frozen=True)

@@ -28,6 +28,7 @@ STYLE = {
     "pdf.fonttype": 42,
     "svg.fonttype": "none",
     "path.simplify": False,
+    "text.parse_math": False,  # names and notes print as written: a $ is a dollar sign, not mathtext
 }
 METADATA = {
     "svg": {"Date": None, "Creator": None, "Format": None, "Type": None},
@@ -100,20 +101,28 @@ def bracket(fig, data):
 
 
 def constants(fig, data):
+    """One row per bound: its constants on one axis; a ``paper`` given as [lower, upper] is drawn as that range."""
     bounds = data["bounds"]
     fig.set_size_inches(WIDTH, 0.9 + 0.32 * len(bounds))
     ax = fig.add_subplot()
     marks = (("paper", "o", "#1f77b4", "paper's constant"), ("certified", "D", "#2ca02c", "sharpest certified"),
              ("observed", "x", RED, "observed worst case"))
-    values = [b[k] for b in bounds for k, *_ in marks if b[k] is not None]
+    values = [v for b in bounds for k, *_ in marks for v in _ends(b[k])]
     log = _scale(ax, "x", [v for v in values if v > 0])
+
+    def shown(value):
+        return [v for v in _ends(value) if v > 0 or not log]
+
     for y, b in enumerate(bounds):
-        present = [b[k] for k, *_ in marks if b[k] is not None and (b[k] > 0 or not log)]
+        present = [v for k, *_ in marks for v in shown(b[k])]
         if len(present) > 1:
             ax.plot([min(present), max(present)], [y, y], color="#bbbbbb", linewidth=1.5, zorder=1)
+        if isinstance(b["paper"], list) and len(shown(b["paper"])) == 2:
+            ax.plot(shown(b["paper"]), [y, y], color=marks[0][2], alpha=0.35, linewidth=5, solid_capstyle="butt",
+                    zorder=2)
     for key, marker, color, label in marks:
-        ys = [y for y, b in enumerate(bounds) if b[key] is not None and (b[key] > 0 or not log)]
-        ax.scatter([bounds[y][key] for y in ys], ys, marker=marker, color=color, label=label, zorder=3,
+        points = [(v, y) for y, b in enumerate(bounds) for v in shown(b[key])]
+        ax.scatter([p[0] for p in points], [p[1] for p in points], marker=marker, color=color, label=label, zorder=3,
                    s=36 if marker == "x" else 22)
     ax.set_yticks(range(len(bounds)), [_short(b["label"], 34) + (" (VIOLATED)" if b.get("violated") else "")
                                        for b in bounds])
@@ -123,7 +132,8 @@ def constants(fig, data):
     ax.set_ylim(len(bounds) - 0.5, -0.5)
     ax.grid(False, axis="y")
     hidden = log and any(v <= 0 for v in values)
-    ax.set_xlabel("value of the constant (units of each bound)" + ("; values \u2264 0 not shown" if hidden else ""))
+    ax.set_xlabel(data.get("x_label", "value of the constant (units of each bound)")
+                  + ("; values \u2264 0 not shown" if hidden else ""))
     _legend_above(fig, ax)
     _fit(fig, legend_above=True)
 
@@ -310,6 +320,11 @@ def _power(v, _pos=None):
     if exponent in (0, 1):
         return f"{v:g}"
     return power if mantissa == 1 else f"{mantissa:g}\u00b7{power}"
+
+
+def _ends(value):
+    """The plotted values of a constant: none, one, or both ends of a [lower, upper] range."""
+    return [v for v in (value if isinstance(value, list) else [value]) if v is not None]
 
 
 def _short(text, n):

@@ -4,29 +4,19 @@ The screenshot (and the HTML) are kept in artifacts/report/ ($INERTIAPROOF_ARTIF
 """
 
 import shutil
-import subprocess
 from html.parser import HTMLParser
 
 import pytest
 import report_fixture
+from readback import CHROMIUM, chromium
 
 from inertiaproof import catalog
 from inertiaproof.report import content, load
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 pytestmark = [pytest.mark.browser,
               pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (CI installs Debian's chromium)")]
-FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
-         "--disable-sync", "--no-first-run", "--hide-scrollbars")
 VIOLATED_RGB = (0xB0, 0x2A, 0x1E)
 PLOT_BLUE_RGB = (0x1F, 0x77, 0xB4)
-
-
-def chromium(page, tmp_path, *args):
-    done = subprocess.run([CHROMIUM, *FLAGS, f"--user-data-dir={tmp_path / 'profile'}", *args, page.as_uri()],
-                          capture_output=True, text=True, timeout=120)
-    assert done.returncode == 0, done.stderr[-2000:]
-    return done.stdout
 
 
 @pytest.fixture(scope="module")

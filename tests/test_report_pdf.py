@@ -3,10 +3,10 @@
 import json
 import re
 import shutil
-import subprocess
 
 import pytest
 import report_fixture
+from readback import pages, past_the_margins, run, squeeze
 
 from inertiaproof import catalog
 from inertiaproof.report import typeset
@@ -17,8 +17,6 @@ pytestmark = [
                                                        "and latexmk)"),
     pytest.mark.skipif(shutil.which("pdftotext") is None, reason="pdftotext not installed (Debian: poppler-utils)"),
 ]
-A4_WIDTH_PT = 595.28
-MARGIN_PT = 56.69
 
 
 @pytest.fixture(scope="module")
@@ -28,19 +26,6 @@ def pdf(tmp_path_factory):
     assert path.is_file(), "the report build made no report.pdf although latexmk is installed"
     shutil.copy(path, report_fixture.artifacts_dir() / "report.pdf")
     return path
-
-
-def run(*command):
-    return subprocess.run(command, capture_output=True, text=True, check=True, timeout=60).stdout
-
-
-def pages(path, mode="-layout"):
-    """The text of each page: -layout as it looks, -raw in the order it was typeset (table cells whole)."""
-    return run("pdftotext", mode, str(path), "-").split("\f")[:-1]
-
-
-def squeeze(text):
-    return re.sub(r"\s+", "", text)
 
 
 def test_pages_and_reading_order(pdf):
@@ -91,11 +76,8 @@ def test_fonts_are_vector_and_figures_truetype(pdf):
 
 
 def test_nothing_runs_past_the_margins(pdf):
-    boxes = run("pdftotext", "-bbox", str(pdf), "-")
-    words = re.findall(r'<word xMin="([\d.]+)" yMin="[\d.]+" xMax="([\d.]+)" yMax="[\d.]+">(.*?)</word>', boxes)
-    assert len(words) > 2000
-    outside = [(w, float(a), float(b)) for a, b, w in words
-               if float(a) < MARGIN_PT - 1 or float(b) > A4_WIDTH_PT - MARGIN_PT + 1]
+    outside, words = past_the_margins(pdf)
+    assert words > 2000
     assert not outside, outside[:10]
 
 
