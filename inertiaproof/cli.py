@@ -164,6 +164,10 @@ def main(argv=None):
     except InputError as exc:
         print(f"inertiaproof: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:  # reading or writing a file the user named
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"inertiaproof: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("inertiaproof: interrupted", file=sys.stderr)
         return 130

@@ -123,3 +123,11 @@ def test_symbolic_work_on_a_scene_only_when_asked(tmp_path, capsys):
     assert result["check"] == "GRE:scene" and result["verdict"] == "HOLDS"
     assert all(v == "detected" or v == "vacuous" for v in
                next(iter(result["evidence"]["systems"].values()))["negative_controls"].values())
+
+
+def test_an_unwritable_output_folder_is_one_line_and_exit_2(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    assert cli.main(["run", "--only", "EQ-geom", "--out", str(blocker / "out"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("inertiaproof: error:") and "\n" not in err
