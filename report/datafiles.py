@@ -3,7 +3,7 @@
 ``work_precision*.json`` rows (scene, method, rtol, seconds, error) become an
 error-against-run-time plot and a summary table; ``stability*.json`` rows
 (scene, method, status, seconds, steps, note) a table and a plot; any other
-list of rows a plain table.
+list of rows (objects, or {"columns": [...], "rows": [[...], ...]}) a plain table.
 """
 
 from __future__ import annotations

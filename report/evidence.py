@@ -101,17 +101,33 @@ def _clip(text):
     return f"{kept}\n... ({len(text) - len(kept)} more characters in results.json)"
 
 
+RECORD_TEXT = 48  # characters: a longer text in a record goes under it, spanning the table
+
+
 def records_table(records, caption):
-    """A list of flat dicts, or a dict of flat dicts (named rows), as a table."""
+    """A list of flat dicts, or a dict of flat dicts (named rows), as a table.
+
+    Columns are as wide as their content (within limits); a text longer than
+    RECORD_TEXT characters goes into a row spanning the table under its record.
+    """
     if isinstance(records, dict):
         records = [{"name": name, **row} for name, row in records.items()]
     keys = []
     for row in records:
         keys.extend(k for k in row if k not in keys)
     keys = keys[:8]
-    width = 1.0 / len(keys)
-    columns = tuple(Column(k, width, "r" if _numeric_column(records, k) else "l") for k in keys)
-    rows = [tuple(cell(_value_inline(fmt.value(row[k])) if k in row else "") for k in keys) for row in records]
+    long_keys = [k for k in keys if any(isinstance(r.get(k), str) and len(r[k]) > RECORD_TEXT for r in records)]
+    short = [k for k in keys if k not in long_keys] or keys[:1]
+    long_keys = [k for k in long_keys if k not in short]
+    weights = [max(len(k), min(24, max((len(fmt.value(r[k])) for r in records if k in r), default=1))) for k in short]
+    columns = tuple(Column(k, w / sum(weights), "r" if _numeric_column(records, k) else "l")
+                    for k, w in zip(short, weights))
+    rows = []
+    for row in records:
+        rows.append(tuple(cell(_value_inline(fmt.value(row[k])) if k in row else "") for k in short))
+        texts = [inline for k in long_keys if k in row for inline in (Text(f"{k}: ", "em"), Text(f"{row[k]} "))]
+        if texts:
+            rows.append((cell(*texts),))
     return table(columns, rows, caption)
 
 

@@ -130,7 +130,10 @@ def _rows(path, name):
     except InputError as exc:
         return str(exc).replace(str(path), name, 1)
     if isinstance(data, dict) and isinstance(data.get("rows"), list):
+        columns = data.get("columns")
         data = data["rows"]
+        if isinstance(columns, list) and all(isinstance(row, list) and len(row) == len(columns) for row in data):
+            data = [dict(zip(map(str, columns), row)) for row in data]
     if isinstance(data, list) and all(isinstance(row, dict) for row in data):
         return data
     return data if isinstance(data, dict) else f"{name}: not a list of rows"
