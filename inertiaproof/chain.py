@@ -204,10 +204,12 @@ class Chain:
         rot, pos, _, _ = self.joint_frames(q)
         return rot, pos
 
-    def body_jacobian(self, q):
-        """QJ (..., 6N, n): qdot -> stacked (R_l^T v_l, omega_l) (Kinematics, DefBlockmatrixQ)."""
+    def body_jacobian(self, q, frames=None):
+        """QJ (..., 6N, n): qdot -> stacked (R_l^T v_l, omega_l) (Kinematics, DefBlockmatrixQ).
+
+        ``frames``: ``joint_frames(q)`` when the caller already has them."""
         q = self._check_q(q)
-        rot, pos, u, p = self.joint_frames(q)
+        rot, pos, u, p = self.joint_frames(q) if frames is None else frames
         n = self.n
         dx = np.stack([joint.coordinate.derivative(q[..., k]) for k, joint in enumerate(self.joints)], -1)
         revolute = np.array([j.revolute for j in self.joints])

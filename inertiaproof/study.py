@@ -1,0 +1,152 @@
+"""Error against run time, and stability, of simulating a scene with SciPy's solve_ivp methods.
+
+For each method and relative tolerance one closed-loop run
+(:mod:`inertiaproof.simulate`) gives a point (seconds, error): the error is
+the largest deviation of q from a tight-tolerance reference run, relative to
+the range q sweeps. Independently of any reference, every run carries the
+power-balance residual that Prop1 implies (inertiaproof.energy).
+
+The balance also yields a verdict: integrating a correct equation more
+tightly drives the residual down (to round-off); an equation inconsistent
+with Prop1's balance (a wrong term) leaves a residual that no tolerance
+removes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import motion, simulate
+from .result import Verdict
+
+EPS = np.finfo(float).eps
+BALANCE_FLOOR = 1e3 * EPS  # round-off of the relative balance E - E0 - W
+WRONG_ENERGY = 1e3  # a finished run whose balance residual exceeds this many rtol has the wrong energy
+
+
+@dataclass(frozen=True)
+class StudySettings:
+    methods: tuple = simulate.METHODS
+    tolerances: tuple = (1e-6,)
+    reference_rtol: float = 1e-10
+    reference_method: str = "DOP853"
+    horizon: float | None = None  # default: the scene's
+    samples: int = 101
+    max_evaluations: int = 20_000
+    max_seconds: float = 10.0
+
+
+@dataclass
+class Study:
+    scene: str
+    horizon: float
+    reference: simulate.Run
+    runs: list = field(default_factory=list)  # (Run, error)
+
+    def work_precision_rows(self):
+        return [{"scene": self.scene, "method": r.method, "rtol": r.rtol, "seconds": r.seconds, "error": e,
+                 "balance_error": r.balance_error, "steps": r.steps, "evaluations": r.evaluations,
+                 "status": r.status} for r, e in self.runs]
+
+    def stability_rows(self):
+        return [{"scene": self.scene, "method": r.method, "rtol": r.rtol, "status": r.status, "seconds": r.seconds,
+                 "steps": r.steps, "evaluations": r.evaluations, "note": r.note} for r, _ in self.runs]
+
+    def balance_verdict(self):
+        """(verdict, coarse residual, reference residual, why) from the reference method at two tolerances.
+
+        HOLDS: the reference run's residual is within WRONG_ENERGY x its rtol and fell from the coarse run's.
+        VIOLATED: it is far beyond that and did not fall by more than a factor 3: no tolerance removes it.
+        """
+        ref = self.reference
+        coarse = [r for r, _ in self.runs if r.method == ref.method and r.finished and r.rtol > 10 * ref.rtol]
+        if not ref.finished or not coarse:
+            return Verdict.INCONCLUSIVE, None, ref.balance_error, "no finished pair of runs of the reference method"
+        loose = max(coarse, key=lambda r: r.rtol)
+        b_coarse, b_ref = loose.balance_error, ref.balance_error
+        allowed = max(WRONG_ENERGY * ref.rtol, BALANCE_FLOOR)
+        change = f"rtol {loose.rtol:g} -> {ref.rtol:g}: residual {b_coarse:.2e} -> {b_ref:.2e}"
+        if b_ref <= allowed and (b_ref < b_coarse or b_ref <= BALANCE_FLOOR):
+            return Verdict.HOLDS, b_coarse, b_ref, f"{change} (<= {allowed:.0e} allowed)"
+        if b_ref > allowed and b_ref > 0.3 * b_coarse and b_ref > 100 * BALANCE_FLOOR:
+            return Verdict.VIOLATED, b_coarse, b_ref, (f"{change}: it stays far above {allowed:.0e}, so the simulated "
+                                                      "equation breaks the power balance of Prop1")
+        return Verdict.INCONCLUSIVE, b_coarse, b_ref, f"{change}: neither clearly at the tolerance nor level"
+
+
+def trajectory_error(run, reference, n):
+    """max_t ||q - q_ref||_inf over the range q_ref sweeps."""
+    q, q_ref = run.y[:, :n], reference.y[:, :n]
+    sweep = max(float(np.ptp(q_ref, axis=0).max()), float(np.abs(q_ref).max()) * EPS, np.finfo(float).tiny)
+    return float(np.abs(q - q_ref).max() / sweep)
+
+
+def classify(run):
+    """Mark a finished run whose balance residual is far beyond its tolerance as 'wrong energy'."""
+    if run.status == "ok" and run.balance_error > max(WRONG_ENERGY * run.rtol, 100 * BALANCE_FLOOR):
+        run.status = "wrong energy"
+        run.note = f"power-balance residual {run.balance_error:.2e} > {WRONG_ENERGY:g} x rtol"
+    return run
+
+
+def study(scene, settings=StudySettings(), forces=motion.generalized_forces, progress=lambda message: None):
+    """Reference run, then every method at every tolerance; see :class:`Study`."""
+    system = simulate.System(scene.chain, scene.trajectory,
+                             simulate.controller(scene.chain, scene.trajectory, scene.control), forces)
+    horizon = settings.horizon or scene.horizon()
+    n = scene.chain.n
+    budget = dict(samples=settings.samples, max_evaluations=settings.max_evaluations * 5,
+                  max_seconds=settings.max_seconds * 3)
+    progress(f"reference: {settings.reference_method} at rtol {settings.reference_rtol:g} over {horizon:g} s")
+    reference = classify(simulate.simulate(system, horizon, settings.reference_method, settings.reference_rtol,
+                                           **budget))
+    if not reference.finished:
+        progress(f"reference {settings.reference_method} {reference.status}; trying Radau")
+        reference = classify(simulate.simulate(system, horizon, "Radau", settings.reference_rtol, **budget))
+    out = Study(scene.name, horizon, reference)
+    for method in settings.methods:
+        for rtol in settings.tolerances:
+            run = classify(simulate.simulate(system, horizon, method, rtol, samples=settings.samples,
+                                             max_evaluations=settings.max_evaluations,
+                                             max_seconds=settings.max_seconds))
+            error = trajectory_error(run, reference, n) if run.finished and reference.finished else None
+            progress(f"{method} rtol {rtol:g}: {run.status}, {run.seconds:.2f} s, error "
+                     f"{'-' if error is None else f'{error:.1e}'}")
+            out.runs.append((run, error))
+    return out
+
+
+def cheapest(rows, error, scene=None):
+    """The method reaching ``error`` in the least time among finished rows: (method, seconds) or None.
+
+    Between two tolerances of one method the time is interpolated log-log at the wanted error.
+    """
+    best = None
+    by_method = {}
+    for row in rows:
+        if (scene is None or row["scene"] == scene) and row["status"] in ("ok", "wrong energy") and row["error"]:
+            by_method.setdefault(row["method"], []).append((row["error"], row["seconds"]))
+    for method, points in by_method.items():
+        points.sort()
+        seconds = _time_at(points, error)
+        if seconds is not None and (best is None or seconds < best[1]):
+            best = (method, seconds)
+    return best
+
+
+def _time_at(points, error):
+    """Seconds to reach ``error`` along (error, seconds) points sorted by error; None if never reached."""
+    reached = [(e, s) for e, s in points if e <= error]
+    if not reached:
+        return None
+    e_lo, s_lo = max(reached)
+    above = [(e, s) for e, s in points if e > error]
+    if not above:
+        return s_lo
+    e_hi, s_hi = min(above)
+    if e_lo <= 0 or s_lo <= 0 or s_hi <= 0:
+        return s_lo
+    w = np.log(error / e_lo) / np.log(e_hi / e_lo)
+    return float(np.exp((1 - w) * np.log(s_lo) + w * np.log(s_hi)))
