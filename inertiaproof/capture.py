@@ -29,11 +29,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import motion, simulate
+from . import dynamics, motion, simulate
 from .multibody import RigidChain
 from .trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
 
 PLACEMENTS = ("start", "middle")  # where in its time slice a piece joins
+MAX_FLOOR = 1e-3  # an integration floor above this leaves nothing to compare
 
 
 def mass_window(trajectory, horizon=2.0):
@@ -92,21 +93,29 @@ class Solution:
 
 
 class FeedforwardPD:
-    """tau = G(q_ref(t), Theta_nom) + Kp (q_ref - q) + Kd (qd_ref - qd): the same known input for every model."""
+    """tau = tau_ff(t) + Kp (q_ref - q) + Kd (qd_ref - qd) with constant gain matrices: the same known input for
+    every model. A PD law keeps its diagonal gains and gravity feedforward G(q_ref(t), Theta_nom); computed torque
+    is frozen at its home posture, Kp = M_nom(home) diag(kp) (likewise Kd), with feedforward
+    M_nom(q_ref) qdd_ref + C_nom(q_ref, qd_ref) qd_ref + G_nom(q_ref)."""
 
     def __init__(self, chain, control: simulate.Controller):
         self.chain, self.control = chain, control
+        self.kp, self.kd = control.gain_matrices(chain)
 
     def feedforward(self, times):
-        q_ref, _, _ = self.control.reference(times)
+        q_ref, qd_ref, qdd_ref = self.control.reference(times)
+        if self.control.kind == "none":
+            return np.zeros_like(q_ref)
         kin = motion.kinematics(self.chain, q_ref)
-        from . import dynamics
-
-        return dynamics.gravity(kin.qj, kin.rotations, self.control.nominal, self.chain.gravity)
+        nominal = motion.Parameters(self.control.nominal, np.zeros_like(self.control.nominal),
+                                    np.zeros(self.chain.n * 6), np.zeros(self.chain.n * 6))
+        acceleration = qdd_ref if self.control.kind == "computed_torque" else np.zeros_like(q_ref)
+        velocity = qd_ref if self.control.kind == "computed_torque" else np.zeros_like(q_ref)
+        return motion.generalized_forces(kin, self.chain.gravity, nominal, velocity, acceleration)
 
     def torque(self, feedforward, t, q, qd):
         q_ref, qd_ref, _ = self.control.reference(t)
-        return feedforward + self.control.kp * (q_ref - q) + self.control.kd * (qd_ref - qd)
+        return feedforward + self.kp @ (q_ref - q) + self.kd @ (qd_ref - qd)
 
 
 def _rk4(step_fn, state, times, feedforwards, jumps=None):
@@ -223,28 +232,113 @@ def observed_order(counts, errors):
 
 
 def convergence_verdict(counts, errors, floor):
-    """Do the captures converge to the equation? (verdict, observed order, why).
+    """Do the captures converge to the equation? (verdict, observed order, why, settled).
 
     The order is fitted over the finest three piece counts whose error is above ten times the integration
-    floor. HOLDS: the errors fall with an order >= 0.8, or reach the floor. VIOLATED: they level off
-    (order < 0.3) clearly above the floor, so the limit is another motion. Otherwise INCONCLUSIVE.
+    floor; it is *settled* when the last two pairwise orders agree within 0.5. HOLDS: the errors reach the
+    floor, or fall with a settled order >= 0.8. VIOLATED: they level off (settled order < 0.3) clearly above
+    the floor, so the limit is another motion. Otherwise INCONCLUSIVE (more pieces may settle it).
     """
     from .result import Verdict
 
     counts, errors = np.asarray(counts, float), np.asarray(errors, float)
+    if not np.all(np.isfinite(errors)) or not np.isfinite(floor):
+        return Verdict.INCONCLUSIVE, None, "a solution is not finite (the fixed-step integration blew up)", True
+    if floor > MAX_FLOOR:
+        return Verdict.INCONCLUSIVE, None, (f"the fixed-step solutions themselves are uncertain by {floor:.1e} "
+                                            "(relative): nothing can be compared"), True
     above = errors > 10 * floor
     if not above[-1]:
         return Verdict.HOLDS, None, (f"the captures reach the integration floor {floor:.1e} at K = "
-                                     f"{int(counts[np.argmin(above)])} pieces")
+                                     f"{int(counts[np.argmin(above)])} pieces"), True
     usable = np.flatnonzero(above)[-3:]
     if usable.size < 2:
-        return Verdict.INCONCLUSIVE, None, "fewer than two piece counts above the integration floor"
+        return Verdict.INCONCLUSIVE, None, "fewer than two piece counts above the integration floor", True
     order = observed_order(counts[usable], errors[usable])
+    pairwise = -np.diff(np.log(errors[usable])) / np.diff(np.log(counts[usable]))
+    settled = pairwise.size < 2 or abs(pairwise[-1] - pairwise[-2]) <= 0.5
+    if not settled:
+        return Verdict.INCONCLUSIVE, order, (f"the order has not settled (pairwise {np.round(pairwise, 2).tolist()} "
+                                             f"up to K = {int(counts[-1])})"), False
     if order >= 0.8:
         return Verdict.HOLDS, order, (f"the error falls as K^-{order:.2f} down to {errors[-1]:.1e} "
-                                      f"at K = {int(counts[-1])}")
+                                      f"at K = {int(counts[-1])}"), True
     if order < 0.3:
         return Verdict.VIOLATED, order, (f"the error levels off at {errors[-1]:.1e} (order {order:.2f}), "
                                          f"far above the integration floor {floor:.1e}: the limit of the captures "
-                                         "is another motion")
-    return Verdict.INCONCLUSIVE, order, f"the error falls only as K^-{order:.2f}"
+                                         "is another motion"), True
+    return Verdict.INCONCLUSIVE, order, f"the error falls only as K^-{order:.2f}", True
+
+
+def steps_for(window, rate, counts, minimum):
+    """Grid steps: at least ``minimum``, a multiple of 2 max(counts), with h x rate <= 1 (inside RK4's stability
+    interval, 2.78, and accurate for the slow motion that the study compares)."""
+    unit = 2 * max(counts)
+    needed = max(minimum, (window[1] - window[0]) * rate)
+    return int(unit * max(1, 2 ** int(np.ceil(np.log2(max(needed / unit, 1.0))))))
+
+
+@dataclass
+class CaptureStudy:
+    """Errors of the captures against the equation at the window's end, refined until the order settles."""
+
+    window: tuple
+    steps: int
+    counts: tuple
+    rate: float
+    floor: float
+    at_rest: list  # centred pieces at rest -> equation
+    fine: tuple  # the finest three counts
+    at_start: list  # pieces at rest joining at their slice's start -> equation
+    carried: list  # pieces carried with the body -> equation
+    carried_limit: list  # pieces carried -> the rigid chain without momentum exchange
+    mismatch: float  # equation vs the carried limit
+    verdict: object
+    order: float | None
+    why: str
+    history: list  # (steps, counts) tried
+
+
+def study(chain, trajectory, control, counts, steps, forces=motion.generalized_forces, horizon=2.0, max_steps=2048,
+          max_count=256, progress=lambda message: None):
+    """Captures of pieces at rest (and carried) against (RoboticEquation); doubles K while the order is unsettled
+    or between the bands of convergence and levelling off."""
+    from .result import Verdict
+
+    window = mass_window(trajectory, horizon)
+    rate = simulate.fastest_rate(chain, trajectory, control, window)
+    condition = simulate.conditioning(chain, trajectory, control, window)
+    counts, history = tuple(counts), []
+
+    def unanswered(need, why):
+        return CaptureStudy(window, need, counts, rate, np.nan, [], counts[-3:], [], [], [], np.nan,
+                            Verdict.INCONCLUSIVE, None, why, history)
+
+    if condition > simulate.MAX_CONDITION:
+        return unanswered(steps, f"M is numerically singular for forward dynamics (cond {condition:.1e}): qdd keeps "
+                                 f"fewer than 6 correct digits in float64")
+    while True:
+        need = steps_for(window, rate, counts, steps)
+        fine = counts[-3:]
+        if need > max_steps:
+            return unanswered(need, f"too stiff for the fixed-step study: the fastest closed-loop mode ({rate:.3g} "
+                                    f"rad/s) needs {need} RK4 steps over the window, more than {max_steps}")
+        history.append((need, counts))
+        pieces = ([Pieces(k, "middle", "rest") for k in counts] + [Pieces(k, "start", "rest") for k in fine]
+                  + [Pieces(k, "middle", "carried") for k in fine])
+        with np.errstate(all="ignore"):
+            sol = solve(chain, trajectory, control, pieces, need, forces, horizon, progress)
+        d = lambda x, y=None: distance(x, sol.equation if y is None else y, sol.scale)  # noqa: E731
+        floor = 2 * d(sol.equation_half_steps) / 15
+        at_rest = [d(sol.captures[Pieces(k, "middle", "rest")]) for k in counts]
+        verdict, order, why, settled = convergence_verdict(counts, at_rest, floor)
+        if (settled and verdict != Verdict.INCONCLUSIVE) or counts[-1] * 2 > max_count:
+            break
+        counts = counts[1:] + (counts[-1] * 2,)
+        progress(f"{why}; refining to K = {counts[-1]}")
+    return CaptureStudy(
+        window, need, counts, rate, floor, at_rest, fine,
+        [d(sol.captures[Pieces(k, "start", "rest")]) for k in fine],
+        [d(sol.captures[Pieces(k, "middle", "carried")]) for k in fine],
+        [d(sol.captures[Pieces(k, "middle", "carried")], sol.without_rate) for k in fine],
+        d(sol.without_rate), verdict, order, why, history)

@@ -79,38 +79,33 @@ _HEADER = re.compile(r"^\s*\[(\[)?\s*([A-Za-z0-9_.\-]+)\s*\]?\]\s*(#.*)?$")
 
 
 def _locate(text, path):
-    """1-based line of a field given as a path like ('body', 1, 'mass'), or None."""
+    """1-based line of a field given as a path like ('body', 1, 'solid', 'dims'), or None.
+
+    Walks the path: a name is a table header ([a.b] or the i-th [[a.b]]) or a key inside the current
+    table; once a key's value is an inline table or array, deeper names are looked up on that line.
+    """
     lines = text.splitlines()
-    tables = [p for p in path if isinstance(p, str)]
-    key = tables[-1] if tables else None
-    # the innermost table header that the path names, with its occurrence index
-    table_path, index = [], 0
-    for i, p in enumerate(path[:-1]):
-        if isinstance(p, str):
-            table_path.append(p)
-            index = path[i + 1] if i + 1 < len(path) and isinstance(path[i + 1], int) else 0
-    start, seen = 0, -1
-    if table_path:
-        wanted = ".".join(table_path)
-        for n, line in enumerate(lines):
-            m = _HEADER.match(line)
-            if m and m.group(2) == wanted:
-                seen += 1
-                if seen == index:
-                    start = n
-                    break
-        else:
-            # maybe an inline table: fall back to the first mention of the last table name
-            for n, line in enumerate(lines):
-                if re.match(rf"^\s*{re.escape(table_path[-1])}\s*=", line):
-                    start = n
-                    break
-    for n in range(start, len(lines)):
-        if n > start and _HEADER.match(lines[n]) and table_path:
+    headers = [(n, m.group(2)) for n, line in enumerate(lines) if (m := _HEADER.match(line))]
+    lo, hi, found, dotted = 0, len(lines), None, ""
+    parts = list(path)
+    for i, part in enumerate(parts):
+        if not isinstance(part, str):
+            continue
+        index = parts[i + 1] if i + 1 < len(parts) and isinstance(parts[i + 1], int) else 0
+        name = f"{dotted}.{part}" if dotted else part
+        tables = [n for n, h in headers if h == name and lo <= n < hi]
+        if tables:
+            lo = tables[min(index, len(tables) - 1)]
+            hi = next((n for n, h in headers if n > lo and (h == name or not h.startswith(name + "."))), len(lines))
+            found, dotted = lo, name
+            continue
+        key = re.compile(rf"(^|[{{,\s]){re.escape(part)}\s*=")
+        line = next((n for n in range(lo, hi) if key.search(lines[n])
+                     and not (n != lo and _HEADER.match(lines[n]))), None)
+        if line is None:
             break
-        if key and re.search(rf"(^|[{{,\s]){re.escape(key)}\s*=", lines[n]):
-            return n + 1
-    return start + 1 if table_path else None
+        found, lo, hi, dotted = line, line, line + 1, name
+    return None if found is None else found + 1
 
 
 def _field_name(path):

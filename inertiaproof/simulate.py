@@ -53,6 +53,16 @@ class Controller:
         a = self.amplitude
         return self.home + a * np.sin(arg), a * w * np.cos(arg), -a * w * w * np.sin(arg)
 
+    def gain_matrices(self, chain):
+        """(Kp, Kd) as matrices, frozen at the home posture: diagonal for PD, M_nom(home) diag(k) for computed
+        torque, zero for none."""
+        if self.kind == "computed_torque":
+            m_home = dynamics.mass_matrix(chain.body_jacobian(self.home), self.nominal)
+            return m_home * self.kp, m_home * self.kd
+        if self.kind == "pd":
+            return np.diag(self.kp), np.diag(self.kd)
+        return np.zeros((chain.n, chain.n)), np.zeros((chain.n, chain.n))
+
     def torque(self, kin, gravity, t, q, qd):
         if self.kind == "none":
             return np.zeros_like(q)
@@ -90,6 +100,35 @@ def controller(chain, trajectory, settings=None):
     w = s.bandwidth
     return Controller(s.kind, w**2 * scale, 2 * s.damping * w * scale, home, float(s.amplitude),
                       float(s.frequency), nominal)
+
+
+def fastest_rate(chain, trajectory, control, times):
+    """rad/s of the fastest closed-loop mode about the home posture over the parameters at ``times``:
+    max(sqrt(lambda_max(Kp, M)), lambda_max(Kd, M)) as generalized eigenvalues; inf if M is not positive definite."""
+    from scipy.linalg import eigh
+
+    kp, kd = control.gain_matrices(chain)
+    qj = chain.body_jacobian(control.home)
+    sym = lambda a: 0.5 * (a + a.T)  # noqa: E731
+    rate = 0.0
+    for t in times:
+        m = dynamics.mass_matrix(qj, trajectory.theta(np.array(t))[0])
+        try:
+            stiff = eigh(sym(kp), m, eigvals_only=True).max()
+            damp = eigh(sym(kd), m, eigvals_only=True).max()
+        except np.linalg.LinAlgError:
+            return np.inf
+        rate = max(rate, np.sqrt(max(stiff, 0.0)), damp)
+    return float(rate)
+
+
+def conditioning(chain, trajectory, control, times):
+    """max over ``times`` of cond(M(home, Theta(t))): qdd = M^-1 (...) keeps about -log10(cond x eps) digits."""
+    qj = chain.body_jacobian(control.home)
+    return float(max(np.linalg.cond(dynamics.mass_matrix(qj, trajectory.theta(np.array(t))[0])) for t in times))
+
+
+MAX_CONDITION = 1e-6 / np.finfo(float).eps  # beyond this, forward dynamics keeps fewer than 6 digits
 
 
 # -- the equation as an ODE ----------------------------------------------------
