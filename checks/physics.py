@@ -67,8 +67,8 @@ def internal_motion(ctx):
 
 
 def moving_masses_only(trajectory):
-    return ParameterTrajectory(trajectory.base, tuple(l for l in trajectory.loads if isinstance(l, MovingMass)),
-                               trajectory.span)
+    return ParameterTrajectory(trajectory.base, tuple(load for load in trajectory.loads
+                                                      if isinstance(load, MovingMass)), trajectory.span)
 
 
 def internal_motion_result(scenes, ctx, forces=motion.generalized_forces, samples=None):
@@ -103,9 +103,11 @@ def internal_motion_result(scenes, ctx, forces=motion.generalized_forces, sample
         evidence["scenes"][scene.name] = {
             "samples": quantity(samples, "count"),
             "joints": quantity(scene.chain.n, "count"),
-            "moving_masses": quantity(sum(isinstance(l, MovingMass) for l in trajectory.loads), "count"),
-            "max_relative_torque_error": quantity(error, "residual",
-                                                  "max over samples and joints of |tau_GRE - tau_Pinocchio| / sum |terms|"),
+            "moving_masses": quantity(sum(isinstance(load, MovingMass) for load in trajectory.loads), "count"),
+            "loads_left_out": quantity(len(scene.trajectory.loads) - len(trajectory.loads), "count",
+                                       "payloads and scalings: the loading variant checks those"),
+            "max_relative_torque_error": quantity(
+                error, "residual", "max over samples and joints of |tau_GRE - tau_Pinocchio| / sum |terms|"),
             "closed_form_max_relative_error": quantity(float(cc.relative_error("closed_form").max()), "residual",
                                                        "the same with trajectory.MovingMass's closed forms"),
             "max_torque": quantity(float(np.abs(cc.engine).max()), "value", unit="N m or N"),
@@ -213,8 +215,8 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
         if series is None and cs.at_rest:
             series = {"title": f"Loading as captures ({scene.name}): distance at the window's end",
                       "x_label": "pieces K", "y_label": "relative distance", "x_log": True, "y_log": True,
-                      "lines": {"at rest, centred -> (RoboticEquation)": [[k, e] for k, e in zip(cs.counts, cs.at_rest)],
-                                "at rest, slice start -> (RoboticEquation)": [[k, e] for k, e in zip(cs.fine, cs.at_start)],
+                      "lines": {"at rest, centred -> (RoboticEquation)": list(map(list, zip(cs.counts, cs.at_rest))),
+                                "at rest, slice start -> (RoboticEquation)": list(map(list, zip(cs.fine, cs.at_start))),
                                 "carried -> (RoboticEquation)": [[k, e] for k, e in zip(cs.fine, cs.carried)],
                                 "carried -> without M(q, Thetadot) qd": [[k, e] for k, e in
                                                                          zip(cs.fine, cs.carried_limit)]}}
@@ -227,7 +229,7 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
     first = next(iter(evidence["scenes"].values()))
     order = first["order_at_rest_centred"]["value"]
     summary = {
-        Verdict.HOLDS: (f"pieces captured at rest converge to (RoboticEquation)"
+        Verdict.HOLDS: ("pieces captured at rest converge to (RoboticEquation)"
                         + (f" with order {_fmt(order, '.2f')}" if order is not None else "")
                         + f"; arriving with the body's velocity instead misses it by "
                           f"{_fmt(first['mismatch_if_carried']['value'], '.2g')}"),

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import dynamics, motion, simulate
+from . import motion, simulate
 from .multibody import RigidChain
 from .trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
 
@@ -142,8 +142,8 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
     a, b = mass_window(trajectory, horizon)
     n = scene_chain.n
     pd = FeedforwardPD(scene_chain, control)
-    mass_only = ParameterTrajectory(trajectory.base, tuple(l for l in trajectory.loads if not isinstance(l, MovingMass)),
-                                    trajectory.span)
+    mass_only = ParameterTrajectory(trajectory.base, tuple(load for load in trajectory.loads
+                                                           if not isinstance(load, MovingMass)), trajectory.span)
     q0, qd0, _ = control.reference(np.array(a))
     start = np.concatenate([q0, qd0])
 

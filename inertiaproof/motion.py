@@ -61,8 +61,8 @@ def parameters_from_density(trajectory, times):
     along the path; this is independent of the closed forms in :class:`~inertiaproof.trajectory.MovingMass`.
     """
     times = np.asarray(times, dtype=float)
-    fixed = ParameterTrajectory(trajectory.base, tuple(l for l in trajectory.loads if not isinstance(l, MovingMass)),
-                                trajectory.span)
+    fixed = ParameterTrajectory(trajectory.base, tuple(load for load in trajectory.loads
+                                                       if not isinstance(load, MovingMass)), trajectory.span)
     theta, theta_dot = fixed.theta(times)
     psi = np.zeros(times.shape + (trajectory.bodies, 6))
     psi_dot = np.zeros_like(psi)

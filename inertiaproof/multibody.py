@@ -120,7 +120,7 @@ def inverse_dynamics(chain, trajectory, times, q, qd, qdd):
     data = model.createData()
     x, xd, xdd, slope = joint_motion(chain, q, qd, qdd)
     extra = [[], [], []]
-    for rider, load in zip(rider_list, (l for l in trajectory.loads if isinstance(l, MovingMass))):
+    for rider, load in zip(rider_list, (m for m in trajectory.loads if isinstance(m, MovingMass))):
         for store, value in zip(extra, rider.coordinates(*load.path.derivatives(times))):
             store.append(value)
     columns = [np.concatenate([a] + b, -1) for a, b in zip((x, xd, xdd), extra)]
@@ -139,7 +139,7 @@ class RigidChain:
         import pinocchio as pin
 
         self.pin, self.chain = pin, chain
-        self.moving = tuple(l for l in trajectory.loads if isinstance(l, MovingMass))
+        self.moving = tuple(load for load in trajectory.loads if isinstance(load, MovingMass))
         self.rider_list = riders(trajectory)
         self.model = augmented_model(chain, trajectory.base, self.rider_list)
         self.data = self.model.createData()

@@ -133,7 +133,8 @@ def passenger_platform():
     passenger walking a circle of 0.4 m radius on it (translating, not turning)."""
     chain = Chain.from_dh([(0.0, HALF_PI, 1.0, 0), (2.0, 0, 0, 0), (1.5, 0, 0, 0), (0.3, 0, 0, 0)], name="ride")
     base = [_rod(300.0, (0, -1.0, 0), (0, 0, 0), 0.2), _rod(150.0, (-2.0, 0, 0), (0, 0, 0), 0.12),
-            _rod(90.0, (-1.5, 0, 0), (0, 0, 0), 0.1), solids.solid("box", 200.0, (1.6, 1.2, 0.1), position=(-0.8, 0, 0))]
+            _rod(90.0, (-1.5, 0, 0), (0, 0, 0), 0.1),
+            solids.solid("box", 200.0, (1.6, 1.2, 0.1), position=(-0.8, 0, 0))]
     passenger = MovingMass(3, 75.0, inertia_com(solids.solid("box", 75.0, (0.4, 0.3, 1.7))),
                            Path("circle", Profile("cosine", 0.0, 4.0), center=(-0.8, 0, 0.9), radius=0.4))
     return _scene("passenger-platform", chain, base, (passenger,), span=(0.0, 4.0),

@@ -55,7 +55,8 @@ def rescaled_trajectory(trajectory, factor):
             load = dataclasses.replace(load, phi=rescaled_phi(load.phi, factor))
         elif isinstance(load, MovingMass):
             p = load.path
-            path = dataclasses.replace(p, start=tuple(factor * np.asarray(p.start)), end=tuple(factor * np.asarray(p.end)),
+            path = dataclasses.replace(p, start=tuple(factor * np.asarray(p.start)),
+                                       end=tuple(factor * np.asarray(p.end)),
                                        center=tuple(factor * np.asarray(p.center)), radius=factor * p.radius)
             load = dataclasses.replace(load, inertia_com=factor**2 * np.asarray(load.inertia_com), path=path)
         loads.append(load)

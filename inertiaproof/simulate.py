@@ -261,7 +261,8 @@ def _state_scale(system, y0):
 
 
 def balance_error(system, t, y):
-    """max over the integrator's own steps of |E(t) - E(t0) - W(t)| over the energy in play (max |E - E0|, |W|, |E0|)."""
+    """max over the integrator's own steps of |E(t) - E(t0) - W(t)| over the energy in play
+    (max |E - E0|, |W|, |E0|)."""
     n = system.chain.n
     q, qd, work = y[:, :n], y[:, n:2 * n], y[:, 2 * n]
     e = system.energy(t, q, qd)

@@ -24,6 +24,7 @@ from .result import Verdict
 EPS = np.finfo(float).eps
 BALANCE_FLOOR = 1e3 * EPS  # round-off of the relative balance E - E0 - W
 WRONG_ENERGY = 1e3  # a finished run whose balance residual exceeds this many rtol has the wrong energy
+REPEAT_BELOW = 5.0  # seconds: shorter runs are repeated for a median time; longer ones average their own noise
 STIFF = 1e4  # fastest closed-loop rate x horizon above which the reference run uses an implicit method
 
 
@@ -37,6 +38,8 @@ class StudySettings:
     samples: int = 101
     max_evaluations: int = 5_000  # per run (the reference gets three times as many); deterministic
     max_seconds: float = 120.0  # a safety net only: runs stopped by it depend on the machine
+    repeats: int = 1  # runs per point (if shorter than REPEAT_BELOW); the median time is kept
+    give_up: bool = True  # a method that failed at a looser tolerance is not run at tighter ones
 
 
 @dataclass
@@ -121,10 +124,20 @@ def study(scene, settings=StudySettings(), forces=motion.generalized_forces, pro
         out.reference = classify(simulate.simulate(system, horizon, "Radau", settings.reference_rtol, **budget))
     reference = out.reference
     for method in settings.methods:
-        for rtol in settings.tolerances:
-            run = classify(simulate.simulate(system, horizon, method, rtol, samples=settings.samples,
-                                             max_evaluations=settings.max_evaluations,
-                                             max_seconds=settings.max_seconds))
+        failed = None
+        for rtol in sorted(settings.tolerances, reverse=True):
+            if failed is not None and settings.give_up:
+                out.runs.append((simulate.Run(method, rtol, "not run", 0.0, 0, 0,
+                                              f"{failed.status} at the looser rtol {failed.rtol:g}"), None))
+                continue
+            runs = []
+            while len(runs) < max(1, settings.repeats) and (not runs or runs[0].seconds < REPEAT_BELOW):
+                runs.append(classify(simulate.simulate(system, horizon, method, rtol, samples=settings.samples,
+                                                       max_evaluations=settings.max_evaluations,
+                                                       max_seconds=settings.max_seconds)))
+            run = sorted(runs, key=lambda r: r.seconds)[len(runs) // 2]
+            if not run.finished:
+                failed = run
             error = trajectory_error(run, reference, n) if run.finished and reference.finished else None
             progress(f"{method} rtol {rtol:g}: {run.status}, {run.seconds:.2f} s, error "
                      f"{'-' if error is None else f'{error:.1e}'}")

@@ -84,8 +84,8 @@ def test_a_stiff_scene_defeats_explicit_methods_within_budget():
 def test_wrong_energy_and_cheapest():
     run = simulate.Run("RK45", 1e-6, "ok", 1.0, 10, 60, balance_error=1e-1)
     assert study.classify(run).status == "wrong energy"
-    rows = [{"scene": "s", "method": "A", "status": "ok", "error": e, "seconds": s} for e, s in [(1e-4, 1), (1e-8, 4)]]
-    rows += [{"scene": "s", "method": "B", "status": "ok", "error": e, "seconds": s} for e, s in [(1e-5, 1), (1e-7, 1.5)]]
+    row = lambda method, e, s: {"scene": "s", "method": method, "status": "ok", "error": e, "seconds": s}  # noqa: E731
+    rows = [row("A", 1e-4, 1), row("A", 1e-8, 4), row("B", 1e-5, 1), row("B", 1e-7, 1.5)]
     rows += [{"scene": "s", "method": "C", "status": "budget", "error": None, "seconds": 0.1}]
     assert study.cheapest(rows, 1e-6, "s")[0] == "B"
     assert study.cheapest(rows, 1e-8, "s") == ("A", 4)
