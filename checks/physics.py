@@ -43,6 +43,11 @@ def scenes_for(ctx, builtin):
     return [({"builtin": key}, robots.BUILTIN[key]()) for key in builtin]
 
 
+def label(ref, scene):
+    """How evidence names a scene: the built-in key, else the scene's name."""
+    return ref.get("builtin", scene.name)
+
+
 def scene_from(ref):
     if "builtin" in ref:
         return robots.BUILTIN[ref["builtin"]]()
@@ -94,13 +99,14 @@ def internal_motion_result(scenes, ctx, forces=motion.generalized_forces, sample
         trajectory = moving_masses_only(scene.trajectory)
         times = trajectory.times(samples, horizon=scene.horizon())
         ctx.progress(f"{scene.name}: {samples} samples over [{times[0]:g}, {times[-1]:g}] s")
-        q, qd, qdd = crosscheck.smooth_motion(scene.chain, times, ctx.rng(f"GRE-physics:internal:{scene.name}"))
+        rng = ctx.rng(f"GRE-physics:internal:{label(ref, scene)}")
+        q, qd, qdd = crosscheck.smooth_motion(scene.chain, times, rng)
         cc = crosscheck.cross_check(scene.chain, trajectory, times, q, qd, qdd, forces)
         verdict = cc.verdict()
         verdicts.append(verdict)
         error = float(cc.relative_error().max())
         worst_error = max(worst_error, error)
-        evidence["scenes"][scene.name] = {
+        evidence["scenes"][label(ref, scene)] = {
             "samples": quantity(samples, "count"),
             "joints": quantity(scene.chain.n, "count"),
             "moving_masses": quantity(sum(isinstance(load, MovingMass) for load in trajectory.loads), "count"),
@@ -178,7 +184,7 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
         "assumption": ASSUMPTION,
         "method": ("the equation (ours) against a rigid multibody model (Pinocchio) that gains the mass in K pieces, "
                    "each joining in a plastic capture with the generalized momentum continuous; one fixed grid of "
-                   "classical Runge-Kutta steps over the window for every model (h x fastest closed-loop rate <= 1/2), "
+                   "classical Runge-Kutta steps over the window for every model (h x fastest closed-loop rate <= 1), "
                    "captures on grid points; distances at the window's end, relative to the motion's range and "
                    "speed; K doubles until the observed order settles"),
         "scenes": {},
@@ -193,7 +199,7 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
             None, None, None, None)
         _, order_carried, _, _ = capture.convergence_verdict(cs.fine, cs.carried_limit, cs.floor) if cs.carried else (
             None, None, None, None)
-        evidence["scenes"][scene.name] = {
+        evidence["scenes"][label(ref, scene)] = {
             "window": [float(cs.window[0]), float(cs.window[1])],
             "verdict": str(cs.verdict),
             "why": cs.why,
@@ -213,7 +219,7 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
             "refinements": [[int(st), list(c)] for st, c in cs.history],
         }
         if series is None and cs.at_rest:
-            series = {"title": f"Loading as captures ({scene.name}): distance at the window's end",
+            series = {"title": f"Loading as captures ({label(ref, scene)}): distance at the window's end",
                       "x_label": "pieces K", "y_label": "relative distance", "x_log": True, "y_log": True,
                       "lines": {"at rest, centred -> (RoboticEquation)": list(map(list, zip(cs.counts, cs.at_rest))),
                                 "at rest, slice start -> (RoboticEquation)": list(map(list, zip(cs.fine, cs.at_start))),
@@ -275,7 +281,7 @@ def stability_result(scenes, ctx, forces=motion.generalized_forces, settings=Non
         verdicts.append(verdict)
         wp_rows += st.work_precision_rows()
         stab_rows += st.stability_rows()
-        evidence["scenes"][scene.name] = {
+        evidence["scenes"][label(ref, scene)] = {
             "horizon": quantity(st.horizon, "value", unit="s"),
             "fastest_rate": quantity(st.fastest_rate, "estimate", "fastest closed-loop mode at home, rad/s"),
             "verdict": str(verdict),

@@ -16,14 +16,14 @@ def loading():
 
 def test_captures_at_rest_converge_with_order_two(loading):
     assert loading.verdict == Verdict.HOLDS, loading.summary
-    entry = loading.evidence["scenes"]["planar-2r"]
+    entry = loading.evidence["scenes"]["planar-2r-payload"]
     assert abs(entry["order_at_rest_centred"]["value"] - 2.0) < 0.2
     assert abs(entry["order_at_rest_slice_start"]["value"] - 1.0) < 0.2
     assert entry["error_at_rest_centred"][-1]["value"] < 1e-3
 
 
 def test_mass_arriving_with_the_body_velocity_misses_the_equation(loading):
-    entry = loading.evidence["scenes"]["planar-2r"]
+    entry = loading.evidence["scenes"]["planar-2r-payload"]
     mismatch = entry["mismatch_if_carried"]["value"]
     assert mismatch > 0.05
     carried = [q["value"] for q in entry["carried_pieces_vs_equation"]]
