@@ -35,6 +35,7 @@ from .trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
 
 PLACEMENTS = ("start", "middle")  # where in its time slice a piece joins
 MAX_FLOOR = 1e-3  # an integration floor above this leaves nothing to compare
+FLOOR_BELOW = 1e-2  # the steps double until the floor is this far below the smallest capture error
 
 
 def mass_window(trajectory, horizon=2.0):
@@ -301,8 +302,9 @@ class CaptureStudy:
 
 def study(chain, trajectory, control, counts, steps, forces=motion.generalized_forces, horizon=2.0, max_steps=2048,
           max_count=256, progress=lambda message: None):
-    """Captures of pieces at rest (and carried) against (RoboticEquation); doubles K while the order is unsettled
-    or between the bands of convergence and levelling off."""
+    """Captures of pieces at rest (and carried) against (RoboticEquation). The RK4 steps double until the
+    integration floor lies FLOOR_BELOW under the smallest error; K doubles while the order is unsettled or between
+    the bands of convergence and levelling off."""
     from .result import Verdict
 
     window = mass_window(trajectory, horizon)
@@ -331,6 +333,10 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
         d = lambda x, y=None: distance(x, sol.equation if y is None else y, sol.scale)  # noqa: E731
         floor = 2 * d(sol.equation_half_steps) / 15
         at_rest = [d(sol.captures[Pieces(k, "middle", "rest")]) for k in counts]
+        if floor > FLOOR_BELOW * min(at_rest) and 2 * need <= max_steps:
+            steps = 2 * need
+            progress(f"integration floor {floor:.1e} too close to the errors; {steps} steps")
+            continue
         verdict, order, why, settled = convergence_verdict(counts, at_rest, floor)
         if (settled and verdict != Verdict.INCONCLUSIVE) or counts[-1] * 2 > max_count:
             break
