@@ -31,9 +31,11 @@ import numpy as np
 
 from . import motion, simulate
 from .multibody import RigidChain
+from .result import Verdict
 from .trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
 
 PLACEMENTS = ("start", "middle")  # where in its time slice a piece joins
+ARRIVALS = ("rest", "carried")  # at rest in the Newtonian frame, or moving with the point it joins
 MAX_FLOOR = 1e-3  # an integration floor above this leaves nothing to compare
 FLOOR_BELOW = 1e-2  # the steps double until the floor is this far below the smallest capture error
 
@@ -65,6 +67,10 @@ class Pieces:
     count: int
     placement: str = "middle"
     arrival: str = "rest"
+
+    def __post_init__(self):
+        if self.placement not in PLACEMENTS or self.arrival not in ARRIVALS or self.count < 1:
+            raise ValueError(f"pieces: count >= 1, placement in {PLACEMENTS}, arrival in {ARRIVALS}; got {self}")
 
     def schedule(self, a, b, steps):
         """(grid index of each capture, the mass time in force after it)."""
@@ -216,8 +222,9 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
         progress(piece.name)
         out.captures[piece] = _rk4(rigid_rhs(lambda t, c=current: c["mass_time"]), start, times, ff, jumps)
     span = np.abs(equation - start)
-    out.scale = np.concatenate([np.full(n, max(span[:n].max(), np.abs(qd0).max() * (b - a), 1e-12)),
-                                np.full(n, max(np.abs(equation[n:]).max(), np.abs(qd0).max(), 1e-12))])
+    tiny = np.finfo(float).tiny
+    out.scale = np.concatenate([np.full(n, max(span[:n].max(), np.abs(qd0).max() * (b - a), tiny)),
+                                np.full(n, max(np.abs(equation[n:]).max(), np.abs(qd0).max(), tiny))])
     return out
 
 
@@ -240,8 +247,6 @@ def convergence_verdict(counts, errors, floor):
     floor, or fall with a settled order >= 0.8. VIOLATED: they level off (settled order < 0.3) clearly above
     the floor, so the limit is another motion. Otherwise INCONCLUSIVE (more pieces may settle it).
     """
-    from .result import Verdict
-
     counts, errors = np.asarray(counts, float), np.asarray(errors, float)
     if not np.all(np.isfinite(errors)) or not np.isfinite(floor):
         return Verdict.INCONCLUSIVE, None, "a solution is not finite (the fixed-step integration blew up)", True
@@ -305,8 +310,6 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
     """Captures of pieces at rest (and carried) against (RoboticEquation). The RK4 steps double until the
     integration floor lies FLOOR_BELOW under the smallest error; K doubles while the order is unsettled or between
     the bands of convergence and levelling off."""
-    from .result import Verdict
-
     window = mass_window(trajectory, horizon)
     rate = simulate.fastest_rate(chain, trajectory, control, window)
     condition = simulate.conditioning(chain, trajectory, control, window)
