@@ -249,14 +249,22 @@ def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evalu
 
 
 def _state_scale(system, y0):
-    """Absolute tolerance per state component: the reference's amplitude and rate, and the initial energy."""
+    """Absolute tolerance per state component, from the system itself: the reference's amplitude (else the
+    coordinate box), that amplitude per second at the reference's frequency (at least 1/s), and an energy scale
+    max(|E0|, 1/2 qd_s^T M qd_s, |G^T q_s|)."""
     n = system.chain.n
     c = system.control
-    w = 2 * np.pi * c.frequency
-    q_scale = np.maximum(np.abs(c.home), 0) + max(c.amplitude, 1e-3)
-    q_scale = np.full(n, max(np.abs(q_scale).max(), 1e-3))
-    qd_scale = np.full(n, max(c.amplitude * w, 1e-3))
-    e_scale = max(abs(float(system.energy(np.array(system.trajectory.span[0]), y0[:n], y0[n:2 * n]))), 1e-12)
+    lo, hi = system.chain.coordinate_box()
+    q_scale = np.full(n, max(c.amplitude, np.abs(c.home).max(initial=0.0)))
+    q_scale = np.where(q_scale > 0, q_scale, hi - lo)
+    qd_scale = q_scale * max(2 * np.pi * c.frequency, 1.0)
+    q0, qd0 = y0[:n], y0[n:2 * n]
+    kin = motion.kinematics(system.chain, q0)
+    p = system.parameters(np.array(system.trajectory.span[0]))
+    m = dynamics.mass_matrix(kin.qj, p.theta)
+    g = dynamics.gravity(kin.qj, kin.rotations, p.theta, system.chain.gravity)
+    e0 = float(system.energy(np.array(system.trajectory.span[0]), q0, qd0))
+    e_scale = max(abs(e0), 0.5 * qd_scale @ m @ qd_scale, abs(g @ q_scale), np.finfo(float).tiny)
     return np.concatenate([q_scale, qd_scale, [e_scale]])
 
 
