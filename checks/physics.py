@@ -255,7 +255,7 @@ def replay_loading(data, ctx):
 # -- stability and error against run time -------------------------------------------
 
 STUDY_SETTINGS = {
-    "ci": study.StudySettings(tolerances=(1e-5,), reference_rtol=1e-8, max_evaluations=5_000),
+    "ci": study.StudySettings(tolerances=(1e-5,), reference_rtol=1e-7, max_evaluations=5_000),
     "deep": study.StudySettings(tolerances=(1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10),
                                 reference_rtol=1e-12, max_evaluations=200_000, max_seconds=600.0),
 }
