@@ -290,6 +290,8 @@ def stability_result(scenes, ctx, forces=motion.generalized_forces, settings=Non
                           "seconds": quantity(st.reference.seconds, "seconds"),
                           "balance_residual": quantity(fine, "residual", "max_t |E - E0 - W| / energy in play")},
             "coarse_balance_residual": quantity(coarse, "residual"),
+            "errors_against": (f"{st.reference.method} rtol {st.reference.rtol:g}" if st.substitute is None else
+                               f"{st.substitute.method} rtol {st.substitute.rtol:g} (the reference failed)"),
             "methods": {f"{r.method} rtol {r.rtol:g}": {
                 "status": r.status, "seconds": quantity(r.seconds, "seconds"), "steps": quantity(r.steps, "count"),
                 "error": quantity(e, "estimate", "max_t ||q - q_ref|| / range of q_ref"),
