@@ -55,7 +55,7 @@ class Study:
     def work_precision_rows(self):
         return [{"scene": self.scene, "method": r.method, "rtol": r.rtol, "seconds": r.seconds, "error": e,
                  "balance_error": r.balance_error, "steps": r.steps, "evaluations": r.evaluations,
-                 "status": r.status} for r, e in self.runs]
+                 "status": r.status, "note": r.note} for r, e in self.runs]
 
     def stability_rows(self):
         return [{"scene": self.scene, "method": r.method, "rtol": r.rtol, "status": r.status, "seconds": r.seconds,
@@ -166,16 +166,17 @@ def substitute_reference(runs, n):
     return [(r, trajectory_error(r, best, n) if r.finished else None) for r, _ in runs], best
 
 
-def cheapest(rows, error, scene=None):
-    """The method reaching ``error`` in the least time among finished rows: (method, seconds) or None.
+def cheapest(rows, error, scene=None, cost="seconds"):
+    """The method reaching ``error`` at the least ``cost`` ("seconds", or "evaluations": right-hand sides, a
+    machine-independent count) among finished rows: (method, cost) or None.
 
-    Between two tolerances of one method the time is interpolated log-log at the wanted error.
+    Between two tolerances of one method the cost is interpolated log-log at the wanted error.
     """
     best = None
     by_method = {}
     for row in rows:
         if (scene is None or row["scene"] == scene) and row["status"] in ("ok", "wrong energy") and row["error"]:
-            by_method.setdefault(row["method"], []).append((row["error"], row["seconds"]))
+            by_method.setdefault(row["method"], []).append((row["error"], row[cost]))
     for method, points in by_method.items():
         points.sort()
         seconds = _time_at(points, error)
