@@ -24,6 +24,7 @@ from .result import Verdict
 EPS = np.finfo(float).eps
 BALANCE_FLOOR = 1e3 * EPS  # round-off of the relative balance E - E0 - W
 WRONG_ENERGY = 1e3  # a finished run whose balance residual exceeds this many rtol has the wrong energy
+REFERENCE_BALANCE = 1e2  # the reference run (DOP853 or Radau) must keep the balance within this many rtol
 REPEAT_BELOW = 5.0  # seconds: shorter runs are repeated for a median time; longer ones average their own noise
 LOST_ENERGY = 1e-2  # a run that loses or gains more than this share of the energy in play is wrong at any rtol
 STIFF = 1e4  # fastest closed-loop rate x horizon above which the reference run uses an implicit method
@@ -64,7 +65,7 @@ class Study:
     def balance_verdict(self):
         """(verdict, coarse residual, reference residual, why) from the reference method at two tolerances.
 
-        HOLDS: the reference run's residual is within WRONG_ENERGY x its rtol and fell from the coarse run's.
+        HOLDS: the reference run's residual is within REFERENCE_BALANCE x its rtol and fell from the coarse run's.
         VIOLATED: it is far beyond that and did not fall by more than a factor 3: no tolerance removes it.
         """
         ref = self.reference
@@ -75,7 +76,7 @@ class Study:
             return Verdict.INCONCLUSIVE, None, ref.balance_error, why
         loose = max(coarse, key=lambda r: r.rtol)
         b_coarse, b_ref = loose.balance_error, ref.balance_error
-        allowed = max(WRONG_ENERGY * ref.rtol, BALANCE_FLOOR)
+        allowed = max(REFERENCE_BALANCE * ref.rtol, BALANCE_FLOOR)
         change = f"rtol {loose.rtol:g} -> {ref.rtol:g}: residual {b_coarse:.2e} -> {b_ref:.2e}"
         if b_ref <= allowed and (b_ref < b_coarse or b_ref <= BALANCE_FLOOR):
             return Verdict.HOLDS, b_coarse, b_ref, f"{change} (<= {allowed:.0e} allowed)"
