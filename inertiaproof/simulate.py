@@ -6,9 +6,11 @@ The state is (q, qd, W) with W the work supplied so far (inertiaproof.energy):
 the power balance E(t) - E(t0) = W(t) that Prop1 implies measures a run's
 accuracy without a reference solution. :func:`simulate` integrates with one
 of SciPy's ``solve_ivp`` methods and reports how the run ended: ``ok``,
-``step collapse`` (the step size fell to round-off), ``nan``, ``budget`` (too
-many right-hand-side evaluations) or ``wrong energy`` (finished, but the
-balance is off by more than the tolerance asked for allows).
+``step collapse`` (the step size fell to round-off), ``solver failure`` (the
+method gave up otherwise, e.g. LSODA's "unexpected istate"), ``nan``,
+``budget`` (too many right-hand-side evaluations), ``error`` (an exception),
+or, judged afterwards by inertiaproof.study, ``wrong energy`` (finished, but
+the power balance is off by more than the tolerance allows).
 """
 
 from __future__ import annotations
@@ -237,7 +239,10 @@ def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evalu
     seconds = time.perf_counter() - start
     steps = max(len(sol.t) - 1, 0)
     if sol.status != 0:
-        status = "nan" if not np.all(np.isfinite(sol.y)) else "step collapse"
+        if not np.all(np.isfinite(sol.y)):
+            status = "nan"
+        else:
+            status = "step collapse" if "step size" in sol.message else "solver failure"
         return Run(method, rtol, status, seconds, steps, system.evaluations,
                    f"{sol.message} (reached t = {sol.t[-1] if sol.t.size else t0:.6g})")
     y = sol.sol(t_eval).T

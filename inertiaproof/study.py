@@ -6,6 +6,11 @@ the largest deviation of q from a tight-tolerance reference run, relative to
 the range q sweeps. Independently of any reference, every run carries the
 power-balance residual that Prop1 implies (inertiaproof.energy).
 
+Besides the statuses of inertiaproof.simulate, a row may read ``not run`` (the
+method already failed at a looser tolerance) or ``ill-conditioned`` (cond(M)
+beyond 1e-6 / eps at the home posture: forward dynamics cannot be trusted in
+float64, so nothing is run).
+
 The balance also yields a verdict: integrating a correct equation more
 tightly drives the residual down (to round-off); an equation inconsistent
 with Prop1's balance (a wrong term) leaves a residual that no tolerance
