@@ -173,6 +173,6 @@ def def3_result(trajectories, spatial=spatial_inertia):
 def def3(ctx):
     if ctx.scene is not None:
         return def3_result({ctx.scene.name: ctx.scene.trajectory})
-    scenes = [robots.panda(payload=2.0), robots.planar_2r_trolley(), robots.translating_sphere(-0.5),
+    scenes = [robots.panda(payload=2.0), robots.trolley_2r(loop=True, mass=2.0), robots.translating_sphere(-0.5),
               robots.translating_sphere(0.5)]
     return def3_result({f"{s.name} ({s.description})": s.trajectory for s in scenes})

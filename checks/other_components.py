@@ -130,12 +130,12 @@ def thm4_result(ctx, scenes=None, k=1.0, hunt_factor=2.0):
 
 
 def acc_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
-    scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.planar_2r_trolley()])
+    scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.trolley_2r(loop=True, mass=2.0)])
     return with_hunt(ctx, run_scenes("EQ-acc", ctx, acceleration_case, scenes, k), hunt_factor, moving_mass=True)
 
 
 def thm5_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
-    scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.planar_2r_trolley()])
+    scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.trolley_2r(loop=True, mass=2.0)])
     return with_hunt(ctx, run_scenes("Asm3/Thm5", ctx, lumped_velocity_case, scenes, k), hunt_factor, moving_mass=True)
 
 

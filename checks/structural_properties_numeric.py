@@ -166,7 +166,7 @@ def _worst(residuals, resolution):
 
 
 def prop1_scenes():
-    return [robots.panda(payload=2.0), robots.planar_2r_trolley()]
+    return [robots.panda(payload=2.0), robots.trolley_2r(loop=True, mass=2.0)]
 
 
 def prop1_result(ctx, terms=Terms(), examples=None):

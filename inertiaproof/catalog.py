@@ -69,6 +69,9 @@ ENTRIES = (
 EXTRAS = (
     Entry("gate", "CI", "derivation fingerprints",
           "The derived objects mean what the committed lockfile says they mean."),
+    Entry("stability", "Numerics", "simulation of (RoboticEquation) with solve_ivp",
+          "Simulating the equation conserves the power balance of Prop1 as the tolerance tightens; "
+          "error against run time and the failures of each method on stiff and extreme scenes."),
 )
 
 BY_ID = {e.id: e for e in ENTRIES + EXTRAS}

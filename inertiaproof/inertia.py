@@ -19,30 +19,23 @@ URDF_FIELDS = ("mass", "com_x", "com_y", "com_z", "ixx", "iyy", "izz", "ixy", "i
 
 def skew(x):
     """S(x) with S(x) y = x cross y (paper, Notation). Shape (..., 3) -> (..., 3, 3)."""
-    x = np.asarray(x, dtype=float)
-    z = np.zeros_like(x[..., 0])
-    return np.stack(
-        [
-            np.stack([z, -x[..., 2], x[..., 1]], -1),
-            np.stack([x[..., 2], z, -x[..., 0]], -1),
-            np.stack([-x[..., 1], x[..., 0], z], -1),
-        ],
-        -2,
-    )
+    x = np.asarray(x)
+    if not np.iscomplexobj(x):
+        x = np.asarray(x, dtype=float)
+    s = np.zeros(x.shape + (3,), dtype=x.dtype)
+    s[..., 0, 1], s[..., 0, 2] = -x[..., 2], x[..., 1]
+    s[..., 1, 0], s[..., 1, 2] = x[..., 2], -x[..., 0]
+    s[..., 2, 0], s[..., 2, 1] = -x[..., 1], x[..., 0]
+    return s
 
 
 def inertia_matrix(phi):
     """The 3x3 inertia I about the frame origin (eq:I)."""
     phi = np.asarray(phi, dtype=float)
-    i11, i22, i33, i12, i23, i13 = (phi[..., k] for k in range(4, 10))
-    return np.stack(
-        [
-            np.stack([i11, i12, i13], -1),
-            np.stack([i12, i22, i23], -1),
-            np.stack([i13, i23, i33], -1),
-        ],
-        -2,
-    )
+    return phi[..., _INERTIA_INDEX]
+
+
+_INERTIA_INDEX = np.array([[4, 7, 9], [7, 5, 8], [9, 8, 6]])
 
 
 def unpack(phi):
@@ -112,13 +105,13 @@ def pseudo_inertia_inverse(f):
 
 def spatial_inertia(phi):
     """Z(Phi) = [[m I3, -S(h)], [-S(h)^T, I]] (DefMatrixZ), shape (..., 6, 6)."""
-    m, h, inertia = unpack(phi)
-    s = skew(h)
-    z = np.zeros(m.shape + (6, 6))
-    z[..., :3, :3] = m[..., None, None] * np.eye(3)
-    z[..., :3, 3:] = -s
-    z[..., 3:, :3] = -np.swapaxes(s, -1, -2)
-    z[..., 3:, 3:] = inertia
+    phi = np.asarray(phi, dtype=float)
+    z = np.zeros(phi.shape[:-1] + (6, 6))
+    z[..., 0, 0] = z[..., 1, 1] = z[..., 2, 2] = phi[..., 0]
+    minus_s = -skew(phi[..., 1:4])
+    z[..., :3, 3:] = minus_s
+    z[..., 3:, :3] = np.swapaxes(minus_s, -1, -2)
+    z[..., 3:, 3:] = phi[..., _INERTIA_INDEX]
     return z
 
 

@@ -13,6 +13,7 @@ from . import solids
 from .chain import Chain, Coordinate, Joint, origin
 from .inertia import rotation_rpy
 from .scene import Scene
+from .inertia import inertia_com
 from .trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile, Scaling
 
 HALF_PI = np.pi / 2
@@ -34,11 +35,13 @@ def _scene(name, chain, base, loads=(), span=(0.0, 5.0), description=""):
     return Scene(name, chain, ParameterTrajectory(np.asarray(base, float), tuple(loads), span), description)
 
 
-def planar_2r(payload=None):
-    """Planar 2R arm, links of 1 m and 0.8 m in the x-y plane, gravity along -y."""
+def planar_2r(payload=None, start=1.0, duration=0.5):
+    """Planar 2R arm, links of 1 m and 0.8 m in the x-y plane, gravity along -y; a payload (kg) ramps in over
+    [start, start + duration]."""
     chain = Chain.from_dh([(1.0, 0, 0, 0), (0.8, 0, 0, 0)], name="planar 2R", gravity=(0, -9.81, 0))
     base = [_rod(3.0, (-1.0, 0, 0), (0, 0, 0), 0.05), _rod(2.0, (-0.8, 0, 0), (0, 0, 0), 0.04)]
-    loads = () if payload is None else (Payload(1, solids.solid("sphere", payload, (0.05,)), Profile("smootherstep", 1.0, 0.5)),)
+    loads = () if payload is None else (Payload(1, solids.solid("sphere", payload, (0.05,)),
+                                                Profile("smootherstep", start, duration)),)
     return _scene("planar-2r", chain, base, loads, description="planar 2R arm" + (" picking up a payload" if loads else ""))
 
 
@@ -116,20 +119,33 @@ def revolute_prismatic(limit=None):
                   description="turntable with a radial slide" + ("" if limit else " of unlimited travel"))
 
 
-def planar_2r_trolley(mass=2.0):
-    """EQ-acc, Thm5: the planar 2R arm with a trolley of ``mass`` kg running once round a loop of radius 0.15 m on
-    link 2 (a moving mass; a purely radial run would exert no joint torque)."""
+def trolley_2r(loop=False, mass=4.0):
+    """The planar 2R arm with a trolley of ``mass`` kg on its second link: a 0.6 m run along the link
+    (GRE-physics) or, with ``loop``, once round a loop of radius 0.15 m (EQ-acc, Thm5: a purely radial run
+    exerts little torque through J^T Q^T Psidot)."""
     scene = planar_2r()
-    path = Path("circle", Profile("cosine", 0.5, 2.0), center=(-0.4, 0.0, 0.0), radius=0.15, normal=(0.0, 0.0, 1.0))
-    trolley = MovingMass(1, mass, _box_inertia(mass), path)
-    return _scene("planar-2r-trolley", scene.chain, scene.trajectory.base, (trolley,), span=(0.0, 3.0),
-                  description=f"planar 2R arm with a {mass:g} kg trolley running round a loop on link 2")
+    if loop:
+        path = Path("circle", Profile("cosine", 0.5, 2.0), center=(-0.4, 0.0, 0.0), radius=0.15)
+        name, span, how = "trolley-loop-2r", (0.0, 3.0), "running round a loop on"
+    else:
+        path = Path("line", Profile("smootherstep", 0.5, 1.5), start=(-0.7, 0, 0.05), end=(-0.1, 0, 0.05))
+        name, span, how = "trolley-2r", (0.0, 2.5), "running along"
+    trolley = MovingMass(1, mass, inertia_com(solids.solid("box", mass, (0.12, 0.08, 0.06))), path)
+    return _scene(name, scene.chain, scene.trajectory.base, (trolley,), span=span,
+                  description=f"planar 2R arm with a {mass:g} kg trolley {how} its second link")
 
 
-def _box_inertia(mass, dims=(0.1, 0.06, 0.06)):
-    """Inertia about the CoM of a uniform box."""
-    a, b, c = dims
-    return mass / 12.0 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
+def passenger_platform():
+    """GRE-physics: a 4-DoF ride (turntable, shoulder, elbow, platform tilt) whose platform carries a 75 kg
+    passenger walking a circle of 0.4 m radius on it (translating, not turning)."""
+    chain = Chain.from_dh([(0.0, HALF_PI, 1.0, 0), (2.0, 0, 0, 0), (1.5, 0, 0, 0), (0.3, 0, 0, 0)], name="ride")
+    base = [_rod(300.0, (0, -1.0, 0), (0, 0, 0), 0.2), _rod(150.0, (-2.0, 0, 0), (0, 0, 0), 0.12),
+            _rod(90.0, (-1.5, 0, 0), (0, 0, 0), 0.1),
+            solids.solid("box", 200.0, (1.6, 1.2, 0.1), position=(-0.8, 0, 0))]
+    passenger = MovingMass(3, 75.0, inertia_com(solids.solid("box", 75.0, (0.4, 0.3, 1.7))),
+                           Path("circle", Profile("cosine", 0.0, 4.0), center=(-0.8, 0, 0.9), radius=0.4))
+    return _scene("passenger-platform", chain, base, (passenger,), span=(0.0, 4.0),
+                  description="4-DoF ride carrying a passenger who walks a circle on its platform")
 
 
 BUILTIN = {
@@ -140,5 +156,9 @@ BUILTIN = {
     "translating-sphere": translating_sphere,
     "non-normal-2r": non_normal_2r,
     "rp-bounded": lambda: revolute_prismatic(limit=1.0),
-    "planar-2r-trolley": planar_2r_trolley,
+    "planar-2r-payload": lambda: planar_2r(payload=2.0),
+    "planar-2r-early-payload": lambda: planar_2r(payload=2.0, start=0.3),
+    "trolley-2r": trolley_2r,
+    "trolley-loop-2r": lambda: trolley_2r(loop=True, mass=2.0),
+    "passenger-platform": passenger_platform,
 }

@@ -41,6 +41,7 @@ FEATURE_WORDS = {
     "chain": "a chain",
     "time_varying": "time-varying parameters (the scene's are constant, so no rate-of-change check applies)",
     "internal_motion": "internal motion (the scene has no moving mass, Psi = 0)",
+    "mass_change": "mass added or removed (the scene has no payload or scaling)",
     "symbolic": "symbolic work (not asked for: add --symbolic)",
 }
 

@@ -26,6 +26,25 @@ class SceneError(InputError):
 
 
 @dataclass(frozen=True)
+class ControlSettings:
+    """How a simulation of the scene drives it (inertiaproof.simulate.controller): a controller of ``kind``
+    with ``bandwidth`` rad/s and ``damping``, gains ``per_joint`` or ``uniform``, tracking
+    home + amplitude sin(2 pi frequency t + k pi / 3) on joint k, over ``horizon`` seconds."""
+
+    kind: str = "pd"
+    bandwidth: float = 10.0
+    damping: float = 1.0
+    gains: str = "per_joint"
+    home: tuple | None = None
+    amplitude: float = 0.3
+    frequency: float = 0.5
+    horizon: float | None = None
+
+    KINDS = ("pd", "computed_torque", "none")
+    GAINS = ("per_joint", "uniform")
+
+
+@dataclass(frozen=True)
 class Scene:
     name: str
     chain: Chain
@@ -33,6 +52,7 @@ class Scene:
     description: str = ""
     source: str | None = None
     warnings: tuple = field(default_factory=tuple)
+    control: ControlSettings = ControlSettings()
 
     def features(self):
         """What this scene has; checks declare what they need of it."""
@@ -41,7 +61,16 @@ class Scene:
             have.add("time_varying")
         if self.trajectory.internal_motion:
             have.add("internal_motion")
+        if self.trajectory.mass_change:
+            have.add("mass_change")
         return frozenset(have)
+
+    def horizon(self, default=3.0):
+        """Seconds a simulation of the scene covers: [control] horizon, else the time span up to ``default``."""
+        if self.control.horizon is not None:
+            return self.control.horizon
+        t0, t1 = self.trajectory.span
+        return min(t1 - t0, default)
 
 
 # -- locating fields in the source -------------------------------------------
@@ -50,38 +79,33 @@ _HEADER = re.compile(r"^\s*\[(\[)?\s*([A-Za-z0-9_.\-]+)\s*\]?\]\s*(#.*)?$")
 
 
 def _locate(text, path):
-    """1-based line of a field given as a path like ('body', 1, 'mass'), or None."""
+    """1-based line of a field given as a path like ('body', 1, 'solid', 'dims'), or None.
+
+    Walks the path: a name is a table header ([a.b] or the i-th [[a.b]]) or a key inside the current
+    table; once a key's value is an inline table or array, deeper names are looked up on that line.
+    """
     lines = text.splitlines()
-    tables = [p for p in path if isinstance(p, str)]
-    key = tables[-1] if tables else None
-    # the innermost table header that the path names, with its occurrence index
-    table_path, index = [], 0
-    for i, p in enumerate(path[:-1]):
-        if isinstance(p, str):
-            table_path.append(p)
-            index = path[i + 1] if i + 1 < len(path) and isinstance(path[i + 1], int) else 0
-    start, seen = 0, -1
-    if table_path:
-        wanted = ".".join(table_path)
-        for n, line in enumerate(lines):
-            m = _HEADER.match(line)
-            if m and m.group(2) == wanted:
-                seen += 1
-                if seen == index:
-                    start = n
-                    break
-        else:
-            # maybe an inline table: fall back to the first mention of the last table name
-            for n, line in enumerate(lines):
-                if re.match(rf"^\s*{re.escape(table_path[-1])}\s*=", line):
-                    start = n
-                    break
-    for n in range(start, len(lines)):
-        if n > start and _HEADER.match(lines[n]) and table_path:
+    headers = [(n, m.group(2)) for n, line in enumerate(lines) if (m := _HEADER.match(line))]
+    lo, hi, found, dotted = 0, len(lines), None, ""
+    parts = list(path)
+    for i, part in enumerate(parts):
+        if not isinstance(part, str):
+            continue
+        index = parts[i + 1] if i + 1 < len(parts) and isinstance(parts[i + 1], int) else 0
+        name = f"{dotted}.{part}" if dotted else part
+        tables = [n for n, h in headers if h == name and lo <= n < hi]
+        if tables:
+            lo = tables[min(index, len(tables) - 1)]
+            hi = next((n for n, h in headers if n > lo and (h == name or not h.startswith(name + "."))), len(lines))
+            found, dotted = lo, name
+            continue
+        key = re.compile(rf"(^|[{{,\s]){re.escape(part)}\s*=")
+        line = next((n for n in range(lo, hi) if key.search(lines[n])
+                     and not (n != lo and _HEADER.match(lines[n]))), None)
+        if line is None:
             break
-        if key and re.search(rf"(^|[{{,\s]){re.escape(key)}\s*=", lines[n]):
-            return n + 1
-    return start + 1 if table_path else None
+        found, lo, hi, dotted = line, line, line + 1, name
+    return None if found is None else found + 1
 
 
 def _field_name(path):
@@ -306,7 +330,8 @@ def parse_scene(text, source="<scene>"):
         m = re.search(r"line (\d+)", str(exc))
         raise SceneError(f"{source}:{m.group(1) if m else '?'}: not valid TOML: {exc}") from None
     r = _Reader(text, source)
-    r.keys(data, (), {"name", "description", "chain", "body", "load", "time"}, required=("name", "chain", "body"))
+    r.keys(data, (), {"name", "description", "chain", "body", "load", "time", "control"},
+           required=("name", "chain", "body"))
     chain_t = r.table(data, (), "chain")
     r.keys(chain_t, ("chain",), {"convention", "gravity", "joint", "name"}, required=("joint",))
     convention = r.choice(chain_t, ("chain",), "convention", ("standard", "modified", "joints"), default="standard")
@@ -329,7 +354,27 @@ def parse_scene(text, source="<scene>"):
         r.error(("time", "end"), f"must be after time.start = {t0:g}, got {t1:g}")
     trajectory = ParameterTrajectory(base, loads, (t0, t1))
     _check_trajectory(r, trajectory)
-    return Scene(str(data["name"]), chain, trajectory, str(data.get("description", "")), source)
+    control = _control(r, r.table(data, (), "control", required=False), chain.n)
+    return Scene(str(data["name"]), chain, trajectory, str(data.get("description", "")), source, control=control)
+
+
+def _control(r, table, joints):
+    if table is None:
+        return ControlSettings()
+    path = ("control",)
+    r.keys(table, path, {"kind", "bandwidth", "damping", "gains", "home", "amplitude", "frequency", "horizon"})
+    defaults = ControlSettings()
+    home = table.get("home")
+    return ControlSettings(
+        kind=r.choice(table, path, "kind", ControlSettings.KINDS, default=defaults.kind),
+        bandwidth=r.number(table, path, "bandwidth", defaults.bandwidth, positive=True),
+        damping=r.number(table, path, "damping", defaults.damping, positive=True),
+        gains=r.choice(table, path, "gains", ControlSettings.GAINS, default=defaults.gains),
+        home=None if home is None else tuple(r.vector(table, path, "home", joints)),
+        amplitude=r.number(table, path, "amplitude", defaults.amplitude, nonnegative=True),
+        frequency=r.number(table, path, "frequency", defaults.frequency, nonnegative=True),
+        horizon=r.number(table, path, "horizon", None, positive=True) if "horizon" in table else None,
+    )
 
 
 def _check_trajectory(r, trajectory):

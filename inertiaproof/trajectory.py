@@ -181,20 +181,36 @@ class ParameterTrajectory:
     def internal_motion(self):
         return any(isinstance(load, MovingMass) for load in self.loads)
 
-    def theta(self, t):
-        """(Theta, Thetadot) at times t: shapes (..., N, 10)."""
+    @property
+    def mass_change(self):
+        """Whether mass is added or removed (a payload or a scaling), not only moved around."""
+        return any(isinstance(load, (Payload, Scaling)) for load in self.loads)
+
+    def theta(self, t, mass_time=None):
+        """(Theta, Thetadot) at times t: shapes (..., N, 10).
+
+        With ``mass_time``, payloads and scalings are frozen at those times (their rate is 0): the
+        parameters of a body that gains or loses mass in discrete pieces (inertiaproof.capture).
+        """
         t = np.asarray(t, dtype=float)
+        frozen = mass_time is not None
+        tm = np.broadcast_to(np.asarray(mass_time, dtype=float), t.shape) if frozen else t
         theta = np.broadcast_to(self.base, t.shape + self.base.shape).copy()
         theta_dot = np.zeros_like(theta)
         for load in self.loads:
             if isinstance(load, Scaling):
-                s, ds, _ = load.factor(t)
+                s, ds, _ = load.factor(tm)
+                ds = 0 * ds if frozen else ds
                 theta[..., load.body, :], theta_dot[..., load.body, :] = (
                     s[..., None] * theta[..., load.body, :],
                     ds[..., None] * theta[..., load.body, :] + s[..., None] * theta_dot[..., load.body, :],
                 )
         for load in self.loads:
-            if not isinstance(load, Scaling):
+            if isinstance(load, Payload):
+                phi, phi_dot = load.theta(tm)
+                theta[..., load.body, :] += phi
+                theta_dot[..., load.body, :] += 0 * phi_dot if frozen else phi_dot
+            elif isinstance(load, MovingMass):
                 phi, phi_dot = load.theta(t)
                 theta[..., load.body, :] += phi
                 theta_dot[..., load.body, :] += phi_dot

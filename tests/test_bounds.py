@@ -204,7 +204,7 @@ def test_cx_normal_on_a_normal_chain_is_violated():
 
 
 def test_moving_mass_bounds_are_valid():
-    traj = robots.planar_2r_trolley().trajectory
+    traj = robots.trolley_2r(loop=True, mass=2.0).trajectory
     lv = bounds.lumped_velocity_bounds(traj, samples=20001)
     for key in ("psi", "psi_dot"):
         assert lv[key]["observed"] <= lv[key]["certified"]

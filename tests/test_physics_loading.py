@@ -1,0 +1,87 @@
+"""GRE-physics, loading: plastic captures of pieces at rest converge to the equation's solution."""
+
+import numpy as np
+import pytest
+
+from inertiaproof import capture, motion, robots, simulate
+from inertiaproof.checks import physics
+from inertiaproof.registry import PROFILES, REPLAYERS, Context
+from inertiaproof.result import Verdict
+
+
+@pytest.fixture(scope="module")
+def loading():
+    return physics.loading_result([({"builtin": "planar-2r-payload"}, robots.planar_2r(2.0))], Context(PROFILES["ci"]))
+
+
+def test_captures_at_rest_converge_with_order_two(loading):
+    assert loading.verdict == Verdict.HOLDS, loading.summary
+    entry = loading.evidence["scenes"]["planar-2r-payload"]
+    assert abs(entry["order_at_rest_centred"]["value"] - 2.0) < 0.2
+    assert abs(entry["order_at_rest_slice_start"]["value"] - 1.0) < 0.2
+    assert entry["error_at_rest_centred"][-1]["value"] < 1e-3
+
+
+def test_mass_arriving_with_the_body_velocity_misses_the_equation(loading):
+    entry = loading.evidence["scenes"]["planar-2r-payload"]
+    mismatch = entry["mismatch_if_carried"]["value"]
+    assert mismatch > 0.05
+    carried = [q["value"] for q in entry["carried_pieces_vs_equation"]]
+    assert min(carried) > 0.5 * mismatch  # pieces that arrive moving do not approach the equation ...
+    assert entry["carried_pieces_vs_their_limit"][-1]["value"] < 1e-3  # ... but the equation without M(q, Thetadot)
+    assert "at rest" in loading.evidence["assumption"]
+    assert set(loading.evidence["series"]["lines"]) >= {"at rest, centred -> (RoboticEquation)"}
+
+
+def _perturbed(name, factor):
+    def forces(kin, gravity, p, qd, qdd):
+        terms = motion.equation_terms(kin, gravity, p, qd, qdd)
+        terms[name] = factor * terms[name]
+        return sum(terms.values())
+    return forces
+
+
+@pytest.mark.parametrize("term, factor, replay", [("parameter_rate", 0.5, True), ("gravity", 1.01, False)])
+def test_a_perturbed_equation_is_violated(term, factor, replay):
+    scene = robots.planar_2r(2.0)
+    result = physics.loading_result([({"builtin": "planar-2r-payload"}, scene)], Context(PROFILES["ci"]),
+                                    forces=_perturbed(term, factor), steps=64, counts=(4, 8, 16, 32))
+    assert result.verdict == Verdict.VIOLATED, result.summary
+    assert result.counterexample["kind"] == "gre-physics-loading"
+    if replay:
+        replayed = REPLAYERS["gre-physics-loading"](result.counterexample["data"], Context(PROFILES["ci"]))
+        assert replayed.verdict == Verdict.HOLDS
+
+
+def test_convergence_verdict_decides_from_the_tail():
+    counts = [4, 8, 16, 32, 64]
+    second = [1e-2 / k**2 for k in counts]
+    assert capture.convergence_verdict(counts, second, 1e-12)[0] == Verdict.HOLDS
+    level = [1e-2 / k**2 + 3e-4 for k in counts]
+    verdict, order, why, settled = capture.convergence_verdict(counts, level, 1e-12)
+    assert verdict == Verdict.VIOLATED and settled and order < 0.3
+    floor = capture.convergence_verdict(counts, [1e-3, 1e-6, 1e-9, 1e-9, 1e-9], 1e-9)
+    assert floor[0] == Verdict.HOLDS
+    crossing = capture.convergence_verdict(counts, [1e-3, 1e-5, 1e-8, 3e-8, 1e-8], 1e-12)
+    assert crossing[0] == Verdict.INCONCLUSIVE and not crossing[3]
+    assert capture.convergence_verdict(counts, [1e-3, np.nan, 1, 1, 1], 1e-12)[0] == Verdict.INCONCLUSIVE
+
+
+def test_schedule_puts_captures_on_the_grid():
+    index, mass_times = capture.Pieces(4, "middle").schedule(1.0, 2.0, 16)
+    assert index.tolist() == [2, 6, 10, 14] and mass_times.tolist() == [1.25, 1.5, 1.75, 2.0]
+    index, _ = capture.Pieces(4, "start").schedule(1.0, 2.0, 16)
+    assert index.tolist() == [0, 4, 8, 12]
+    with pytest.raises(ValueError):
+        capture.Pieces(8).schedule(0.0, 1.0, 12)
+
+
+def test_mass_window_and_stiff_scenes():
+    scene = robots.planar_2r(2.0)
+    assert capture.mass_window(scene.trajectory) == (1.0, 1.5)
+    with pytest.raises(ValueError):
+        capture.mass_window(robots.trolley_2r().trajectory)
+    control = simulate.controller(scene.chain, scene.trajectory)
+    assert capture.steps_for((1.0, 1.5), 1e3, (4, 64), 128) == 512
+    too_stiff = capture.study(scene.chain, scene.trajectory, control, (4, 8), 16, max_steps=8)
+    assert too_stiff.verdict == Verdict.INCONCLUSIVE and "too stiff" in too_stiff.why

@@ -1,0 +1,92 @@
+"""The simulation study: the power balance of Prop1, error against run time, failures on stiff scenes."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from inertiaproof import crosscheck, energy, motion, robots, simulate, study
+from inertiaproof.checks import physics
+from inertiaproof.registry import PROFILES, REPLAYERS, Context
+from inertiaproof.result import Verdict
+from inertiaproof.scene import load_scene
+
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
+QUICK = study.StudySettings(methods=("DOP853", "Radau"), tolerances=(1e-5,), reference_rtol=1e-8, horizon=1.0)
+
+
+def _dropped(name):
+    def forces(kin, gravity, p, qd, qdd):
+        terms = motion.equation_terms(kin, gravity, p, qd, qdd)
+        terms[name] = 0 * terms[name]
+        return sum(terms.values())
+    return forces
+
+
+@pytest.mark.parametrize("key", ["planar-2r-payload", "passenger-platform"])
+def test_power_balance_of_prop1_along_a_motion(key):
+    """d/dt (T_q + U) equals the supplied power when tau is the equation's inverse dynamics (central differences)."""
+    scene = robots.BUILTIN[key]()
+    t = np.linspace(0.9, 1.6, 7001)
+    q, qd, qdd = crosscheck.smooth_motion(scene.chain, t, np.random.default_rng(1))
+    kin, p = motion.kinematics(scene.chain, q), motion.parameters(scene.trajectory, t)
+    tau = motion.generalized_forces(kin, scene.chain.gravity, p, qd, qdd)
+    e = (energy.kinetic_energy(kin.qj, p.theta, qd)
+         + energy.potential_energy(kin.rotations, kin.origins, p.theta, scene.chain.gravity))
+    power = energy.supplied_power(kin, scene.chain.gravity, p, qd, tau)
+    h = t[1] - t[0]
+    rate = (-e[4:] + 8 * e[3:-1] - 8 * e[1:-3] + e[:-4]) / (12 * h)  # fourth-order central differences
+    power = power[2:-2]
+    scale = np.abs(power).max()
+    assert np.abs(rate - power).max() < 1e-7 * scale
+    wrong = _dropped("parameter_rate" if key == "planar-2r-payload" else "lumped_acceleration")
+    tau_wrong = wrong(kin, scene.chain.gravity, p, qd, qdd)
+    assert np.abs(rate - energy.supplied_power(kin, scene.chain.gravity, p, qd, tau_wrong)[2:-2]).max() > 1e-5 * scale
+
+
+def test_stability_holds_and_writes_the_data(tmp_path):
+    scene = robots.BUILTIN["planar-2r-early-payload"]()
+    ctx = Context(PROFILES["ci"], out_dir=tmp_path)
+    result = physics.stability_result([({"builtin": "planar-2r-early-payload"}, scene, None)], ctx, settings=QUICK)
+    assert result.verdict == Verdict.HOLDS, result.summary
+    rows = json.loads((tmp_path / "data" / "work_precision.json").read_text())
+    assert {r["method"] for r in rows} == {"DOP853", "Radau"}
+    assert set(rows[0]) >= {"scene", "method", "rtol", "seconds", "error", "balance_error", "status"}
+    assert all(r["error"] < 1e-3 for r in rows)
+    stab = json.loads((tmp_path / "data" / "stability.json").read_text())
+    assert set(stab[0]) >= {"scene", "method", "status", "seconds", "steps", "note"}
+    assert sorted(result.evidence["data_files"]) == ["data/stability.json", "data/work_precision.json"]
+
+
+def test_dropping_the_rate_term_breaks_the_balance():
+    scene = robots.BUILTIN["planar-2r-early-payload"]()
+    settings = study.StudySettings(methods=("DOP853",), tolerances=(1e-5,), reference_rtol=1e-8, horizon=1.0)
+    result = physics.stability_result([({"builtin": "planar-2r-early-payload"}, scene, None)], Context(PROFILES["ci"]),
+                                      forces=_dropped("parameter_rate"), settings=settings)
+    assert result.verdict == Verdict.VIOLATED, result.summary
+    data = result.counterexample["data"]
+    assert result.counterexample["kind"] == "stability-balance" and data["reference_residual"] > 1e-4
+    assert REPLAYERS["stability-balance"](data, Context(PROFILES["ci"])).verdict == Verdict.HOLDS
+
+
+def test_a_stiff_scene_defeats_explicit_methods_within_budget():
+    scene = load_scene(SCENES / "stiff_thin_rod.toml")
+    settings = study.StudySettings(methods=("RK45", "BDF"), tolerances=(1e-5,), reference_rtol=1e-7, horizon=0.3,
+                                   max_evaluations=600)
+    st = study.study(scene, settings)
+    status = {r.method: r.status for r, _ in st.runs}
+    assert st.reference.method == "Radau" and st.reference.finished
+    assert status == {"RK45": "budget", "BDF": "ok"}
+    assert st.balance_verdict()[0] != Verdict.VIOLATED
+
+
+def test_wrong_energy_and_cheapest():
+    run = simulate.Run("RK45", 1e-6, "ok", 1.0, 10, 60, balance_error=1e-1)
+    assert study.classify(run).status == "wrong energy"
+    row = lambda method, e, s: {"scene": "s", "method": method, "status": "ok", "error": e, "seconds": s}  # noqa: E731
+    rows = [row("A", 1e-4, 1), row("A", 1e-8, 4), row("B", 1e-5, 1), row("B", 1e-7, 1.5)]
+    rows += [{"scene": "s", "method": "C", "status": "budget", "error": None, "seconds": 0.1}]
+    assert study.cheapest(rows, 1e-6, "s")[0] == "B"
+    assert study.cheapest(rows, 1e-8, "s") == ("A", 4)
+    assert study.cheapest(rows, 1e-9, "s") is None
