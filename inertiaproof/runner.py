@@ -180,17 +180,19 @@ def write_junit(path, run):
 
 def format_table(run, width=110):
     """The run as a plain-text table, then what was left out."""
-    lines = [f"{'ID':<16} {'verdict':<13} {'time/s':>7}  summary", "-" * width]
-    for r in run.results:
-        name = r.check or r.id
-        summary = r.summary if len(r.summary) <= width - 40 else r.summary[: width - 43] + "..."
-        lines.append(f"{name:<16} {str(r.verdict):<13} {r.runtime_s:>7.2f}  {summary}")
+    names = [r.check or r.id for r in run.results] + [name for name, _ in run.skipped]
+    w = max([len(n) for n in names] + [16])
+    lines = [f"{'ID':<{w}} {'verdict':<13} {'time/s':>7}  summary", "-" * width]
+    room = max(width - w - 24, 30)
+    for name, r in zip(names, run.results):
+        summary = r.summary if len(r.summary) <= room else r.summary[: room - 3] + "..."
+        lines.append(f"{name:<{w}} {str(r.verdict):<13} {r.runtime_s:>7.2f}  {summary}")
         if r.counterexample and r.counterexample.get("file"):
-            lines.append(f"{'':<16} replay: inertiaproof replay {r.counterexample['file']}")
+            lines.append(f"{'':<{w}} replay: inertiaproof replay {r.counterexample['file']}")
     if run.skipped:
         lines.append("")
         lines.append("left out:")
-        lines.extend(f"  {name:<14} {reason}" for name, reason in run.skipped)
+        lines.extend(f"  {name:<{w}} {reason}" for name, reason in run.skipped)
     c = run.counts()
     lines.append("")
     lines.append(f"{c['HOLDS']} HOLDS, {c['VIOLATED']} VIOLATED, {c['INCONCLUSIVE']} INCONCLUSIVE "
