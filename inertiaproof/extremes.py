@@ -26,6 +26,7 @@ import numpy as np
 from .result import quantity
 
 ROUNDS_PER_SECOND = 600  # refinement rounds (times 2^d) per second of budget: a count, so that a seed gives the same bracket
+LOCAL_ROUNDS_PER_SECOND = 200  # rounds of local search per second of budget, at most 40
 
 
 @dataclass
@@ -114,7 +115,8 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
     q = np.where(free, lo + (hi - lo) * rng.random((samples, n)), mid)
     vals = value(q)
     top = np.argsort(sign * vals)[: min(8, samples)]
-    qs, vs = local_search(value, q[top], lo, hi, free, sign=sign)
+    qs, vs = local_search(value, q[top], lo, hi, free, sign=sign,
+                          rounds=int(min(40, max(4, refine_s * LOCAL_ROUNDS_PER_SECOND))))
     k = int(np.argmin(sign * vs))
     best_q, best = qs[k].copy(), float(vs[k])
     if sign * vals[top[0]] < sign * best:
