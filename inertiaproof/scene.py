@@ -124,7 +124,8 @@ class _Reader:
     def error(self, path, message):
         line = _locate(self.text, path)
         where = f"{self.source}:{line}" if line else self.source
-        raise SceneError(f"{where}: {_field_name(path)}: {message}")
+        field = _field_name(path)
+        raise SceneError(f"{where}: {field}: {message}" if field else f"{where}: {message}")
 
     def keys(self, table, path, allowed, required=()):
         for k in table:
