@@ -1,7 +1,16 @@
 import os
 
+import pytest
 from hypothesis import HealthCheck, settings
+
+from inertiaproof.registry import PROFILES, Context
 
 settings.register_profile("ci", derandomize=True, database=None, deadline=None, max_examples=50,
                           suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+@pytest.fixture
+def ctx(tmp_path):
+    """A ci-profile context that writes data and counterexamples under the test's tmp_path."""
+    return Context(PROFILES["ci"], seed=0, out_dir=tmp_path, counterexample_dir=tmp_path / "found")

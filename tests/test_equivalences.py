@@ -10,15 +10,9 @@ from hypothesis import strategies as st
 from inertiaproof.checks import equivalences as eq
 from inertiaproof.checks.identities import identity_result
 from inertiaproof.cli import main
-from inertiaproof.inertia import sigma_from_inertia, unpack
-from inertiaproof.registry import PROFILES, Context
+from inertiaproof.inertia import pseudo_inertia_inverse, sigma_from_inertia, unpack
 from inertiaproof.result import Verdict
 from inertiaproof.symbolic import identities
-
-
-@pytest.fixture
-def ctx(tmp_path):
-    return Context(PROFILES["ci"], seed=0, out_dir=tmp_path, counterexample_dir=tmp_path / "found")
 
 
 def test_eq_schur_holds(ctx):
@@ -34,7 +28,11 @@ def test_wrong_schur_complement_is_violated(ctx, capsys):
         m, h, inertia = unpack(phi)
         return sigma_from_inertia(inertia) + np.outer(h, h) / m
 
-    result = eq.schur_numeric(ctx, rhs=lambda phi: eq.schur_side(phi, plus))
+    # f = [[Sigma, h], [h^T, 1]] with Sigma <= I3 and |h_1| >= 2: f is not positive definite, Sigma + h h^T / m is
+    strongly_indefinite = st.tuples(*(st.floats(0.1, 1.0),) * 3, st.floats(2.0, 3.0)).map(
+        lambda t: pseudo_inertia_inverse(np.block([[np.diag(t[:3]), np.array([[t[3]], [0.0], [0.0]])],
+                                                   [np.array([[t[3], 0.0, 0.0, 1.0]])]])))
+    result = eq.schur_numeric(ctx, rhs=lambda phi: eq.schur_side(phi, plus), strategy=strongly_indefinite)
     assert result.verdict == Verdict.VIOLATED
     path = ctx.save_counterexample(result)
     assert main(["replay", str(path)]) == 0  # the example decided with the right Schur complement: both sides agree

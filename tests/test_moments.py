@@ -15,13 +15,7 @@ from inertiaproof.checks import moments
 from inertiaproof.cli import main
 from inertiaproof.errors import InputError
 from inertiaproof.inertia import inertia_com, unpack
-from inertiaproof.registry import PROFILES, Context
 from inertiaproof.result import Verdict
-
-
-@pytest.fixture
-def ctx(tmp_path):
-    return Context(PROFILES["ci"], seed=0, out_dir=tmp_path, counterexample_dir=tmp_path / "found")
 
 
 def test_eq_moments_holds(ctx):

@@ -7,6 +7,7 @@ from inertiaproof import capture, motion, robots, simulate
 from inertiaproof.checks import physics
 from inertiaproof.registry import PROFILES, REPLAYERS, Context
 from inertiaproof.result import Verdict
+from tests.test_physics_internal import _perturbed
 
 
 @pytest.fixture(scope="module")
@@ -31,14 +32,6 @@ def test_mass_arriving_with_the_body_velocity_misses_the_equation(loading):
     assert entry["carried_pieces_vs_their_limit"][-1]["value"] < 1e-3  # ... but the equation without M(q, Thetadot)
     assert "at rest" in loading.evidence["assumption"]
     assert set(loading.evidence["series"]["lines"]) >= {"at rest, centred -> (RoboticEquation)"}
-
-
-def _perturbed(name, factor):
-    def forces(kin, gravity, p, qd, qdd):
-        terms = motion.equation_terms(kin, gravity, p, qd, qdd)
-        terms[name] = factor * terms[name]
-        return sum(terms.values())
-    return forces
 
 
 @pytest.mark.parametrize("term, factor, replay", [("parameter_rate", 0.5, True), ("gravity", 1.01, False)])

@@ -14,16 +14,10 @@ from inertiaproof.counterexamples.densities import signed_densities
 from inertiaproof.counterexamples.inertias import log_uniform
 from inertiaproof.inertia import pseudo_inertia, pseudo_inertia_inverse
 from inertiaproof.realise import quaternion, realising_solid
-from inertiaproof.registry import PROFILES, Context
 from inertiaproof.result import Verdict
 
 
 FIND = (Phase.generate, Phase.target)  # no shrinking: a negative test needs a counterexample, not the smallest
-
-
-@pytest.fixture
-def ctx(tmp_path):
-    return Context(PROFILES["ci"], seed=0, out_dir=tmp_path, counterexample_dir=tmp_path / "found")
 
 
 def test_sufficiency_and_remark2_hold_on_one_shared_hunt(ctx):
