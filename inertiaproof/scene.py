@@ -236,8 +236,11 @@ def _body_phi(r, table, path, extra_keys=()):
         if shape != "tetrahedron" and not np.all(dims > 0):
             r.error(sp + ("dims",), f"dimensions must be > 0, got {dims.tolist()}")
         mass = r.number(table, path, "mass", positive=True)
-        phi = solids.solid(shape, mass, dims, rotation_rpy(r.vector(s, sp, "rpy", 3, (0, 0, 0))),
-                           r.vector(s, sp, "position", 3, (0, 0, 0)))
+        try:
+            phi = solids.solid(shape, mass, dims, rotation_rpy(r.vector(s, sp, "rpy", 3, (0, 0, 0))),
+                               r.vector(s, sp, "position", 3, (0, 0, 0)))
+        except ValueError as exc:
+            r.error(sp + ("dims",), str(exc))
     else:
         mass = r.number(table, path, "mass", positive=True)
         com = r.vector(table, path, "com", 3, (0, 0, 0))

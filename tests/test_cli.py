@@ -131,3 +131,29 @@ def test_an_unwritable_output_folder_is_one_line_and_exit_2(tmp_path, capsys):
     assert cli.main(["run", "--only", "EQ-geom", "--out", str(blocker / "out"), "--quiet"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("inertiaproof: error:") and "\n" not in err
+
+
+def test_a_wrong_equation_on_a_scene_is_violated(tmp_path, monkeypatch):
+    """The scene variant of GRE, handed the paper's equation without M(q, Thetadot), must say VIOLATED."""
+    from dataclasses import replace
+
+    from inertiaproof.checks import scene_equation
+    from inertiaproof.registry import PROFILES, Context
+    from inertiaproof.scene import parse_scene
+    from inertiaproof.symbolic.claims import CLAIMS
+
+    claim = CLAIMS["GRE"]
+    drop = claim.controls["drop M(q, Thetadot)"]
+    wrong = replace(claim, residual=lambda d, **kw: claim.residual(d, **(kw or drop(d))))
+    monkeypatch.setitem(scene_equation.CLAIMS, "GRE", wrong)
+    ctx = Context(PROFILES["ci"], scene=parse_scene(SCENE), counterexample_dir=tmp_path)
+    assert scene_equation.decide_on_scene("GRE", ctx).verdict == Verdict.VIOLATED
+
+
+def test_a_flat_solid_in_a_scene_is_a_one_line_error(tmp_path, capsys):
+    scene = tmp_path / "flat.toml"
+    scene.write_text('name = "flat"\n[chain]\n[[chain.joint]]\ntype = "revolute"\n[[body]]\nmass = 1.0\n'
+                     'solid = { shape = "tetrahedron", dims = [0,0,0, 1,0,0, 0,1,0, 1,1,0] }\n')
+    assert cli.main(["run", "--scene", str(scene), "--out", str(tmp_path), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "body[1].solid.dims" in err and "coplanar" in err and "\n" not in err
