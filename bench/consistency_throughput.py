@@ -31,8 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
-from inertiaproof.consistency import physical_consistency
-from inertiaproof.inertia import pseudo_inertia, pseudo_inertia_inverse
+from inertiaproof.model.consistency import physical_consistency
+from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse
 
 
 def bodies(rng, n):

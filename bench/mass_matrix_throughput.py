@@ -8,7 +8,7 @@ configuration, with the ratio ours / Pinocchio per pair (median). The
 machine may be shared: absolute figures are inflated, ratios much less.
 
 Ours:
-- composite: inertiaproof.composite.mass_matrix(chain, q, theta) (composite rigid bodies);
+- composite: inertiaproof.dynamics.composite.mass_matrix(chain, q, theta) (composite rigid bodies);
 - jacobian+formula: dynamics.mass_matrix(chain.body_jacobian(q), theta) ((MassMatrix) as written);
 - body_jacobian alone, and dQJ/dq by complex steps (per configuration, n complex evaluations).
 
@@ -30,8 +30,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from pinocchio_oracle import joint_variables, pinocchio_model  # noqa: E402
 
-from inertiaproof import composite, robots  # noqa: E402
-from inertiaproof.dynamics import mass_matrix  # noqa: E402
+from inertiaproof.dynamics import composite
+from inertiaproof.dynamics.terms import mass_matrix
+from inertiaproof.scene import robots
 
 
 def timed(fn):

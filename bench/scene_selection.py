@@ -16,10 +16,12 @@ import json
 import time
 from pathlib import Path
 
-from inertiaproof import catalog
-from inertiaproof.registry import PROFILES, Context, load_checks
-from inertiaproof.runner import select
-from inertiaproof.scene import load_scene
+from inertiaproof.scene.format import load_scene
+from inertiaproof.suite import catalog
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.discovery import load_checks
+from inertiaproof.suite.profiles import PROFILES
+from inertiaproof.suite.runner import select
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -17,8 +17,8 @@ import sys
 import time
 from pathlib import Path
 
-from inertiaproof import study
-from inertiaproof.scene import load_scene
+from inertiaproof.scene.format import load_scene
+from inertiaproof.sim import study
 
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_SCENES = ("planar_2r_payload", "panda_payload_3kg", "passenger_platform", "micro_2r", "giant_2r",

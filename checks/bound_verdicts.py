@@ -1,7 +1,7 @@
 """Verdict and evidence of a Section 4 bound on scenes, from brackets of both of its sides.
 
 A bound "extreme of the left-hand side <= constant" (>= for Theorem 2) is
-judged from a Bracket of the true extreme (inertiaproof.extremes) and the
+judged from a Bracket of the true extreme (inertiaproof.bounds.extremes) and the
 range the constant can take given its bracketed ingredients, and from the
 proof's pointwise inequality at sampled (q, t) (checks.pointwise):
 
@@ -25,26 +25,28 @@ samples (a one-sided estimate of the true extreme).
 from __future__ import annotations
 
 import numpy as np
-
-from inertiaproof import bounds, composite
-from inertiaproof.chain import Chain
-from inertiaproof.dynamics import lumped_acceleration_force, lumped_velocity_matrix
-from inertiaproof.extremes import Bracket, local_search
-from inertiaproof.positive_map import key_step_certificate
-from inertiaproof.registry import replayer
-from inertiaproof.result import Result, Verdict, combine, quantity
-
 from inertiaproof.checks.pointwise import RESOLUTION, margins, point_counterexample, state_at
 
-_CACHE = {}
+from inertiaproof.bounds.domain import free_coordinates, search_box
+from inertiaproof.bounds.extremes import Bracket, local_search
+from inertiaproof.bounds.spectral import spectral
+from inertiaproof.bounds.time import parameter_vertices
+from inertiaproof.dynamics import composite
+from inertiaproof.dynamics.chain import Chain
+from inertiaproof.dynamics.terms import lumped_acceleration_force, lumped_velocity_matrix
+from inertiaproof.model.positive_map import key_step_certificate
+from inertiaproof.result import Result, Verdict, combine, quantity
+from inertiaproof.suite.registry import replayer
 
+__all__ = [
+    "cached", "case_result", "constants_evidence", "judge", "key_step_evidence", "kw", "parameter_stack",
+    "pointwise_on_scene", "replay_bound_bracket", "replay_bracket", "run_scenes", "sampled_bracket",
+    "scene_samples", "time_and_configuration_bracket", "time_quantities",
+]
 
 def cached(ctx, scene, what, fn):
-    """fn() once per scene, quantity, profile and seed: corollaries reuse the theorems' brackets."""
-    key = (scene.name, scene.description, what, ctx.profile.name, ctx.seed)
-    if key not in _CACHE:
-        _CACHE[key] = fn()
-    return _CACHE[key]
+    """fn() once per run, scene and quantity: corollaries reuse the theorems' brackets."""
+    return ctx.shared(("bracket", scene.name, scene.description, what), fn)
 
 
 def kw(ctx, scene, what, share=1.0):
@@ -57,7 +59,7 @@ def scene_samples(ctx, scene, salt, count=None):
     """Random configurations in the chain's box paired with times over the trajectory's span."""
     rng = ctx.rng(f"{scene.name}:{salt}:pairs")
     count = count or ctx.profile.samples
-    lo, hi = bounds.search_box(scene.chain)
+    lo, hi = search_box(scene.chain)
     q = lo + (hi - lo) * rng.random((count, scene.chain.n))
     t = rng.choice(scene.trajectory.times(max(count // 4, 2)), count)
     return q, t
@@ -188,8 +190,8 @@ def time_quantities(d, what):
 
 def sampled_bracket(value, chain, name, sense, ctx, scene, note):
     """A one-sided bracket from samples plus local search (no certified side)."""
-    lo, hi = bounds.search_box(chain)
-    free = bounds.free_coordinates(chain)
+    lo, hi = search_box(chain)
+    free = free_coordinates(chain)
     rng = ctx.rng(f"{scene.name}:{name}")
     q = lo + (hi - lo) * rng.random((ctx.profile.samples, chain.n))
     vals = value(q)
@@ -206,9 +208,9 @@ def time_and_configuration_bracket(value, ctx, scene, name, note, certified):
     vals = value(q, t)
     i = int(np.argmax(vals))
     chain = scene.chain
-    lo, hi = bounds.search_box(chain)
+    lo, hi = search_box(chain)
     qs, vs = local_search(lambda qq: value(qq, np.full(len(qq), t[i])), q[i:i + 1], lo, hi,
-                          bounds.free_coordinates(chain), sign=-1.0)
+                          free_coordinates(chain), sign=-1.0)
     best, witness = (float(vs[0]), qs[0]) if vs[0] > vals[i] else (float(vals[i]), q[i])
     return Bracket(name, "max", best, certified, witness, [[0.0, best, float(certified)]], 0, note), float(t[i])
 
@@ -216,7 +218,7 @@ def time_and_configuration_bracket(value, ctx, scene, name, note, certified):
 def parameter_stack(trajectory, rate, count=64):
     """The parameter sets an extreme over time is taken over: the segment ends (payloads, scalings: exact), or
     ``count`` sampled times (moving masses)."""
-    verts = bounds.parameter_vertices(trajectory)
+    verts = parameter_vertices(trajectory)
     if verts is not None:
         return verts[1] if rate else verts[0]
     theta, theta_dot = trajectory.theta(trajectory.times(count))
@@ -229,7 +231,7 @@ def replay_bracket(data):
     q = np.asarray(data["witness"], float)[None]
     if "thetas" in data:
         m = composite.mass_matrix(chain, q[:, None], np.asarray(data["thetas"], float)[None])
-        vals = bounds.spectral(m, data["spectral"])[0]
+        vals = spectral(m, data["spectral"])[0]
         value = vals.min() if data["spectral"] == "lmin" else vals.max()
     elif "psi_dot" in data:
         value = np.linalg.norm(lumped_acceleration_force(chain.body_jacobian(q), np.asarray(data["psi_dot"])[None]))

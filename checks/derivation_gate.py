@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
-from inertiaproof.registry import PROFILES, check, replayer
-from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.symbolic import gate
+
+from inertiaproof.result import Result, Verdict, quantity
+from inertiaproof.suite.profiles import PROFILES
+from inertiaproof.suite.registry import check, replayer
+
+__all__ = ["derivation_gate", "gate_result", "replay_gate"]
 
 
 def gate_result(report):

@@ -11,18 +11,24 @@ from fractions import Fraction
 
 import numpy as np
 from hypothesis import strategies as st
-
-from inertiaproof import exact
 from inertiaproof.checks.identities import all_of, identity_result
-from inertiaproof.consistency import CONSISTENT, decide_exactly, physical_consistency
 from inertiaproof.counterexamples.boundary import boundary_phi, near_boundary_phi, principal_inertia, shifted_com_phi
 from inertiaproof.counterexamples.inertias import any_phi, consistent_phi, pseudo_inertia_pd
-from inertiaproof.errors import InputError, numbers
-from inertiaproof.hunt import hunt
-from inertiaproof.inertia import pseudo_inertia, pseudo_inertia_inverse, sigma_com, unpack
-from inertiaproof.registry import check, replayer
-from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.symbolic import identities
+
+from inertiaproof.errors import InputError, numbers
+from inertiaproof.model import exact
+from inertiaproof.model.consistency import CONSISTENT, decide_exactly, physical_consistency
+from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse, sigma_com, unpack
+from inertiaproof.result import Result, Verdict, quantity
+from inertiaproof.suite.hunt import hunt
+from inertiaproof.suite.registry import check, replayer
+
+__all__ = [
+    "definiteness", "EPS", "eq_schur", "eq_triangle", "exact_pseudo_inertia", "phi_strategy",
+    "pseudo_inertia_side", "replay_equivalence", "RESOLUTION", "schur_margin", "schur_numeric", "schur_side",
+    "schur_sweep", "strict_triangle", "triangle_decisions", "triangle_margin", "triangle_numeric",
+]
 
 EPS = np.finfo(float).eps
 RESOLUTION = 64 * EPS

@@ -2,14 +2,20 @@
 
 from __future__ import annotations
 
-from inertiaproof.registry import check, replayer
-from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.symbolic import oracle
 from inertiaproof.symbolic.claims import CLAIMS, entries
 from inertiaproof.symbolic.derivations import derivation
 from inertiaproof.symbolic.evidence import claim_result, profile_derivations, profile_outcomes
 from inertiaproof.symbolic.identity import fixed_point, point_from_json
 from inertiaproof.symbolic.systems import SystemKey
+
+from inertiaproof.result import Result, Verdict, quantity
+from inertiaproof.suite.registry import check, replayer
+
+__all__ = [
+    "chain_cross_checks", "generalized_robotics_equation", "ORACLE_TOLERANCE", "parameter_rate_matrix",
+    "replay_symbolic_claim", "time_per_n",
+]
 
 ORACLE_TOLERANCE = 1e-9  # relative; the twin's transforms are within 1e-12 of the chain's
 

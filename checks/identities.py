@@ -4,12 +4,17 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
+from inertiaproof.symbolic import identities
 
 from inertiaproof.errors import InputError
-from inertiaproof.inertia import pseudo_inertia, pseudo_inertia_inverse
-from inertiaproof.registry import CHECKS, check, replayer
+from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse
 from inertiaproof.result import Result, Verdict, combine, quantity
-from inertiaproof.symbolic import identities
+from inertiaproof.suite.registry import CHECKS, check, replayer
+
+__all__ = [
+    "all_of", "bijection_result", "EPS", "eq_geom", "eq_inverse", "eq_translation", "identity_result",
+    "nonzero_entries", "numeric_agreement_result", "replay_identity",
+]
 
 EPS = np.finfo(float).eps
 

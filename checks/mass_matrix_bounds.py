@@ -5,24 +5,40 @@ and Panda arms picking up a payload, and is hunted on random chains
 (checks.pointwise). Its evidence holds the paper's constant from certified
 and from observed ingredients, the sharpest constant the suite certifies
 and the observed worst case, the bracket of the true extreme with its
-convergence, and the key-step certificate of inertiaproof.positive_map.
+convergence, and the key-step certificate of inertiaproof.model.positive_map.
 """
 
 from __future__ import annotations
 
 import numpy as np
-
-from inertiaproof import bounds, composite, robots
-from inertiaproof.inertia import pseudo_inertia, spatial_inertia
-from inertiaproof.positive_map import key_step_certificate
-from inertiaproof.registry import check
-from inertiaproof.result import Result, Verdict, combine, quantity
-
 from inertiaproof.checks.bound_verdicts import (
-    cached, case_result, constants_evidence, key_step_evidence, kw, parameter_stack, pointwise_on_scene, run_scenes,
-    sampled_bracket, time_quantities,
+    cached,
+    case_result,
+    constants_evidence,
+    key_step_evidence,
+    kw,
+    parameter_stack,
+    pointwise_on_scene,
+    run_scenes,
+    sampled_bracket,
+    time_quantities,
 )
 from inertiaproof.checks.pointwise import with_hunt
+
+from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
+from inertiaproof.bounds.constants import lower_constants, upper_constants
+from inertiaproof.bounds.time import parameter_vertices, time_extreme
+from inertiaproof.dynamics import composite
+from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
+from inertiaproof.model.positive_map import key_step_certificate
+from inertiaproof.result import Result, Verdict, combine, quantity
+from inertiaproof.scene import robots
+from inertiaproof.suite.registry import check
+
+__all__ = [
+    "bound_scenes", "cor1", "cor1_result", "def3", "def3_result", "lower_bound_case", "thm2", "thm2_result",
+    "thm3", "thm3_result", "upper_bound_case",
+]
 
 
 def bound_scenes(ctx):
@@ -32,9 +48,9 @@ def bound_scenes(ctx):
 def _extreme_over_time(ctx, scene, kind, what):
     """Bracket over q and over the parameter sets of the trajectory of lambda_min or lambda_max of M."""
     chain, traj = scene.chain, scene.trajectory
-    verts = bounds.parameter_vertices(traj)
+    verts = parameter_vertices(traj)
     if verts is not None:
-        family = bounds.mass_inf if kind == "lmin" else bounds.mass_sup
+        family = mass_inf if kind == "lmin" else mass_sup
         return cached(ctx, scene, what, lambda: family(chain, verts[0], **kw(ctx, scene, what)))
     thetas = parameter_stack(traj, rate=False)
     pick = (lambda w: w[..., 0].min(-1)) if kind == "lmin" else (lambda w: w[..., -1].max(-1))
@@ -48,11 +64,11 @@ def _extreme_over_time(ctx, scene, kind, what):
 def lower_bound_case(ctx, scene, k=1.0):
     """Theorem 2 (LowerBoundedness) on a scene; k multiplies the paper's alpha1 = xi gamma."""
     chain, traj = scene.chain, scene.trajectory
-    xi = bounds.time_extreme(traj, "lmin_f")
-    zmin = bounds.time_extreme(traj, "lmin_Z")
-    gamma = cached(ctx, scene, "gamma", lambda: bounds.jacobian_normality(chain, **kw(ctx, scene, "gamma")))
+    xi = time_extreme(traj, "lmin_f")
+    zmin = time_extreme(traj, "lmin_Z")
+    gamma = cached(ctx, scene, "gamma", lambda: jacobian_normality(chain, **kw(ctx, scene, "gamma")))
     lhs = _extreme_over_time(ctx, scene, "lmin", "mass_inf")
-    found = bounds.lower_constants(xi["certified"], zmin["certified"], gamma, lhs, xi_observed=xi["observed"])
+    found = lower_constants(xi["certified"], zmin["certified"], gamma, lhs, xi_observed=xi["observed"])
     paper, paper_observed = found["paper"]["lower"], found["paper"]["upper"]
     certified = found["certified"]["value"]
     constants = constants_evidence("lower", "alpha1 = min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ)",
@@ -71,11 +87,11 @@ def lower_bound_case(ctx, scene, k=1.0):
 def upper_bound_case(ctx, scene, k=1.0):
     """Theorem 3 (UpperBoundedness) on a scene; k multiplies the paper's alpha2 = 2 zeta S^2."""
     chain, traj = scene.chain, scene.trajectory
-    zeta = bounds.time_extreme(traj, "lmax_f")
-    zmax = bounds.time_extreme(traj, "lmax_Z")
-    sigma = cached(ctx, scene, "sigma", lambda: bounds.jacobian_sup(chain, **kw(ctx, scene, "sigma")))
+    zeta = time_extreme(traj, "lmax_f")
+    zmax = time_extreme(traj, "lmax_Z")
+    sigma = cached(ctx, scene, "sigma", lambda: jacobian_sup(chain, **kw(ctx, scene, "sigma")))
     lhs = _extreme_over_time(ctx, scene, "lmax", "mass_sup")
-    found = bounds.upper_constants(zeta["certified"], zmax["certified"], sigma, lhs, zeta_observed=zeta["observed"])
+    found = upper_constants(zeta["certified"], zmax["certified"], sigma, lhs, zeta_observed=zeta["observed"])
     paper, paper_observed = found["paper"]["upper"], found["paper"]["lower"]
     certified = found["certified"]["value"]
     constants = constants_evidence("upper", "alpha2 = 2 max_l sup_t lambda_max(f(Phi_l)) sup_q sigma_max(QJ)^2",
@@ -146,7 +162,7 @@ def def3_result(trajectories, spatial=spatial_inertia):
     rows, worst = {}, np.inf
     cert = key_step_certificate()
     for name, traj in trajectories.items():
-        xi, zeta = bounds.time_extreme(traj, "lmin_f"), bounds.time_extreme(traj, "lmax_f")
+        xi, zeta = time_extreme(traj, "lmin_f"), time_extreme(traj, "lmax_f")
         theta, _ = traj.theta(traj.times(2001))
         f, z = np.linalg.eigvalsh(pseudo_inertia(theta)), np.linalg.eigvalsh(spatial(theta))
         scale = np.abs(f).max(-1) + np.abs(z).max(-1)

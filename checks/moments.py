@@ -17,12 +17,17 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
-
-from inertiaproof import density, quadrature, solids
 from inertiaproof.checks.identities import all_of
-from inertiaproof.registry import check, replayer
-from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.symbolic import moments as symbolic_moments
+
+from inertiaproof.model import density, quadrature, solids
+from inertiaproof.result import Result, Verdict, quantity
+from inertiaproof.suite.registry import check, replayer
+
+__all__ = [
+    "EPS", "eq_moments", "monte_carlo_part", "P_TWO_SIDED_6", "quadrature_part", "random_components",
+    "replay_moments", "symbolic_part", "union_and_mixture", "Z_LIMIT",
+]
 
 EPS = np.finfo(float).eps
 Z_LIMIT = 6.0
@@ -182,7 +187,7 @@ def eq_moments(ctx, closed_form=density.moments, closed_solid=solids.moments):
     ctx.progress(f"quadrature of {len(pieces)} densities")
     quad = quadrature_part(pieces, closed_form)
     table = quad.evidence.pop("per_density")
-    written = ctx.write_data("eq-moments-quadrature.json", {"columns": ["density", "ratio_to_bound", "relative_residual"],
+    written = ctx.outputs.write_data("eq-moments-quadrature.json", {"columns": ["density", "ratio_to_bound", "relative_residual"],
                                                             "rows": [[k, v["ratio_to_bound"], v["relative_residual"]]
                                                                      for k, v in table.items()]})
     if written:

@@ -3,14 +3,22 @@
 from __future__ import annotations
 
 import numpy as np
-
-from inertiaproof import bounds, robots
-from inertiaproof.dynamics import mass_matrix
-from inertiaproof.inertia import pseudo_inertia, spatial_inertia, unit_body
-from inertiaproof.registry import check, replayer
-from inertiaproof.result import Result, Verdict, combine, quantity
-
 from inertiaproof.checks.bound_verdicts import cached, kw
+
+from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
+from inertiaproof.bounds.domain import search_box
+from inertiaproof.bounds.time import time_extreme
+from inertiaproof.dynamics.terms import mass_matrix
+from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia, unit_body
+from inertiaproof.result import Result, Verdict, combine, quantity
+from inertiaproof.scene import robots
+from inertiaproof.suite.registry import check
+
+__all__ = [
+    "asm2_lem2", "asm2_lem2_result", "cor2", "cor2_result", "cx_normal", "cx_normal_result", "cx_sphere",
+    "cx_sphere_result", "def2", "def2_result", "EPS", "gram_identity_residual", "growth_result", "lem1",
+    "lem1_result", "normality_scenes", "sphere_result", "unit_bodies",
+]
 
 EPS = np.finfo(float).eps
 
@@ -40,8 +48,8 @@ def def2_result(ctx, scenes, theta_for_identity=None):
     rows, verdicts = {}, []
     for scene in scenes:
         chain = scene.chain
-        gamma = cached(ctx, scene, "gamma", lambda: bounds.jacobian_normality(chain, **kw(ctx, scene, "gamma")))
-        lo, hi = bounds.search_box(chain)
+        gamma = cached(ctx, scene, "gamma", lambda: jacobian_normality(chain, **kw(ctx, scene, "gamma")))
+        lo, hi = search_box(chain)
         q = lo + (hi - lo) * ctx.rng(f"{scene.name}:def2").random((256, chain.n))
         residual = gram_identity_residual(chain, q, theta_for_identity)
         ok = residual <= 64 * EPS * chain.n
@@ -112,8 +120,8 @@ def lem1_result(ctx, scenes):
     A scene whose bodies break the lemma's hypothesis (not consistent) may show lambda_min(M) < 0: VIOLATED."""
     rows, verdicts = {}, []
     for scene in scenes:
-        gamma = cached(ctx, scene, "gamma", lambda: bounds.jacobian_normality(scene.chain, **kw(ctx, scene, "gamma")))
-        low = cached(ctx, scene, "mass_inf_const", lambda: bounds.mass_inf(
+        gamma = cached(ctx, scene, "gamma", lambda: jacobian_normality(scene.chain, **kw(ctx, scene, "gamma")))
+        low = cached(ctx, scene, "mass_inf_const", lambda: mass_inf(
             scene.chain, scene.trajectory.base[None], **kw(ctx, scene, "mass_inf_const", share=2.0)))
         z_min = float(np.linalg.eigvalsh(spatial_inertia(scene.trajectory.base))[..., 0].min())
         structural = z_min * gamma.lower
@@ -163,8 +171,8 @@ def asm2_lem2_result(ctx, claimed_offset=None):
     """``claimed_offset`` replaces the lever offset r0 of the growth bound (a test claims a wrong one)."""
     scene, x, sigma, lam, offset, growth, ratio, m2 = growth_result(claimed_offset=claimed_offset)
     bounded = robots.revolute_prismatic(1.0)
-    s_b = cached(ctx, bounded, "sigma", lambda: bounds.jacobian_sup(bounded.chain, **kw(ctx, bounded, "sigma")))
-    m_b = cached(ctx, bounded, "mass_sup_const", lambda: bounds.mass_sup(
+    s_b = cached(ctx, bounded, "sigma", lambda: jacobian_sup(bounded.chain, **kw(ctx, bounded, "sigma")))
+    m_b = cached(ctx, bounded, "mass_sup_const", lambda: mass_sup(
         bounded.chain, bounded.trajectory.base[None], **kw(ctx, bounded, "mass_sup_const")))
     finite = np.isfinite(s_b.upper) and np.isfinite(m_b.upper)
     lower_growth = bool(np.all(lam >= m2 * np.maximum(x - offset, 0) ** 2 * (1 - 1e-12)))
@@ -195,10 +203,10 @@ def cor2_result(ctx, non_normal):
     ``non_normal`` is the scene shown to lack a positive alpha1."""
     rows, verdicts = {}, []
     normal = robots.planar_2r()
-    g = cached(ctx, normal, "gamma", lambda: bounds.jacobian_normality(normal.chain, **kw(ctx, normal, "gamma")))
-    lo = cached(ctx, normal, "mass_inf_const", lambda: bounds.mass_inf(normal.chain, normal.trajectory.base[None],
+    g = cached(ctx, normal, "gamma", lambda: jacobian_normality(normal.chain, **kw(ctx, normal, "gamma")))
+    lo = cached(ctx, normal, "mass_inf_const", lambda: mass_inf(normal.chain, normal.trajectory.base[None],
                                                                        **kw(ctx, normal, "mass_inf_const")))
-    hi = cached(ctx, normal, "mass_sup_const", lambda: bounds.mass_sup(normal.chain, normal.trajectory.base[None],
+    hi = cached(ctx, normal, "mass_sup_const", lambda: mass_sup(normal.chain, normal.trajectory.base[None],
                                                                        **kw(ctx, normal, "mass_sup_const")))
     both = g.lower > 0 and lo.lower > 0 and np.isfinite(hi.upper)
     rows["planar-2r"] = {"normal_and_bounded": bool(g.lower > 0), "alpha1": lo.evidence(), "alpha2": hi.evidence()}
@@ -232,8 +240,8 @@ def sphere_result(rates=(-0.5, 0.5), times=np.linspace(0.0, 60.0, 241), radius=0
         consistent = bool(np.all(np.linalg.eigvalsh(f)[..., 0] > 0))
         good = f_res < 1e-14 and m_res < 1e-14 and consistent
         ok &= good
-        xi = bounds.time_extreme(scene.trajectory, "lmin_f")
-        zeta = bounds.time_extreme(scene.trajectory, "lmax_f")
+        xi = time_extreme(scene.trajectory, "lmin_f")
+        zeta = time_extreme(scene.trajectory, "lmax_f")
         rows[f"rate {rate:+g}"] = {
             "consistent_at_all_sampled_times": consistent,
             "f_residual": quantity(f_res, "residual", "f(Phi(t)) - m(t) diag(r^2/5 I3, 1), relative"),
@@ -254,8 +262,8 @@ def cx_sphere(ctx):
 def cx_sphere_result(ctx, claimed_radius=None):
     ok, rows = sphere_result(claimed_radius=claimed_radius)
     restored = robots.translating_sphere(-0.5)
-    from inertiaproof.scene import Scene
-    from inertiaproof.trajectory import ParameterTrajectory, Profile, Scaling
+    from inertiaproof.dynamics.trajectory import ParameterTrajectory, Profile, Scaling
+    from inertiaproof.scene.format import Scene
 
     ramp = Scene("sphere-ramp", restored.chain, ParameterTrajectory(restored.trajectory.base,
                                                                     (Scaling(0, Profile("cosine", 0.0, 2.0)),), (0.5, 5.0)),

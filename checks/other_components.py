@@ -10,29 +10,44 @@ inequality.
 from __future__ import annotations
 
 import numpy as np
-
-from inertiaproof import bounds, composite, robots
-from inertiaproof.dynamics import lumped_velocity_matrix
-from inertiaproof.positive_map import key_step_certificate
-from inertiaproof.registry import check
-from inertiaproof.result import quantity
-
 from inertiaproof.checks.bound_verdicts import (
-    cached, case_result, constants_evidence, kw, parameter_stack, pointwise_on_scene, run_scenes, sampled_bracket,
-    time_and_configuration_bracket, time_quantities,
+    cached,
+    case_result,
+    constants_evidence,
+    kw,
+    parameter_stack,
+    pointwise_on_scene,
+    run_scenes,
+    sampled_bracket,
+    time_and_configuration_bracket,
+    time_quantities,
 )
 from inertiaproof.checks.pointwise import with_hunt
+
+from inertiaproof.bounds.configuration import jacobian_sup, mass_sup, skew_partial_sup
+from inertiaproof.bounds.time import lumped_velocity_bounds, parameter_vertices, time_extreme
+from inertiaproof.dynamics import composite
+from inertiaproof.dynamics.terms import lumped_velocity_matrix
+from inertiaproof.model.positive_map import key_step_certificate
+from inertiaproof.result import quantity
+from inertiaproof.scene import robots
+from inertiaproof.suite.registry import check
+
+__all__ = [
+    "acc_result", "acceleration_case", "eq_acc", "lumped_velocity_case", "rate_case", "thm4", "thm4_result",
+    "thm5", "thm5_result",
+]
 
 
 def rate_case(ctx, scene, k=1.0):
     """Theorem 4 (BoundedEffectofVaryingParam): k multiplies the paper's chi = sqrt(69 N) mu S^2."""
     chain, traj = scene.chain, scene.trajectory
-    mu = bounds.time_extreme(traj, "smax_fdot")
-    zdot = bounds.time_extreme(traj, "smax_Zdot")
-    sigma = cached(ctx, scene, "sigma", lambda: bounds.jacobian_sup(chain, **kw(ctx, scene, "sigma")))
-    verts = bounds.parameter_vertices(traj)
+    mu = time_extreme(traj, "smax_fdot")
+    zdot = time_extreme(traj, "smax_Zdot")
+    sigma = cached(ctx, scene, "sigma", lambda: jacobian_sup(chain, **kw(ctx, scene, "sigma")))
+    verts = parameter_vertices(traj)
     if verts is not None:
-        lhs = cached(ctx, scene, "rate_sup", lambda: bounds.mass_sup(
+        lhs = cached(ctx, scene, "rate_sup", lambda: mass_sup(
             chain, verts[1], kind="absmax", name="sup sigma_max(M(q, Thetadot))", **kw(ctx, scene, "rate_sup")))
     else:
         dots = parameter_stack(traj, rate=True)
@@ -68,8 +83,8 @@ def rate_case(ctx, scene, k=1.0):
 def acceleration_case(ctx, scene, k=1.0):
     """(LumpedAccelerationBounding): ||J^T Q^T Psidot|| <= k dPsi* sup_q sigma_max(QJ)."""
     chain, traj = scene.chain, scene.trajectory
-    sigma = cached(ctx, scene, "sigma", lambda: bounds.jacobian_sup(chain, **kw(ctx, scene, "sigma")))
-    psi = bounds.lumped_velocity_bounds(traj)["psi_dot"]
+    sigma = cached(ctx, scene, "sigma", lambda: jacobian_sup(chain, **kw(ctx, scene, "sigma")))
+    psi = lumped_velocity_bounds(traj)["psi_dot"]
     paper, paper_observed = psi["certified"] * sigma.upper, psi["observed"] * sigma.lower
 
     def value(q, t):
@@ -95,8 +110,8 @@ def acceleration_case(ctx, scene, k=1.0):
 def lumped_velocity_case(ctx, scene, k=1.0):
     """Theorem 5 (BoundedEffectOfLumpedVel): k multiplies sqrt(6N) Psi* max_p sup_q sigma_max(Y_p)."""
     chain, traj = scene.chain, scene.trajectory
-    worst, rss = cached(ctx, scene, "skew", lambda: bounds.skew_partial_sup(chain, **kw(ctx, scene, "skew")))
-    psi = bounds.lumped_velocity_bounds(traj)["psi"]
+    worst, rss = cached(ctx, scene, "skew", lambda: skew_partial_sup(chain, **kw(ctx, scene, "skew")))
+    psi = lumped_velocity_bounds(traj)["psi"]
     root = np.sqrt(6 * traj.bodies)
 
     def value(q, t):

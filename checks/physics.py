@@ -2,11 +2,11 @@
 
 - ``GRE-physics:internal-motion``: a trolley or passenger as its own rigid body on prismatic joints in
   Pinocchio, against the equation with Theta, Thetadot, Psi, Psidot integrated from the moving body's
-  density (inertiaproof.crosscheck).
+  density (inertiaproof.sim.crosscheck).
 - ``GRE-physics:loading``: mass added in K plastic captures of pieces at rest converges to the equation
-  (inertiaproof.capture); pieces that arrive with the body's velocity converge elsewhere.
+  (inertiaproof.sim.capture); pieces that arrive with the body's velocity converge elsewhere.
 - ``stability``: solve_ivp methods on the scene, error against run time, and the power balance of Prop1
-  (inertiaproof.study).
+  (inertiaproof.sim.study).
 """
 
 from __future__ import annotations
@@ -15,12 +15,22 @@ import dataclasses
 
 import numpy as np
 
-from inertiaproof import capture, crosscheck, motion, robots, simulate, study
+from inertiaproof.dynamics import motion
+from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory
 from inertiaproof.errors import InputError
-from inertiaproof.registry import check, replayer
 from inertiaproof.result import Result, Verdict, combine, quantity
-from inertiaproof.scene import load_scene
-from inertiaproof.trajectory import MovingMass, ParameterTrajectory
+from inertiaproof.scene import robots
+from inertiaproof.scene.format import load_scene
+from inertiaproof.sim import capture, crosscheck, study
+from inertiaproof.sim.control import controller
+from inertiaproof.suite.registry import check, replayer
+
+__all__ = [
+    "ASSUMPTION", "internal_motion", "internal_motion_result", "INTERNAL_SCENES", "label", "loading",
+    "loading_result", "LOADING_SCENES", "LOADING_SETTINGS", "moving_masses_only", "replay_internal",
+    "replay_loading", "replay_stability", "scene_from", "scenes_for", "stability", "stability_result",
+    "STABILITY_SCENES", "STUDY_SETTINGS",
+]
 
 INTERNAL_SCENES = ("trolley-2r", "passenger-platform")
 LOADING_SCENES = ("planar-2r-payload",)
@@ -191,7 +201,7 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
     }
     verdicts, counterexample, series = [], None, None
     for ref, scene in scenes:
-        control = simulate.controller(scene.chain, scene.trajectory, scene.control)
+        control = controller(scene.chain, scene.trajectory, scene.control)
         cs = capture.study(scene.chain, scene.trajectory, control, counts, steps, forces, scene.horizon(), max_steps,
                            max_count, progress=ctx.progress)
         verdicts.append(cs.verdict)
@@ -302,7 +312,7 @@ def stability_result(scenes, ctx, forces=motion.generalized_forces, settings=Non
                 "scene": ref, "horizon": st.horizon, "tolerances": list(chosen.tolerances),
                 "methods": [st.reference.method], "reference_rtol": chosen.reference_rtol,
                 "coarse_residual": coarse, "reference_residual": fine}}
-    files = [ctx.write_data("work_precision.json", wp_rows), ctx.write_data("stability.json", stab_rows)]
+    files = [ctx.outputs.write_data("work_precision.json", wp_rows), ctx.outputs.write_data("stability.json", stab_rows)]
     evidence["data_files"] = [f for f in files if f]
     evidence["method"] = ("closed loop (PD or computed torque tracking a sinusoid) integrated with solve_ivp; error "
                           "against a tight-tolerance reference run; the power balance d/dt (T_q + U) = supplied power "

@@ -19,17 +19,25 @@ sampled (q, t) and steer toward the smallest one; a failure is a concrete
 from __future__ import annotations
 
 import numpy as np
-from hypothesis import Phase, strategies as st
-
-from inertiaproof import composite
-from inertiaproof.chain import Chain
+from hypothesis import Phase
+from hypothesis import strategies as st
 from inertiaproof.counterexamples.chains import chains
 from inertiaproof.counterexamples.trajectories import trajectories
-from inertiaproof.dynamics import lumped_acceleration_force, lumped_velocity_matrix
-from inertiaproof.hunt import hunt
-from inertiaproof.inertia import pseudo_inertia
-from inertiaproof.registry import replayer
+
+from inertiaproof.dynamics import composite
+from inertiaproof.dynamics.chain import Chain
+from inertiaproof.dynamics.terms import lumped_acceleration_force, lumped_velocity_matrix
+from inertiaproof.model.inertia import pseudo_inertia
 from inertiaproof.result import Result, Verdict, quantity
+from inertiaproof.suite.hunt import hunt
+from inertiaproof.suite.registry import replayer
+
+__all__ = [
+    "acc_pointwise", "EPS", "hunt_cases", "hunt_samples", "HUNT_SHARE", "margins", "NO_SHRINK",
+    "point_counterexample", "POINTS", "POINTWISE", "replay_bound_point", "replay_point", "RESOLUTION", "ROUNDING",
+    "run_hunt", "state_at", "thm2_pointwise", "thm3_pointwise", "thm4_pointwise", "thm5_pointwise", "with_hunt",
+    "worst_point",
+]
 
 RESOLUTION = 1e-9  # relative: a margin must exceed this fraction of |lhs| + |rhs| to count
 ROUNDING = 64.0  # rounding of a computed eigen- or singular value, in units of eps times the matrix's size

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
-from inertiaproof.errors import InputError
-from inertiaproof.registry import check
-from inertiaproof.result import Result, Verdict
 from inertiaproof.symbolic.claims import CLAIMS
 from inertiaproof.symbolic.derivations import derivation
 from inertiaproof.symbolic.evidence import claim_result, run_claim
 from inertiaproof.symbolic.systems import scene_key
+
+from inertiaproof.errors import InputError
+from inertiaproof.result import Result, Verdict
+from inertiaproof.suite.registry import check
+
+__all__ = ["decide_on_scene"]
 
 
 def decide_on_scene(claim_id, ctx):

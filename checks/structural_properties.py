@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
-from inertiaproof.registry import check
 from inertiaproof.symbolic.claims import CLAIMS
 from inertiaproof.symbolic.evidence import claim_result, profile_outcomes
+
+from inertiaproof.suite.registry import check
+
+__all__ = ["regressors", "skew_symmetry"]
 
 
 @check("Prop1", variant="symbolic")

@@ -3,13 +3,13 @@
 Prop1: N = Mdot - 2C - M(q, Thetadot) and H(q, Psi) are skew-symmetric. Mdot
 is the total derivative of M(q(t), Theta(t)) along a motion, taken
 independently of the formula: by a complex step in t through
-inertiaproof.composite on analytic motions, by Richardson-extrapolated
+inertiaproof.dynamics.composite on analytic motions, by Richardson-extrapolated
 central differences on the built-in scenes (whose ramps are not analytic).
 H is also checked against the Lagrangian it comes from: the Psi part of the
 Euler-Lagrange equations of T_Psi = qd^T J^T Q^T Psi(t), differentiated by a
 complex step, must equal H qd + J^T Q^T Psidot (RoboticEquation).
 
-Prop2: the regressors of inertiaproof.regressors, built from QJ alone,
+Prop2: the regressors of inertiaproof.dynamics.regressors, built from QJ alone,
 reproduce M a + C v + G and M(q, Thetadot) v.
 
 Residuals are relative to the norms of the terms compared; a residual above
@@ -26,16 +26,25 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from hypothesis import strategies as st
-
-from inertiaproof import composite, dynamics, regressors, robots
-from inertiaproof.chain import COMPLEX_STEP, Chain
-from inertiaproof.counterexamples.motions import joint_motion, motions
-from inertiaproof.hunt import hunt
 from inertiaproof.checks.pointwise import HUNT_SHARE, NO_SHRINK
-from inertiaproof.registry import check, replayer
+from inertiaproof.counterexamples.motions import joint_motion, motions
+
+from inertiaproof.dynamics import composite, regressors
+from inertiaproof.dynamics import terms as dynamics
+from inertiaproof.dynamics.chain import COMPLEX_STEP, Chain
+from inertiaproof.dynamics.trajectory import SineMotion
 from inertiaproof.result import Result, Verdict, combine, quantity
-from inertiaproof.trajectory import SineMotion
+from inertiaproof.scene import robots
+from inertiaproof.suite.hunt import hunt
+from inertiaproof.suite.registry import check, replayer
+
+__all__ = [
+    "analytic_case", "coriolis_regressor_wrong_index", "EPS", "FD_STEP", "mass_regressor_perturbed",
+    "partial_mass_rate", "prop1", "PROP1_CONTROLS", "PROP1_INPUTS", "prop1_residuals", "prop1_result",
+    "prop1_scenes", "prop2", "PROP2_CONTROLS", "PROP2_INPUTS", "prop2_inputs", "prop2_residuals", "prop2_result",
+    "prop2_scenes", "replay_structural_point", "scene_case", "symmetric_lumped", "Terms", "TOLERANCE",
+    "wrong_christoffel",
+]
 
 TOLERANCE = 1e-10  # relative residual, against the norms of the terms compared
 EPS = np.finfo(float).eps

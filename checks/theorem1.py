@@ -18,23 +18,30 @@ from fractions import Fraction
 import mpmath
 import numpy as np
 import sympy as sp
-
-from inertiaproof import degenerate, density, exact, quadrature
 from inertiaproof.checks.equivalences import definiteness
-from inertiaproof.consistency import CONSISTENT, physical_consistency
 from inertiaproof.counterexamples.densities import density_families
 from inertiaproof.counterexamples.inertias import pseudo_inertia_pd
+
 from inertiaproof.errors import InputError, numbers
-from inertiaproof.hunt import hunt
-from inertiaproof.inertia import pseudo_inertia, pseudo_inertia_inverse
-from inertiaproof.realise import realising_solid
-from inertiaproof.registry import check, replayer
+from inertiaproof.model import degenerate, density, exact, quadrature
+from inertiaproof.model.consistency import CONSISTENT, physical_consistency
+from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse
+from inertiaproof.model.realise import realising_solid
 from inertiaproof.result import Result, Verdict, combine, quantity
+from inertiaproof.suite.hunt import hunt
+from inertiaproof.suite.registry import check, replayer
+
+__all__ = [
+    "boundary_example_result", "boundary_examples", "boundary_result", "density_margins", "DIGITS", "EPS",
+    "exact_decisions", "fitted_slope", "flattening_series", "necessity_result", "precise_margins",
+    "pseudo_inertia_inverse_exact", "realisation", "remark2", "remark2_result", "replay_boundary",
+    "replay_density", "replay_pseudo_inertia", "RESOLUTION", "sufficiency_hunt", "sufficiency_result",
+    "theorem1_boundary", "theorem1_necessity", "theorem1_sufficiency",
+]
 
 EPS = np.finfo(float).eps
 RESOLUTION = 64 * EPS
 DIGITS = 60
-_SHARED = {}
 
 
 def exact_decisions(spec, f=None):
@@ -99,9 +106,8 @@ class _Hunts:
 
 def sufficiency_hunt(ctx, strategies=None, **hunt_settings):
     """The hunts both Def1/Thm1-suff and Rem2 read: one per density family, run once per (seed, profile)."""
-    key = (ctx.seed, ctx.profile.name)
-    if strategies is None and key in _SHARED:
-        return _SHARED[key]
+    if strategies is None:
+        return ctx.shared("sufficiency_hunt", lambda: sufficiency_hunt(ctx, density_families(), **hunt_settings))
     records = []
 
     def margin(spec):
@@ -110,7 +116,7 @@ def sufficiency_hunt(ctx, strategies=None, **hunt_settings):
                         "family": _family(spec)})
         return min(lam, slack) if f_pd and strict else -1.0
 
-    families = density_families() if strategies is None else strategies
+    families = strategies
     per_family = max(8, ctx.profile.examples // 6)
     hunts = []
     for name, strategy in families.items():
@@ -119,10 +125,7 @@ def sufficiency_hunt(ctx, strategies=None, **hunt_settings):
                           **{"max_examples": per_family, **hunt_settings}))
         if hunts[-1].violation is not None:
             break
-    shared = (_Hunts(hunts), records)
-    if strategies is None:
-        _SHARED[key] = shared
-    return shared
+    return _Hunts(hunts), records
 
 
 def _hunt_evidence(found, records, field, meaning):

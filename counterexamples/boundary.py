@@ -15,10 +15,12 @@ from fractions import Fraction
 
 import numpy as np
 from hypothesis import strategies as st
-
 from inertiaproof.counterexamples.inertias import consistent_phi
-from inertiaproof.density import rotation
-from inertiaproof.degenerate import point_masses
+
+from inertiaproof.model.degenerate import point_masses
+from inertiaproof.model.density import rotation
+
+__all__ = ["boundary_phi", "near_boundary_phi", "principal_inertia", "rational_rotation", "shifted_com_phi", "SMALL"]
 
 SMALL = st.integers(-6, 6)
 

@@ -6,9 +6,11 @@ from dataclasses import replace
 
 import numpy as np
 from hypothesis import strategies as st
-
-from inertiaproof.chain import Chain, Joint, origin
 from inertiaproof.counterexamples.inertias import log_uniform
+
+from inertiaproof.dynamics.chain import Chain, Joint, origin
+
+__all__ = ["chains", "unit_floats"]
 
 unit_floats = st.floats(-1.0, 1.0, allow_nan=False)
 

@@ -1,4 +1,4 @@
-"""Random mass densities with a 3-D carrier, as JSON-able specs of :mod:`inertiaproof.density`.
+"""Random mass densities with a 3-D carrier, as JSON-able specs of :mod:`inertiaproof.model.density`.
 
 ``nonnegative_densities`` draws what Definition 1 admits: uniform primitive
 solids in random poses, Bernstein-polynomial densities on boxes (with zero
@@ -14,9 +14,14 @@ from __future__ import annotations
 import numpy as np
 from hypothesis import assume
 from hypothesis import strategies as st
-
-from inertiaproof import solids
 from inertiaproof.counterexamples.inertias import log_uniform
+
+from inertiaproof.model import solids
+
+__all__ = [
+    "bernstein_components", "components", "density_families", "nonnegative_densities", "quaternions",
+    "signed_densities", "solid_components", "UNIT",
+]
 
 UNIT = st.floats(-1, 1, allow_nan=False)
 

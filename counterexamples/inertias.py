@@ -13,7 +13,9 @@ from __future__ import annotations
 import numpy as np
 from hypothesis import strategies as st
 
-from inertiaproof.solids import phi_from_covariance
+from inertiaproof.model.solids import phi_from_covariance
+
+__all__ = ["any_phi", "consistent_phi", "log_uniform", "pseudo_inertia_pd", "rotations"]
 
 
 def log_uniform(lo, hi):

@@ -9,10 +9,12 @@ from __future__ import annotations
 
 import numpy as np
 from hypothesis import strategies as st
-
 from inertiaproof.counterexamples.chains import chains
 from inertiaproof.counterexamples.inertias import consistent_phi, log_uniform
-from inertiaproof.trajectory import SineMotion
+
+from inertiaproof.dynamics.trajectory import SineMotion
+
+__all__ = ["joint_motion", "motions", "sines"]
 
 
 def sines(rng, center, amplitude):

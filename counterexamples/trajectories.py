@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 from hypothesis import strategies as st
-
 from inertiaproof.counterexamples.inertias import consistent_phi, log_uniform
-from inertiaproof.trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile
+
+from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile
+
+__all__ = ["profiles", "SMOOTH", "trajectories"]
 
 SMOOTH = ("smoothstep", "smootherstep", "cosine")
 

@@ -1,5 +1,7 @@
 """Errors that reach the user as one line naming the problem (exit status 2)."""
 
+__all__ = ["InputError", "numbers"]
+
 
 class InputError(ValueError):
     """Bad input: a file, a field or an argument that cannot be used."""

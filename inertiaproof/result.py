@@ -30,6 +30,8 @@ from enum import Enum
 
 import numpy as np
 
+__all__ = ["combine", "decide", "KINDS", "quantity", "Result", "Verdict"]
+
 
 class Verdict(str, Enum):
     HOLDS = "HOLDS"
@@ -97,7 +99,7 @@ class Result:
     verdict: Verdict
     summary: str  # one line a person reads first
     evidence: dict = field(default_factory=dict)
-    counterexample: dict | None = None  # replayable; see inertiaproof.replay
+    counterexample: dict | None = None  # replayable; see inertiaproof.suite.replay
     runtime_s: float = 0.0
     seed: int | None = None
     profile: str | None = None

@@ -13,11 +13,28 @@ from __future__ import annotations
 from collections import Counter
 from pathlib import PurePath
 
-from inertiaproof.audit_text import headline, remarks, role, totals
+from inertiaproof.report import numbers as fmt
+from inertiaproof.report.evidence import Figures, table
+from inertiaproof.report.model import (
+    Badge,
+    Bullets,
+    Column,
+    Document,
+    Link,
+    Notice,
+    Paragraph,
+    Section,
+    Text,
+    cell,
+    code,
+)
 
-from . import numbers as fmt
-from .evidence import Figures, table
-from .model import Badge, Bullets, Column, Document, Link, Notice, Paragraph, Section, Text, cell, code
+from inertiaproof.audit.text import headline, remarks, role, totals
+
+__all__ = [
+    "BOUNDS", "build", "LINK_MEANINGS", "LINK_TONES", "NOT_JUDGED", "short_names", "SINGULAR_MEANINGS",
+    "SINGULAR_TONES", "SUBTITLE", "TITLE",
+]
 
 TITLE = "inertiaproof audit"
 SUBTITLE = "Physical consistency of robot descriptions and the bounds of their mass matrices (Kaufmann & Reger)"

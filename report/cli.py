@@ -10,6 +10,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+__all__ = ["build", "configure", "main", "STEMS"]
+
 STEMS = ("report", "audit")
 
 
@@ -49,7 +51,7 @@ def _build(out, pdf, only):
 
 def _documents(out, only):
     """(stem, Document) of each source in out: results.json as "report", audit.json as "audit"."""
-    from . import audit, content, load
+    from inertiaproof.report import audit, content, load
 
     has_audit = "audit" in only and (out / load.AUDIT).is_file()
     if "report" in only and (not has_audit or (out / "results.json").is_file()):
@@ -61,7 +63,7 @@ def _documents(out, only):
 
 def _render(out, stem, document, pdf):
     """Write out/stem.html, .tex, -figures.pdf (and .pdf); returns (written paths, a problem or None)."""
-    from . import html, latex, plots, typeset
+    from inertiaproof.report import html, latex, plots, typeset
 
     figures = document.figures()
     figure_file = out / f"{stem}-figures.pdf"

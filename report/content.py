@@ -12,12 +12,27 @@ import re
 import shlex
 from dataclasses import dataclass
 
-from inertiaproof import catalog
-from inertiaproof.result import KINDS, combine
+from inertiaproof.report import datafiles, evidence
+from inertiaproof.report import numbers as fmt
+from inertiaproof.report.model import (
+    Badge,
+    Bullets,
+    Code,
+    Column,
+    Document,
+    Link,
+    Notice,
+    Paragraph,
+    Section,
+    Text,
+    cell,
+    code,
+)
 
-from . import datafiles, evidence
-from . import numbers as fmt
-from .model import Badge, Bullets, Code, Column, Document, Link, Notice, Paragraph, Section, Text, cell, code
+from inertiaproof.result import KINDS, combine
+from inertiaproof.suite import catalog
+
+__all__ = ["build", "NOT_RUN", "PAPER", "TITLE"]
 
 NOT_RUN = "NOT RUN"
 TITLE = "inertiaproof report"

@@ -10,9 +10,11 @@ from __future__ import annotations
 
 from pathlib import PurePosixPath
 
-from . import evidence
-from . import numbers as fmt
-from .model import Column, Paragraph, Text, cell, code
+from inertiaproof.report import evidence
+from inertiaproof.report import numbers as fmt
+from inertiaproof.report.model import Column, Paragraph, Text, cell, code
+
+__all__ = ["blocks", "is_ok", "OK_STATUS", "stability", "work_precision"]
 
 OK_STATUS = {"ok", "success", "succeeded", "passed", "stable", "holds", "converged"}
 

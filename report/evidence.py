@@ -9,8 +9,14 @@ from __future__ import annotations
 
 import json
 
-from . import numbers as fmt
-from .model import Code, Column, Figure, Table, Text, cell, code
+from inertiaproof.report import numbers as fmt
+from inertiaproof.report.model import Code, Column, Figure, Table, Text, cell, code
+
+__all__ = [
+    "bracket_figure", "bracket_table", "constants_points", "constants_table", "CONVENTIONS", "Figures",
+    "generic_blocks", "hunt_blocks", "json_text", "LONG_TEXT", "MAX_ROWS", "MAX_TEXT_LINES", "RECORD_TEXT",
+    "records_table", "series_figures", "split", "table",
+]
 
 CONVENTIONS = ("bracket", "constants", "hunt", "series")
 MAX_ROWS = 40

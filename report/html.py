@@ -6,7 +6,9 @@ import re
 from html import escape
 from importlib import resources
 
-from .model import Badge, Bullets, Code, Figure, Link, Notice, Paragraph, Table, Text
+from inertiaproof.report.model import Badge, Bullets, Code, Figure, Link, Notice, Paragraph, Table, Text
+
+__all__ = ["render", "TAGS"]
 
 TAGS = {"code": "code", "strong": "strong", "em": "em"}
 

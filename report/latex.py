@@ -12,7 +12,12 @@ import re
 import unicodedata
 from importlib import resources
 
-from .model import Badge, Bullets, Code, Figure, Link, Notice, Paragraph, Table, Text
+from inertiaproof.report.model import Badge, Bullets, Code, Figure, Link, Notice, Paragraph, Table, Text
+
+__all__ = [
+    "ACCENTS", "BREAK_AFTER", "escape", "FIGURES", "GREEK", "LETTERS", "LONG_TOKEN", "render", "ROMAN", "SECTIONS",
+    "SYMBOLS", "TEXT", "TYPEWRITER",
+]
 
 FIGURES = "report-figures.pdf"
 LONG_TOKEN = {False: 14, True: 8}

@@ -8,6 +8,11 @@ from pathlib import Path
 
 from inertiaproof.errors import InputError
 
+__all__ = [
+    "AUDIT", "audit", "AUDIT_SCHEMA", "data_files", "Each", "FILE", "LINK", "OPTIONAL", "REPAIR", "results",
+    "SCHEMA", "SUMMARY", "TYPE_NAMES", "VERDICTS",
+]
+
 SCHEMA = "inertiaproof.results/1"
 VERDICTS = ("HOLDS", "VIOLATED", "INCONCLUSIVE")
 AUDIT = "audit.json"

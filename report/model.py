@@ -9,6 +9,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+__all__ = [
+    "Badge", "Bullets", "cell", "Code", "code", "Column", "Document", "Figure", "Link", "Notice", "Paragraph",
+    "Section", "Table", "Text",
+]
+
 
 @dataclass(frozen=True)
 class Text:

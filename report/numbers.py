@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+__all__ = ["is_quantity", "NON_FINITE", "number", "quantity", "ratio", "seconds", "to_float", "value"]
+
 NON_FINITE = {"inf", "-inf", "nan"}
 
 

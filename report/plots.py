@@ -10,6 +10,12 @@ from __future__ import annotations
 import io
 import math
 
+__all__ = [
+    "bracket", "CHAR", "constants", "DECADES", "DRAW", "draw", "hunt", "LEGEND", "LINE", "MAX_POINTS", "METADATA",
+    "PAD", "RED", "render", "series", "stability", "STYLE", "SUPERSCRIPT", "thin", "TICK", "WIDTH",
+    "work_precision",
+]
+
 WIDTH = 6.4
 STYLE = {
     "font.family": "DejaVu Sans",

@@ -9,6 +9,8 @@ import subprocess
 import tempfile
 from pathlib import Path
 
+__all__ = ["available", "pdf", "SOURCE_DATE_EPOCH", "TIMEOUT_S", "TypesetError"]
+
 SOURCE_DATE_EPOCH = "1700000000"
 TIMEOUT_S = 300
 

@@ -19,7 +19,9 @@ import sympy
 from sympy.polys.domains import QQ
 from sympy.polys.rings import PolyElement
 
-from inertiaproof.registry import cache_dir
+from inertiaproof.suite.paths import cache_dir
+
+__all__ = ["CODE", "code_version", "decode", "encode", "FORMAT", "key", "load", "store"]
 
 FORMAT = 1
 CODE = (  # the modules a derivation's result depends on

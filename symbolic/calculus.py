@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from typing import Any, Protocol
 
+__all__ = ["Calculus"]
+
 
 class Calculus(Protocol):
     n: int

@@ -12,9 +12,22 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
-from inertiaproof.symbolic.properties import (Regressors, build_regressors, parameter_dependence, property1_matrix,
-                                              rate_regressor_residual, regressor_residual, skew_defect)
+from inertiaproof.symbolic.properties import (
+    Regressors,
+    build_regressors,
+    parameter_dependence,
+    property1_matrix,
+    rate_regressor_residual,
+    regressor_residual,
+    skew_defect,
+)
 from inertiaproof.symbolic.robotics_equation import RoboticEquation, coriolis, left_side, lumped_force, transpose
+
+__all__ = [
+    "Claim", "CLAIMS", "entries", "GRE_CONTROLS", "GRE_F_CONTROLS", "gre_f_residual", "gre_residual", "originals",
+    "PROP1_CONTROLS", "prop1_residual", "PROP2_CONTROLS", "prop2_residual", "RegressorTest", "swapped_coriolis",
+    "zeros_like",
+]
 
 
 def zeros_like(calc, m):

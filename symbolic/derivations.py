@@ -16,6 +16,8 @@ from inertiaproof.symbolic.properties import Regressors, build_regressors, prope
 from inertiaproof.symbolic.robotics_equation import RoboticEquation, assemble, christoffel, parameter_rate_matrix
 from inertiaproof.symbolic.systems import System, SystemKey, abstract_system, build, chain_inputs, chain_of
 
+__all__ = ["Derivation", "derivation", "derive", "forget"]
+
 
 @dataclass
 class Derivation:

@@ -15,9 +15,15 @@ import dataclasses
 import time
 from dataclasses import dataclass, field
 
-from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.symbolic.claims import entries, originals
-from inertiaproof.symbolic.identity import Decision, decide_exact, decide_randomised, fixed_point, point_json
+from inertiaproof.symbolic.identity import Decision, decide_exact, decide_randomised, fixed_point, leaves, point_json
+
+from inertiaproof.result import Result, Verdict, quantity
+
+__all__ = [
+    "claim_result", "ClaimOutcome", "decision_evidence", "outcome_evidence", "Probe", "profile_derivations",
+    "profile_outcomes", "run_claim",
+]
 
 
 @dataclass
@@ -39,14 +45,6 @@ class ClaimOutcome:
     @property
     def consistent(self):
         return self.randomised is None or self.randomised.holds == self.exact.holds
-
-
-def leaves(obj):
-    if dataclasses.is_dataclass(obj):
-        return [x for f in dataclasses.fields(obj) for x in leaves(getattr(obj, f.name))]
-    if isinstance(obj, (tuple, list)):
-        return [x for item in obj for x in leaves(item)]
-    return [obj]
 
 
 class Probe:

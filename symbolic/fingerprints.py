@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import hashlib
 
-from inertiaproof.symbolic.evidence import leaves
-from inertiaproof.symbolic.identity import fixed_point
+from inertiaproof.symbolic.identity import fixed_point, leaves
+
+__all__ = ["fingerprints", "form", "meaning", "MEANING_POINTS", "OBJECTS"]
 
 MEANING_POINTS = (0, 1)  # salts of the fixed rational points
 

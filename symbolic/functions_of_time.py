@@ -22,6 +22,8 @@ from functools import cached_property
 
 import sympy as sp
 
+__all__ = ["FunctionsOfTime", "point_value", "polynomial_degree_bound", "T"]
+
 T = sp.Symbol("t", real=True)
 
 

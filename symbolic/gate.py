@@ -20,6 +20,12 @@ import time
 from pathlib import Path
 
 from inertiaproof.errors import InputError
+from inertiaproof.suite.profiles import PROFILES
+
+__all__ = [
+    "compare", "configure", "current", "evaluate", "format_report", "hash_seed_is_fixed", "LOCKFILE", "main",
+    "read_lock", "run_gate", "SCHEMA", "SHOWN", "update",
+]
 
 LOCKFILE = Path(__file__).with_name("derivations.lock.json")
 SCHEMA = "inertiaproof.derivations-lock/1"
@@ -107,8 +113,6 @@ def evaluate(profile, lockfile=LOCKFILE, progress=None):
 
 def run_gate(profile_name, lockfile=LOCKFILE, progress=None):
     """The gate's report whatever this process's hash seed: in process under seed 0, else in a child with seed 0."""
-    from inertiaproof.registry import PROFILES
-
     if hash_seed_is_fixed():
         return evaluate(PROFILES[profile_name], lockfile, progress)[0]
     env = dict(os.environ, PYTHONHASHSEED="0")
@@ -155,8 +159,6 @@ def format_report(report):
 
 
 def configure(parser):
-    from inertiaproof.registry import PROFILES
-
     parser.add_argument("--profile", choices=sorted(PROFILES), default="ci")
     parser.add_argument("--update", action="store_true", help="rewrite the lockfile's entries deliberately")
     parser.add_argument("--lockfile", default=str(LOCKFILE), metavar="FILE",
@@ -178,8 +180,6 @@ def main(args):
                   file=sys.stderr)
         env = dict(os.environ, PYTHONHASHSEED="0")
         return subprocess.run([sys.executable, "-m", "inertiaproof", "gate", *_argv(args)], env=env).returncode
-    from inertiaproof.registry import PROFILES
-
     say = (lambda m: None) if args.quiet or args.json else (lambda m: print(f"gate: {m}", file=sys.stderr, flush=True))
     report, found = evaluate(PROFILES[args.profile], args.lockfile, say)
     if args.update:

@@ -9,6 +9,12 @@ from __future__ import annotations
 
 import sympy as sp
 
+__all__ = [
+    "geometric_fact", "inertia_of", "inverse_after_sigma", "phi_symbols", "pseudo_inertia",
+    "pseudo_inertia_coordinate_matrix", "schur_factorisation", "sigma_after_inverse", "sigma_of", "skew",
+    "spectrum_of_inertia", "spectrum_of_sigma", "sym4_coordinates", "symmetric", "translation_invariance",
+]
+
 
 def skew(x):
     """S(x) (paper, Notation)."""

@@ -20,6 +20,11 @@ import time
 from dataclasses import dataclass, field
 from fractions import Fraction
 
+__all__ = [
+    "decide_exact", "decide_randomised", "Decision", "degree_bound", "EvaluatedDerivation", "fixed_point",
+    "leaves", "point_from_json", "point_json", "PointCalculus", "random_point", "SAMPLE_BITS", "witness",
+]
+
 SAMPLE_BITS = 32  # coordinates drawn from [-2^31, 2^31): |S| = 2^32
 
 
@@ -160,10 +165,16 @@ def decide_randomised(formula, d, rng, points=2):
                     per_point**points if not nonzero else Fraction(0), found, time.perf_counter() - start)
 
 
+def leaves(obj):
+    if dataclasses.is_dataclass(obj):
+        return [x for f in dataclasses.fields(obj) for x in leaves(getattr(obj, f.name))]
+    if isinstance(obj, (tuple, list)):
+        return [x for item in obj for x in leaves(item)]
+    return [obj]
+
+
 def _point_keys(d):
     """The coordinates of a derivation's objects (once per derivation)."""
-    from inertiaproof.symbolic.evidence import leaves
-
     if hasattr(d.calc, "ring"):
         return d.calc.point_keys()  # a jet ring's points give every coordinate
     cached = _KEYS.get(id(d))

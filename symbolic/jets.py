@@ -33,7 +33,9 @@ import numpy as np
 from sympy.polys.domains import QQ
 from sympy.polys.rings import PolyRing
 
-from inertiaproof.inertia import PHI_FIELDS
+from inertiaproof.model.inertia import PHI_FIELDS
+
+__all__ = ["COORDINATE_POLYNOMIALS", "Generator", "JetSpace"]
 
 # g_k(q) and g_k'(q) as coefficient lists (lowest degree first) of polynomial coordinate maps
 COORDINATE_POLYNOMIALS = {

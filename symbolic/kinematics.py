@@ -20,10 +20,15 @@ from fractions import Fraction
 from functools import cached_property
 
 import numpy as np
+from inertiaproof.symbolic.jets import JetSpace
 from sympy.polys.domains import QQ
 
 from inertiaproof.errors import InputError
-from inertiaproof.symbolic.jets import JetSpace
+
+__all__ = [
+    "ChainTwin", "Frame", "matmul", "matvec", "rational", "rational_axis", "rational_rotation",
+    "rational_transform", "skew", "SNAP", "to_qq", "TOLERANCE", "transpose", "vee",
+]
 
 SNAP = 1e-12  # entries this close to -1, 0, 1 are taken as exactly that
 TOLERANCE = 1e-9  # the largest accepted distance between the twin's transforms and the chain's

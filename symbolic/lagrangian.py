@@ -10,6 +10,11 @@ from __future__ import annotations
 
 from inertiaproof.symbolic.kinematics import matvec, skew, to_qq
 
+__all__ = [
+    "abstract_lagrangian", "chain_lagrangian", "chain_potential", "euler_lagrange", "quadratic_form",
+    "spatial_inertia",
+]
+
 
 def euler_lagrange(calc, lagrangian):
     """(d/dt dL/dqd_k - dL/dq_k)_k (LagrangeFormalism): what equals tau + w along every motion."""

@@ -5,7 +5,7 @@ density M / V (V = int 1) is integrated against 1, x and x x^T over the
 region (MassDistributionToInertialParam). The integrands are polynomials in
 the parameters (and in cos(phi), sin(phi)), so each is integrated monomial by
 monomial, every monomial once, exactly. The results are compared with the
-closed forms of :mod:`inertiaproof.solids` evaluated on the same symbols.
+closed forms of :mod:`inertiaproof.model.solids` evaluated on the same symbols.
 """
 
 from __future__ import annotations
@@ -15,6 +15,8 @@ import operator
 from functools import lru_cache
 
 import sympy as sp
+
+__all__ = ["bernstein_moments", "canonical_moments", "COS", "PHI", "SHAPES", "SIN"]
 
 SHAPES = ("box", "ellipsoid", "sphere", "cylinder", "cone", "tetrahedron")
 PHI = sp.Symbol("phi", real=True)

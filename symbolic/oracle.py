@@ -9,9 +9,11 @@ At a rational point the symbolic QJ and the symbolic left side of
 from __future__ import annotations
 
 import numpy as np
-
-from inertiaproof import dynamics
 from inertiaproof.symbolic.robotics_equation import left_side
+
+from inertiaproof.dynamics import terms
+
+__all__ = ["body_jacobian_error", "generalized_forces_error", "numeric_motion"]
 
 
 def numeric_motion(jets, point):
@@ -42,7 +44,7 @@ def generalized_forces_error(d, point):
     q = twin.numeric_point(point)
     motion = numeric_motion(jets, point)
     rotations, _ = chain.forward_kinematics(q)
-    numeric = dynamics.generalized_forces(chain.body_jacobian(q), chain.body_jacobian_derivative(q), rotations,
+    numeric = terms.generalized_forces(chain.body_jacobian(q), chain.body_jacobian_derivative(q), rotations,
                                           np.array(chain.gravity), motion["qdd"], motion["qd"], motion["theta"],
                                           motion["theta_dot"], motion["psi"], motion["psi_dot"])
     symbolic = np.array([float(jets.evaluate(x, point)) for x in left_side(jets, d.equation)])

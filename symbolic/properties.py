@@ -22,6 +22,11 @@ from dataclasses import dataclass
 
 from inertiaproof.symbolic.robotics_equation import christoffel, coriolis, matvec
 
+__all__ = [
+    "build_regressors", "mass_matrix_regressors", "parameter_dependence", "property1_matrix",
+    "rate_regressor_residual", "regressor_residual", "Regressors", "skew_defect", "total_derivative",
+]
+
 
 def total_derivative(calc, m):
     """Mdot = dM/dt along q(t) and Theta(t)."""

@@ -15,6 +15,12 @@ from dataclasses import dataclass, replace
 
 from inertiaproof.symbolic.lagrangian import spatial_inertia
 
+__all__ = [
+    "add", "assemble", "christoffel", "coriolis", "gravity", "left_side", "lumped_force", "lumped_velocity_matrix",
+    "mass_matrix", "mass_matrix_at_rates", "mass_matrix_partials", "matvec", "parameter_rate_matrix",
+    "RoboticEquation", "symmetric", "transpose",
+]
+
 
 def mass_matrix(calc, body_jacobian, parameter_blocks):
     """M = (QJ)^T blockdiag(Z(Phi_1), ..., Z(Phi_N)) QJ (MassMatrix, DefBlockmatrixZ)."""

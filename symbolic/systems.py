@@ -3,7 +3,7 @@
 A :class:`System` bundles what (Lagrangian) and (RoboticEquation) are built
 from: its calculus, L, M(q, Theta), U(q, Theta), QJ and the free vectors v, a
 of the regressors. Concrete chains are THE project's chains
-(:mod:`inertiaproof.robots`), turned exact by
+(:mod:`inertiaproof.scene.robots`), turned exact by
 :class:`~inertiaproof.symbolic.kinematics.ChainTwin`.
 """
 
@@ -12,11 +12,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from inertiaproof import robots
 from inertiaproof.symbolic.functions_of_time import FunctionsOfTime
 from inertiaproof.symbolic.kinematics import ChainTwin
 from inertiaproof.symbolic.lagrangian import abstract_lagrangian, chain_lagrangian, chain_potential
 from inertiaproof.symbolic.robotics_equation import mass_matrix
+
+from inertiaproof.scene import robots
+
+__all__ = [
+    "abstract_system", "build", "chain_inputs", "chain_of", "chain_system", "CHAINS", "profile_systems",
+    "scene_key", "System", "SystemKey",
+]
 
 CHAINS = {  # profile name -> the built-in scene whose chain it is
     "2R": robots.planar_2r,

@@ -1,4 +1,4 @@
-"""An exact decision of physical consistency independent of inertiaproof.exact: SymPy characteristic
+"""An exact decision of physical consistency independent of inertiaproof.model.exact: SymPy characteristic
 polynomials over QQ and Descartes' rule of signs (the roots of a symmetric matrix's characteristic
 polynomial are real, so sign changes count positive roots exactly)."""
 

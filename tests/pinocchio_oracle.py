@@ -3,7 +3,7 @@
 import numpy as np
 import pinocchio as pin
 
-from inertiaproof.inertia import inertia_com, unpack
+from inertiaproof.model.inertia import inertia_com, unpack
 
 
 def pinocchio_model(chain, theta):

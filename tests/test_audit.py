@@ -10,20 +10,21 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-
-from inertiaproof import cli
-from inertiaproof.audit import audit_paths, audit_profile, chain_bounds, is_serial_arm
-from inertiaproof.consistency import CONSISTENT, DEGENERATE, INCONSISTENT, LABELS, physical_consistency
-from inertiaproof.dynamics import mass_matrix
-from inertiaproof.inertia import pack, rotation_rpy, skew
-from inertiaproof.kinematic_tree import kinematic_tree
-from inertiaproof.mistakes import diagnose
-from inertiaproof.repair import nearest_consistent_inertia
-from inertiaproof.singular import singularity
-from inertiaproof.urdf import read_urdf
 from urdf_samples import inertial, joint, link, robot, robots_folder, two_link_arm, write
 
-CI = audit_profile("ci")
+from inertiaproof import cli
+from inertiaproof.audit.document import audit_paths, chain_bounds, is_serial_arm
+from inertiaproof.audit.kinematic_tree import kinematic_tree
+from inertiaproof.audit.mistakes import diagnose
+from inertiaproof.audit.repair import nearest_consistent_inertia
+from inertiaproof.audit.urdf import read_urdf
+from inertiaproof.bounds.singular import singularity
+from inertiaproof.dynamics.terms import mass_matrix
+from inertiaproof.model.consistency import CONSISTENT, DEGENERATE, INCONSISTENT, LABELS, physical_consistency
+from inertiaproof.model.inertia import pack, rotation_rpy, skew
+from inertiaproof.suite.profiles import PROFILES
+
+CI = dict(samples=PROFILES["ci"].audit_samples, refine_s=PROFILES["ci"].audit_refine_s)
 ALLEGRO_TIP = np.array([[4.701248e-06, 1.255968e-06, 1.2936e-06],
                         [1.255968e-06, 3.649312e-06, 1.7622e-06],
                         [1.2936e-06, 1.7622e-06, 4.701248e-06]])
@@ -135,7 +136,7 @@ def _chain(tmp_path, second):
 
 def test_consistent_bodies_never_give_a_singular_mass_matrix(tmp_path):
     sc, codes = _chain(tmp_path, None)
-    out = singularity(sc.chain, sc.theta, codes, ["l1", "l2"], chain_bounds(sc.chain, sc.theta, CI))
+    out = singularity(sc.chain, sc.theta, codes, ["l1", "l2"], chain_bounds(sc.chain, sc.theta, **CI))
     assert out["verdict"] == "never"
 
 
@@ -149,7 +150,7 @@ def test_massless_last_body_makes_m_singular_everywhere(tmp_path):
 
 def test_negative_mass_body_is_caught_as_an_indefinite_mass_matrix(tmp_path):
     sc, codes = _chain(tmp_path, inertial(-0.9, "0.2 0 0", "0 0 0", 0.001, 0.01, 0.01))
-    bounds = chain_bounds(sc.chain, sc.theta, CI)
+    bounds = chain_bounds(sc.chain, sc.theta, **CI)
     out = singularity(sc.chain, sc.theta, codes, ["l1", "l2"], bounds)
     assert out["verdict"] == "indefinite" and bounds["lambda_min"]["value"] < 0
     m = mass_matrix(sc.chain.body_jacobian(np.array(out["at_q"])), sc.theta)
@@ -167,7 +168,7 @@ def test_a_certified_lower_bound_decides_where_the_structure_cannot(tmp_path):
 def test_chain_bounds_bracket_the_eigenvalues_and_carry_both_alphas(tmp_path):
     text = robot(link("base"), link("disc", inertial(2.0, "0 0 0", "0 0 0", 0.3, 0.3, 0.5)), joint("j", "base", "disc"))
     (sc,) = kinematic_tree(read_urdf(write(tmp_path, text))).chains
-    b = chain_bounds(sc.chain, sc.theta, CI)
+    b = chain_bounds(sc.chain, sc.theta, **CI)
     # M(q) = I_zz = 0.5 for every q: the certified sides meet the sampled ones
     assert b["lambda_min"]["kind"] == "lower_bound" and b["lambda_min"]["value"] == pytest.approx(0.5, rel=1e-9)
     assert b["lambda_max"]["kind"] == "sampled" and "lower estimate of the sup" in b["lambda_max"]["note"]
@@ -290,7 +291,7 @@ def test_panda_ur5_and_a_hand(capsys):
 @needs_robots
 def test_sweep_of_example_robot_data():
     start = time.perf_counter()
-    files = audit_paths([ROBOTS], profile=CI, bounds="arms")
+    files = audit_paths([ROBOTS], **CI, bounds="arms")
     seconds = time.perf_counter() - start
     unreadable = [p for p, f in files.items() if f["status"] == "error"]
     assert len(files) >= 60 and [p.rsplit("/", 1)[-1] for p in unreadable] == ["ur3.urdf"]

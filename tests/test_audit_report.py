@@ -14,11 +14,11 @@ from xml.sax.saxutils import quoteattr
 
 import pytest
 import report_fixture
+from inertiaproof.report import load, typeset
 from readback import CHROMIUM, chromium, pages, past_the_margins, run, squeeze
 from urdf_samples import inertial, joint, link, robot, robots_folder, two_link_arm, write
 
 from inertiaproof import cli
-from inertiaproof.report import load, typeset
 
 ROBOTS = robots_folder()
 THREE = ("panda_description/urdf/panda.urdf", "ur_description/urdf/ur5_robot.urdf",

@@ -4,17 +4,32 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-
-from inertiaproof import bounds, robots
-from inertiaproof.checks.mass_matrix_bounds import def3_result, lower_bound_case, thm2_result, thm3_result, upper_bound_case
+from inertiaproof.checks.mass_matrix_bounds import (
+    def3_result,
+    lower_bound_case,
+    thm2_result,
+    thm3_result,
+    upper_bound_case,
+)
 from inertiaproof.checks.normality import cx_normal_result, def2_result
 from inertiaproof.checks.other_components import acc_result, rate_case, thm4_result, thm5_result
 from inertiaproof.checks.pointwise import margins, point_counterexample, replay_point, run_hunt, worst_point
-from inertiaproof.inertia import spatial_inertia, unit_body
-from inertiaproof.positive_map import (exact_map, kraus_factors, key_step_certificate, rational, spatial_from_pseudo,
-                                       verify_choi)
-from inertiaproof.registry import Context, Profile, REPLAYERS
+
+from inertiaproof.bounds.configuration import apriori_bound, jacobian_sup, triangular_normality_floor
+from inertiaproof.bounds.time import BODY_FUNCTIONS, lumped_velocity_bounds, time_extreme
+from inertiaproof.model.inertia import spatial_inertia, unit_body
+from inertiaproof.model.positive_map import (
+    exact_map,
+    key_step_certificate,
+    kraus_factors,
+    spatial_from_pseudo,
+    verify_choi,
+)
 from inertiaproof.result import Verdict
+from inertiaproof.scene import robots
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.profiles import Profile
+from inertiaproof.suite.registry import REPLAYERS
 
 FAST = Profile("test", examples=8, samples=300, refine_s=0.2, symbolic_max_n=2, derandomize=True)
 
@@ -72,7 +87,7 @@ def test_qj_is_degree_one_per_coordinate():
 
 def test_bracket_contains_dense_grid_extreme():
     chain = robots.planar_2r().chain
-    b = bounds.jacobian_sup(chain, samples=50, refine_s=0.3, rng=np.random.default_rng(0))
+    b = jacobian_sup(chain, samples=50, refine_s=0.3, rng=np.random.default_rng(0))
     q2 = np.linspace(-np.pi, np.pi, 20001)
     dense = np.linalg.svd(chain.body_jacobian(np.stack([0 * q2, q2], -1)), compute_uv=False)[:, 0].max()
     assert b.lower <= dense + 1e-12 and dense <= b.upper
@@ -82,16 +97,16 @@ def test_bracket_contains_dense_grid_extreme():
 
 
 def test_a_priori_bound_is_valid():
-    from inertiaproof import composite
+    from inertiaproof.dynamics import composite
 
     rng = np.random.default_rng(3)
     for chain in (robots.panda().chain, robots.ur5().chain, robots.revolute_prismatic(1.0).chain):
         lo, hi = chain.coordinate_box()
         q = lo + (hi - lo) * rng.random((2000, chain.n))
-        assert np.linalg.svd(chain.body_jacobian(q), compute_uv=False)[:, 0].max() <= bounds.apriori_bound(chain, None, "sup")
+        assert np.linalg.svd(chain.body_jacobian(q), compute_uv=False)[:, 0].max() <= apriori_bound(chain, None, "sup")
         thetas = rng.normal(size=(2, chain.n, 10))  # indefinite Z too: the bound is on sigma_max(M)
         sigma_m = np.abs(np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], thetas[None]))).max()
-        assert sigma_m <= bounds.apriori_bound(chain, thetas, "sup")
+        assert sigma_m <= apriori_bound(chain, thetas, "sup")
 
 
 SCENE = robots.planar_2r(payload=1.0)
@@ -144,8 +159,8 @@ def test_thm5_shrunk_constant_is_violated():
 
 def test_sharp_factor_two_of_thm4_is_attained_and_below_it_the_pointwise_bound_fails():
     """One revolute joint turning about z at its origin: QJ = e_6, and Phidot with f(Phidot) = I4 gives M = 2."""
-    from inertiaproof.chain import Chain, Joint
-    from inertiaproof.inertia import pseudo_inertia_inverse
+    from inertiaproof.dynamics.chain import Chain, Joint
+    from inertiaproof.model.inertia import pseudo_inertia_inverse
 
     chain = Chain((Joint("revolute", (0, 0, 1)),))
     phidot = pseudo_inertia_inverse(np.eye(4))[None]
@@ -205,11 +220,11 @@ def test_cx_normal_on_a_normal_chain_is_violated():
 
 def test_moving_mass_bounds_are_valid():
     traj = robots.trolley_2r(loop=True, mass=2.0).trajectory
-    lv = bounds.lumped_velocity_bounds(traj, samples=20001)
+    lv = lumped_velocity_bounds(traj, samples=20001)
     for key in ("psi", "psi_dot"):
         assert lv[key]["observed"] <= lv[key]["certified"]
-    for name in bounds.BODY_FUNCTIONS:
-        d = bounds.time_extreme(traj, name, samples=4001)
+    for name in BODY_FUNCTIONS:
+        d = time_extreme(traj, name, samples=4001)
         assert (d["certified"] <= d["observed"] + 1e-12) if d["sense"] == "min" else (d["observed"] <= d["certified"] + 1e-12)
 
 
@@ -221,7 +236,7 @@ def test_triangular_normality_floor_is_valid_on_random_chains():
     @given(chains())
     def floor_below_every_sample(drawn):
         chain, _ = drawn
-        floor = bounds.triangular_normality_floor(chain)
+        floor = triangular_normality_floor(chain)
         lo, hi = chain.coordinate_box()
         q = lo + (hi - lo) * np.random.default_rng(0).random((500, chain.n))
         smallest = np.linalg.svd(chain.body_jacobian(q), compute_uv=False)[:, -1].min() ** 2
@@ -231,9 +246,9 @@ def test_triangular_normality_floor_is_valid_on_random_chains():
 
 
 def test_triangular_normality_floor_certifies_the_arms_and_not_the_non_normal_chain():
-    assert bounds.triangular_normality_floor(robots.panda().chain) > 1e-2
-    assert bounds.triangular_normality_floor(robots.ur5().chain) > 1e-2
-    assert bounds.triangular_normality_floor(robots.non_normal_2r().chain) == 0.0
+    assert triangular_normality_floor(robots.panda().chain) > 1e-2
+    assert triangular_normality_floor(robots.ur5().chain) > 1e-2
+    assert triangular_normality_floor(robots.non_normal_2r().chain) == 0.0
 
 
 def test_cor1_with_a_misstated_alpha2_is_violated():

@@ -5,9 +5,11 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from inertiaproof import cli, registry
-from inertiaproof.registry import CheckSpec, load_checks
+from inertiaproof import cli
 from inertiaproof.result import Result, Verdict
+from inertiaproof.suite import registry
+from inertiaproof.suite.discovery import load_checks
+from inertiaproof.suite.registry import CheckSpec
 
 SCENE = """
 name = "two links"
@@ -138,15 +140,18 @@ def test_a_wrong_equation_on_a_scene_is_violated(tmp_path, monkeypatch):
     from dataclasses import replace
 
     from inertiaproof.checks import scene_equation
-    from inertiaproof.registry import PROFILES, Context
-    from inertiaproof.scene import parse_scene
     from inertiaproof.symbolic.claims import CLAIMS
+
+    from inertiaproof.scene.format import parse_scene
+    from inertiaproof.suite.context import Context
+    from inertiaproof.suite.outputs import Outputs
+    from inertiaproof.suite.profiles import PROFILES
 
     claim = CLAIMS["GRE"]
     drop = claim.controls["drop M(q, Thetadot)"]
     wrong = replace(claim, residual=lambda d, **kw: claim.residual(d, **(kw or drop(d))))
     monkeypatch.setitem(scene_equation.CLAIMS, "GRE", wrong)
-    ctx = Context(PROFILES["ci"], scene=parse_scene(SCENE), counterexample_dir=tmp_path)
+    ctx = Context(PROFILES["ci"], scene=parse_scene(SCENE), outputs=Outputs(counterexample_dir=tmp_path))
     assert scene_equation.decide_on_scene("GRE", ctx).verdict == Verdict.VIOLATED
 
 

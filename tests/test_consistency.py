@@ -4,11 +4,18 @@ import numpy as np
 import pytest
 from exact_oracle import verdict_of_phi
 
-from inertiaproof.consistency import (CONSISTENT, DEGENERATE, INCONSISTENT, INVALID, LABELS, decide_exactly,
-                                      physical_consistency)
-from inertiaproof.inertia import PHI_FIELDS, pseudo_inertia, pseudo_inertia_inverse, sigma_com
-from inertiaproof.degenerate import point_masses
-from inertiaproof.solids import solid
+from inertiaproof.model.consistency import (
+    CONSISTENT,
+    DEGENERATE,
+    INCONSISTENT,
+    INVALID,
+    LABELS,
+    decide_exactly,
+    physical_consistency,
+)
+from inertiaproof.model.degenerate import point_masses
+from inertiaproof.model.inertia import PHI_FIELDS, pseudo_inertia, pseudo_inertia_inverse, sigma_com
+from inertiaproof.model.solids import solid
 
 RNG_SEED = 20240601
 

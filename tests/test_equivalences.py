@@ -3,16 +3,15 @@
 from fractions import Fraction
 
 import numpy as np
-import pytest
 import sympy as sp
 from hypothesis import strategies as st
-
 from inertiaproof.checks import equivalences as eq
 from inertiaproof.checks.identities import identity_result
-from inertiaproof.cli import main
-from inertiaproof.inertia import pseudo_inertia_inverse, sigma_from_inertia, unpack
-from inertiaproof.result import Verdict
 from inertiaproof.symbolic import identities
+
+from inertiaproof.cli import main
+from inertiaproof.model.inertia import pseudo_inertia_inverse, sigma_from_inertia, unpack
+from inertiaproof.result import Verdict
 
 
 def test_eq_schur_holds(ctx):

@@ -8,10 +8,10 @@ import sys
 from pathlib import Path
 
 import pytest
+from inertiaproof.checks.derivation_gate import gate_result
+from inertiaproof.symbolic import gate
 
 from inertiaproof.result import Verdict
-from inertiaproof.symbolic import gate
-from inertiaproof.checks.derivation_gate import gate_result
 
 REPO = Path(__file__).resolve().parents[1]
 # run the copy's package in place of the installed (possibly editable) one

@@ -4,9 +4,6 @@ import dataclasses
 
 import numpy as np
 import pytest
-
-from inertiaproof.registry import PROFILES, Context
-from inertiaproof.result import Verdict
 from inertiaproof.symbolic import oracle
 from inertiaproof.symbolic.claims import CLAIMS, entries, gre_residual
 from inertiaproof.symbolic.derivations import derivation
@@ -14,6 +11,10 @@ from inertiaproof.symbolic.evidence import claim_result, run_claim
 from inertiaproof.symbolic.identity import decide_randomised, fixed_point, point_from_json
 from inertiaproof.symbolic.robotics_equation import transpose
 from inertiaproof.symbolic.systems import SystemKey, profile_systems
+
+from inertiaproof.result import Verdict
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.profiles import PROFILES
 
 CI_SYSTEMS = profile_systems(PROFILES["ci"])
 

@@ -1,11 +1,12 @@
 import numpy as np
 import sympy as sp
-
 from inertiaproof.checks import identities as checks
 from inertiaproof.checks.identities import bijection_result, identity_result, numeric_agreement_result
-from inertiaproof.registry import PROFILES, Context
-from inertiaproof.result import Verdict
 from inertiaproof.symbolic import identities
+
+from inertiaproof.result import Verdict
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.profiles import PROFILES
 
 
 def test_geometric_fact_holds():
@@ -61,7 +62,7 @@ def test_wrong_translation_is_violated():
 
 
 def test_symbolic_f_matches_the_numeric_pseudo_inertia():
-    from inertiaproof.inertia import pseudo_inertia
+    from inertiaproof.model.inertia import pseudo_inertia
 
     m, h, inertia, symbols = identities.phi_symbols()
     f = identities.pseudo_inertia(m, h, inertia)

@@ -4,13 +4,21 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from inertiaproof import dynamics, robots
-from inertiaproof.chain import Chain, Coordinate, Joint, origin
-from inertiaproof.inertia import (
-    from_urdf, inertia_com, pack, pseudo_inertia, pseudo_inertia_inverse, sigma_com, spatial_inertia,
-    spatial_inertia_inverse, unit_body,
+from inertiaproof.dynamics import terms
+from inertiaproof.dynamics.chain import Chain, Coordinate, Joint, origin
+from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile, Scaling
+from inertiaproof.model.inertia import (
+    from_urdf,
+    inertia_com,
+    pack,
+    pseudo_inertia,
+    pseudo_inertia_inverse,
+    sigma_com,
+    spatial_inertia,
+    spatial_inertia_inverse,
+    unit_body,
 )
-from inertiaproof.trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile, Scaling
+from inertiaproof.scene import robots
 from tests.pinocchio_oracle import joint_variables, pinocchio_model
 
 RNG = np.random.default_rng(7)
@@ -72,9 +80,9 @@ def test_dynamics_match_pinocchio(name):
     qd, qdd = RNG.normal(size=q.shape), RNG.normal(size=q.shape)
     rot, _ = chain.forward_kinematics(q)
     qj, dqj = chain.body_jacobian(q), chain.body_jacobian_derivative(q)
-    m = dynamics.mass_matrix(qj, theta)
-    c = dynamics.coriolis(dynamics.mass_matrix_partials(qj, dqj, theta), qd)
-    g = dynamics.gravity(qj, rot, theta, chain.gravity)
+    m = terms.mass_matrix(qj, theta)
+    c = terms.coriolis(terms.mass_matrix_partials(qj, dqj, theta), qd)
+    g = terms.gravity(qj, rot, theta, chain.gravity)
     for b in range(len(q)):
         x = joint_variables(chain, q[b])
         dx = np.array([j.coordinate.derivative(v) for j, v in zip(chain.joints, q[b])])
@@ -102,11 +110,11 @@ def test_prop1_skew_symmetry_numerically():
     theta, theta_dot = random_phi(chain.n), RNG.normal(size=(chain.n, 10))
     q, qd = RNG.uniform(-1, 1, size=(8, chain.n)), RNG.normal(size=(8, chain.n))
     qj, dqj = chain.body_jacobian(q), chain.body_jacobian_derivative(q)
-    n = (dynamics.mass_matrix_time_derivative(qj, dqj, theta, theta_dot, qd)
-         - 2 * dynamics.coriolis(dynamics.mass_matrix_partials(qj, dqj, theta), qd)
-         - dynamics.mass_matrix(qj, theta_dot))
+    n = (terms.mass_matrix_time_derivative(qj, dqj, theta, theta_dot, qd)
+         - 2 * terms.coriolis(terms.mass_matrix_partials(qj, dqj, theta), qd)
+         - terms.mass_matrix(qj, theta_dot))
     assert np.abs(n + np.swapaxes(n, -1, -2)).max() < 1e-12 * np.abs(n).max()
-    h = dynamics.lumped_velocity_matrix(dqj, RNG.normal(size=(8, 6 * chain.n)))
+    h = terms.lumped_velocity_matrix(dqj, RNG.normal(size=(8, 6 * chain.n)))
     assert np.array_equal(h, -np.swapaxes(h, -1, -2))
 
 
@@ -141,7 +149,7 @@ def test_trajectory_rates_are_time_derivatives():
 
 @pytest.mark.parametrize("name", sorted(CHAINS))
 def test_composite_mass_matrix_matches_pinocchio_and_the_formula(name):
-    from inertiaproof import composite
+    from inertiaproof.dynamics import composite
 
     chain = CHAINS[name]
     theta = random_phi(chain.n)
@@ -157,26 +165,26 @@ def test_composite_mass_matrix_matches_pinocchio_and_the_formula(name):
         assert np.allclose(m.reshape(-1, chain.n, chain.n)[b], dx[:, None] * mp * dx[None, :], rtol=1e-12, atol=1e-12)
     stack = RNG.normal(size=(3, 1, chain.n, 10))  # any Theta, also inconsistent ones: M is linear in Theta
     assert np.allclose(composite.mass_matrix(chain, q[0][:, None], stack[:, 0][None]),
-                       dynamics.mass_matrix(chain.body_jacobian(q[0])[:, None], stack[:, 0][None]), rtol=0, atol=1e-12)
+                       terms.mass_matrix(chain.body_jacobian(q[0])[:, None], stack[:, 0][None]), rtol=0, atol=1e-12)
 
 
 def test_composite_mass_matrix_passes_complex_steps_and_chunks():
-    from inertiaproof import composite
-    from inertiaproof.twists import CHUNK
+    from inertiaproof.dynamics import composite
+    from inertiaproof.dynamics.twists import CHUNK
 
     chain = CHAINS["general-axes"]
     theta = random_phi(chain.n)
     q = RNG.uniform(-1, 1, size=(CHUNK + 5, chain.n))
     m = composite.mass_matrix(chain, q, theta)
-    assert np.allclose(m, dynamics.mass_matrix(chain.body_jacobian(q), theta), rtol=0, atol=1e-12)
+    assert np.allclose(m, terms.mass_matrix(chain.body_jacobian(q), theta), rtol=0, atol=1e-12)
     step = 1e-30
     dm = np.stack([composite.mass_matrix(chain, q[:4] + 1j * step * e, theta).imag / step for e in np.eye(chain.n)], -1)
     qj, dqj = chain.body_jacobian(q[:4]), chain.body_jacobian_derivative(q[:4])
-    assert np.allclose(dm, dynamics.mass_matrix_partials(qj, dqj, theta), rtol=0, atol=1e-12)
+    assert np.allclose(dm, terms.mass_matrix_partials(qj, dqj, theta), rtol=0, atol=1e-12)
 
 
 def test_joints_moved_onto_z_keep_the_kinematics():
-    from inertiaproof.twists import axis_frame, twist_map
+    from inertiaproof.dynamics.twists import axis_frame, twist_map
 
     for axis in ((0, 0, 1.0), (0, 0, -1.0), (1.0, 0, 0), (0.3, -0.4, 0.866)):
         a = axis_frame(np.asarray(axis) / np.linalg.norm(axis))

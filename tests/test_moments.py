@@ -8,13 +8,13 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import sympy as sp
+from inertiaproof.checks import moments
 from scipy import integrate
 
-from inertiaproof import degenerate, density, quadrature, solids
-from inertiaproof.checks import moments
 from inertiaproof.cli import main
 from inertiaproof.errors import InputError
-from inertiaproof.inertia import inertia_com, unpack
+from inertiaproof.model import degenerate, density, quadrature, solids
+from inertiaproof.model.inertia import inertia_com, unpack
 from inertiaproof.result import Verdict
 
 

@@ -4,14 +4,20 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-from inertiaproof import crosscheck, motion, particles, robots, solids
 from inertiaproof.checks import physics
-from inertiaproof.inertia import inertia_com, rotation_rpy
-from inertiaproof.registry import PROFILES, REPLAYERS, Context
+
+from inertiaproof.dynamics import motion
+from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Profile
+from inertiaproof.dynamics.trajectory import Path as LoadPath
+from inertiaproof.model import particles, solids
+from inertiaproof.model.inertia import inertia_com, rotation_rpy
 from inertiaproof.result import Verdict
-from inertiaproof.scene import load_scene
-from inertiaproof.trajectory import MovingMass, ParameterTrajectory, Path as LoadPath, Profile
+from inertiaproof.scene import robots
+from inertiaproof.scene.format import load_scene
+from inertiaproof.sim import crosscheck
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.profiles import PROFILES
+from inertiaproof.suite.registry import REPLAYERS
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"
 

@@ -2,11 +2,15 @@
 
 import numpy as np
 import pytest
-
-from inertiaproof import capture, motion, robots, simulate
 from inertiaproof.checks import physics
-from inertiaproof.registry import PROFILES, REPLAYERS, Context
+
 from inertiaproof.result import Verdict
+from inertiaproof.scene import robots
+from inertiaproof.sim import capture
+from inertiaproof.sim.control import controller
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.profiles import PROFILES
+from inertiaproof.suite.registry import REPLAYERS
 from tests.test_physics_internal import _perturbed
 
 
@@ -74,7 +78,7 @@ def test_mass_window_and_stiff_scenes():
     assert capture.mass_window(scene.trajectory) == (1.0, 1.5)
     with pytest.raises(ValueError):
         capture.mass_window(robots.trolley_2r().trajectory)
-    control = simulate.controller(scene.chain, scene.trajectory)
+    control = controller(scene.chain, scene.trajectory)
     assert capture.steps_for((1.0, 1.5), 1e3, (4, 64), 128) == 512
     too_stiff = capture.study(scene.chain, scene.trajectory, control, (4, 8), 16, max_steps=8)
     assert too_stiff.verdict == Verdict.INCONCLUSIVE and "too stiff" in too_stiff.why

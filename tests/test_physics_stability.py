@@ -5,12 +5,17 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-from inertiaproof import crosscheck, energy, motion, robots, simulate, study
 from inertiaproof.checks import physics
-from inertiaproof.registry import PROFILES, REPLAYERS, Context
+
+from inertiaproof.dynamics import energy, motion
 from inertiaproof.result import Verdict
-from inertiaproof.scene import load_scene
+from inertiaproof.scene import robots
+from inertiaproof.scene.format import load_scene
+from inertiaproof.sim import crosscheck, simulate, study
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.outputs import Outputs
+from inertiaproof.suite.profiles import PROFILES
+from inertiaproof.suite.registry import REPLAYERS
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"
 QUICK = study.StudySettings(methods=("DOP853", "Radau"), tolerances=(1e-5,), reference_rtol=1e-8, horizon=1.0)
@@ -47,7 +52,7 @@ def test_power_balance_of_prop1_along_a_motion(key):
 
 def test_stability_holds_and_writes_the_data(tmp_path):
     scene = robots.BUILTIN["planar-2r-early-payload"]()
-    ctx = Context(PROFILES["ci"], out_dir=tmp_path)
+    ctx = Context(PROFILES["ci"], outputs=Outputs(tmp_path))
     result = physics.stability_result([({"builtin": "planar-2r-early-payload"}, scene, None)], ctx, settings=QUICK)
     assert result.verdict == Verdict.HOLDS, result.summary
     rows = json.loads((tmp_path / "data" / "work_precision.json").read_text())

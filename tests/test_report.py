@@ -12,13 +12,15 @@ import pytest
 import report_fixture
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-from inertiaproof import catalog, cli, registry
-from inertiaproof.registry import CheckSpec, load_checks
 from inertiaproof.report import content, evidence, html, latex, load
 from inertiaproof.report.cli import build
 from inertiaproof.report.model import Notice
+
+from inertiaproof import cli
 from inertiaproof.result import KINDS, Result, Verdict
+from inertiaproof.suite import catalog, registry
+from inertiaproof.suite.discovery import load_checks
+from inertiaproof.suite.registry import CheckSpec
 
 
 @pytest.fixture(scope="module")

@@ -8,10 +8,10 @@ from html.parser import HTMLParser
 
 import pytest
 import report_fixture
+from inertiaproof.report import content, load
 from readback import CHROMIUM, chromium
 
-from inertiaproof import catalog
-from inertiaproof.report import content, load
+from inertiaproof.suite import catalog
 
 pytestmark = [pytest.mark.browser,
               pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (CI installs Debian's chromium)")]

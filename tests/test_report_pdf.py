@@ -6,10 +6,10 @@ import shutil
 
 import pytest
 import report_fixture
+from inertiaproof.report import typeset
 from readback import pages, past_the_margins, run, squeeze
 
-from inertiaproof import catalog
-from inertiaproof.report import typeset
+from inertiaproof.suite import catalog
 
 pytestmark = [
     pytest.mark.latex,

@@ -5,9 +5,10 @@ from pathlib import Path
 import pytest
 
 from inertiaproof import cli
-from inertiaproof.registry import CheckSpec, load_checks
-from inertiaproof.runner import select
-from inertiaproof.scene import SceneError, load_scene, parse_scene
+from inertiaproof.scene.format import SceneError, load_scene, parse_scene
+from inertiaproof.suite.discovery import load_checks
+from inertiaproof.suite.registry import CheckSpec
+from inertiaproof.suite.runner import select
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"
 

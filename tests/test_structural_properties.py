@@ -4,14 +4,14 @@ import dataclasses
 
 import numpy as np
 import pytest
-
-from inertiaproof.registry import PROFILES
-from inertiaproof.result import Verdict
 from inertiaproof.symbolic.claims import CLAIMS
 from inertiaproof.symbolic.derivations import derivation
 from inertiaproof.symbolic.evidence import claim_result, run_claim
 from inertiaproof.symbolic.properties import Regressors
 from inertiaproof.symbolic.systems import profile_systems
+
+from inertiaproof.result import Verdict
+from inertiaproof.suite.profiles import PROFILES
 
 
 @pytest.fixture(scope="module")

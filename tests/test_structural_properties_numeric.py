@@ -3,15 +3,22 @@
 import numpy as np
 import pinocchio as pin
 import pytest
-
-from inertiaproof import regressors, robots
 from inertiaproof.checks.structural_properties_numeric import (
-    PROP1_CONTROLS, PROP2_CONTROLS, Terms, prop1_result, prop2_result,
+    PROP1_CONTROLS,
+    PROP2_CONTROLS,
+    Terms,
+    prop1_result,
+    prop2_result,
 )
-from inertiaproof.chain import Chain, Joint, origin
-from inertiaproof.inertia import inertia_matrix, pseudo_inertia, pseudo_inertia_inverse
-from inertiaproof.registry import REPLAYERS, Context, Profile
+
+from inertiaproof.dynamics import regressors
+from inertiaproof.dynamics.chain import Chain, Joint, origin
+from inertiaproof.model.inertia import inertia_matrix, pseudo_inertia, pseudo_inertia_inverse
 from inertiaproof.result import Verdict
+from inertiaproof.scene import robots
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.profiles import Profile
+from inertiaproof.suite.registry import REPLAYERS
 from tests.pinocchio_oracle import pinocchio_model
 from tests.test_model import random_phi
 
@@ -92,17 +99,17 @@ def test_regressors_do_not_see_the_parameters():
     qj, dqj = chain.body_jacobian(q), chain.body_jacobian_derivative(q)
     rot, _ = chain.forward_kinematics(q)
     r = regressors.regressor(qj, dqj, rot, chain.gravity, qd, v, a)
-    from inertiaproof import dynamics
+    from inertiaproof.dynamics import terms
 
     for theta in (random_phi(chain.n), rng.normal(size=(chain.n, 10))):
-        lhs = ((dynamics.mass_matrix(qj, theta) @ a[..., None])[..., 0]
-               + (dynamics.coriolis(dynamics.mass_matrix_partials(qj, dqj, theta), qd) @ v[..., None])[..., 0]
-               + dynamics.gravity(qj, rot, theta, chain.gravity))
+        lhs = ((terms.mass_matrix(qj, theta) @ a[..., None])[..., 0]
+               + (terms.coriolis(terms.mass_matrix_partials(qj, dqj, theta), qd) @ v[..., None])[..., 0]
+               + terms.gravity(qj, rot, theta, chain.gravity))
         assert np.allclose(regressors.apply_regressor(r, theta), lhs, rtol=1e-12, atol=1e-11)
 
 
 def test_terms_default_to_the_model():
-    terms = Terms()
-    from inertiaproof import dynamics
+    from inertiaproof.dynamics import terms as model
 
-    assert terms.coriolis is dynamics.coriolis and terms.lumped is dynamics.lumped_velocity_matrix
+    terms = Terms()
+    assert terms.coriolis is model.coriolis and terms.lumped is model.lumped_velocity_matrix

@@ -5,14 +5,14 @@ from fractions import Fraction
 import numpy as np
 import pytest
 import sympy as sp
-
-from inertiaproof import robots
-from inertiaproof.chain import Chain, Coordinate, Joint
-from inertiaproof.errors import InputError
 from inertiaproof.symbolic.identity import fixed_point
 from inertiaproof.symbolic.jets import JetSpace
 from inertiaproof.symbolic.kinematics import ChainTwin, rational_rotation
 from inertiaproof.symbolic.lagrangian import chain_lagrangian
+
+from inertiaproof.dynamics.chain import Chain, Coordinate, Joint
+from inertiaproof.errors import InputError
+from inertiaproof.scene import robots
 
 
 @pytest.mark.parametrize("scene", [robots.planar_2r, robots.spatial_3r, robots.ur5, robots.panda])
@@ -26,7 +26,7 @@ def test_body_jacobian_matches_the_chain(scene):
 
 
 def test_rational_rotation_is_exactly_orthogonal():
-    from inertiaproof.inertia import rotation_rpy
+    from inertiaproof.model.inertia import rotation_rpy
 
     r = rational_rotation(rotation_rpy((0.3, -1.1, 2.0)))
     product = [[sum(r[k][i] * r[k][j] for k in range(3)) for j in range(3)] for i in range(3)]

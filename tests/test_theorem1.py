@@ -6,16 +6,15 @@ import numpy as np
 import pytest
 from hypothesis import Phase
 from hypothesis import strategies as st
-
-from inertiaproof import density, quadrature
 from inertiaproof.checks import theorem1 as t1
-from inertiaproof.cli import main
 from inertiaproof.counterexamples.densities import signed_densities
 from inertiaproof.counterexamples.inertias import log_uniform
-from inertiaproof.inertia import pseudo_inertia, pseudo_inertia_inverse
-from inertiaproof.realise import quaternion, realising_solid
-from inertiaproof.result import Verdict
 
+from inertiaproof.cli import main
+from inertiaproof.model import density, quadrature
+from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse
+from inertiaproof.model.realise import quaternion, realising_solid
+from inertiaproof.result import Verdict
 
 FIND = (Phase.generate, Phase.target)  # no shrinking: a negative test needs a counterexample, not the smallest
 
@@ -25,7 +24,7 @@ def test_sufficiency_and_remark2_hold_on_one_shared_hunt(ctx):
     rem2 = t1.remark2(ctx)
     assert suff.verdict == Verdict.HOLDS and rem2.verdict == Verdict.HOLDS, (suff.summary, rem2.summary)
     assert suff.evidence["hunt"]["examples"]["value"] == rem2.evidence["hunt"]["examples"]["value"]
-    assert t1._SHARED[(0, "ci")] is t1.sufficiency_hunt(ctx)
+    assert ctx.shared("sufficiency_hunt", None) is t1.sufficiency_hunt(ctx)
     families = suff.evidence["families"]
     assert {"box", "ellipsoid", "sphere", "cylinder", "cone", "tetrahedron", "bernstein_box"} <= set(families)
     assert any(k.startswith("mixture") for k in families)
@@ -91,7 +90,7 @@ def test_realisation_reproduces_a_nearly_singular_f():
 
 def test_a_realisation_that_fakes_the_moments_is_caught(monkeypatch):
     """If the construction took |sigma| instead of failing, the quadrature check of its moments catches it."""
-    from inertiaproof import realise
+    from inertiaproof.model import realise
 
     real = realise.realising_solid
 

@@ -2,14 +2,14 @@
 
 import numpy as np
 import pytest
-
-from inertiaproof.consistency import DEGENERATE, INCONSISTENT, physical_consistency
-from inertiaproof.dynamics import mass_matrix
-from inertiaproof.errors import InputError
-from inertiaproof.inertia import from_urdf, rotation_rpy, unit_body
-from inertiaproof.kinematic_tree import kinematic_tree, phi_in_frame
-from inertiaproof.urdf import read_urdf
 from urdf_samples import inertial, joint, link, random_configurations, robot, robots_folder, two_link_arm, write
+
+from inertiaproof.audit.kinematic_tree import kinematic_tree, phi_in_frame
+from inertiaproof.audit.urdf import read_urdf
+from inertiaproof.dynamics.terms import mass_matrix
+from inertiaproof.errors import InputError
+from inertiaproof.model.consistency import DEGENERATE, INCONSISTENT, physical_consistency
+from inertiaproof.model.inertia import from_urdf, rotation_rpy, unit_body
 
 BAD_FILES = {
     "bad xml": ("<robot name='r'><link name='a'></robot>", r"not well-formed XML at line 1"),
@@ -154,7 +154,7 @@ needs_robots = pytest.mark.skipif(ROBOTS is None, reason="example-robot-data is 
 @needs_robots
 def test_every_chain_of_every_shipped_robot_against_pinocchio():
     """Single-chain arms against Pinocchio's model of the whole file; every chain against Pinocchio's model of its links."""
-    from inertiaproof.audit import is_serial_arm
+    from inertiaproof.audit.document import is_serial_arm
 
     whole_file_checks = 0
     for path in sorted(ROBOTS.rglob("*.urdf")):

@@ -1,0 +1,97 @@
+"""The audit document (:mod:`inertiaproof.audit`) as readable text tables."""
+
+from __future__ import annotations
+
+__all__ = ["format_audit", "format_file", "headline", "remarks", "role", "totals"]
+
+
+def _number(q):
+    """A quantity as 'value [kind]'."""
+    value = q["value"]
+    text = f"{value:.6g}" if isinstance(value, float) else str(value)
+    return f"{text}{' ' + q['unit'] if q.get('unit') else ''} [{q['kind']}]"
+
+
+def _count(items, one, many=None):
+    return f"{len(items)} {one if len(items) == 1 else many or one + 's'}"
+
+
+def role(link):
+    """A link's role as a reader says it: base, body or merged into its body's anchor, and whether it moves."""
+    if link["role"] == "merged":
+        return f"merged into {link['group']}"
+    return link["role"] + ("" if link["moving"] else " (fixed)")
+
+
+def headline(f):
+    """One readable file's robot, sizes and state, e.g. "robot 'panda', 13 links, ...: consistent"."""
+    state = "consistent" if f["consistent"] else f"NOT CONSISTENT: {', '.join(f['not_consistent'])}"
+    return (f"robot '{f['robot']}', {_count(f['links'], 'link')}, {_count(f['bodies'], 'body', 'bodies')}, "
+            f"{_count(f['chains'], 'chain')}{', serial arm' if f['serial_arm'] else ''}: {state}")
+
+
+def remarks(f):
+    """What the audit left out or simplified in one readable file, one line each."""
+    out = [f"left out: joint {j['joint']} ({j['type']}): {j['reason']}" for j in f["left_out_joints"]]
+    if f["mimic_joints"]:
+        out.append(f"mimic joints, treated as independent coordinates (as Pinocchio's URDF reader does by default): "
+                   f"{', '.join(m['joint'] + ' (' + m['mimics'] + ')' for m in f['mimic_joints'])}")
+    return out
+
+
+def format_file(path, f):
+    if f["status"] == "error":
+        return f"== {path}\n  UNREADABLE: {f['error']}"
+    links = f["links"]
+    out = [f"== {path}: {headline(f)}"] + [f"  {line}" for line in remarks(f)]
+    width = max(len(name) for name in links)
+    roles = {name: role(link) for name, link in links.items()}
+    role_width = max(len(r) for r in roles.values())
+    out.append(f"  {'link':<{width}}  {'role':<{role_width}}  {'verdict':<12}  reason")
+    for name, link in links.items():
+        reason = link["reason"] + (" -- a massless frame, not a body: not judged" if link["massless_frame"] else "")
+        out.append(f"  {name:<{width}}  {roles[name]:<{role_width}}  {link['verdict']:<12}  {reason}")
+    for name, link in links.items():
+        for s in link["signs"]:
+            out.append(f"  sign    {name}: {s['text']}")
+    for name, link in links.items():
+        r = link["repair"]
+        if r is None:
+            continue
+        if r["inertia"] is None:
+            out.append(f"  repair  {name}: {r['note']}")
+            continue
+        moments = ", ".join(f"{x:.4g}" for x in r["principal_moments_before"]["value"])
+        fixed = ", ".join(f"{x:.4g}" for x in r["principal_moments_after"]["value"])
+        six = " ".join(f'{k}="{v:.6g}"' for k, v in r["inertia"].items())
+        out.append(f"  repair  {name}: nearest consistent I_CoM changes it by {r['change_frobenius_rel']['value']:.3g} "
+                   f"(relative Frobenius), {r['change_spectral']['value']:.3g} kg m^2 (spectral); principal moments "
+                   f"({moments}) -> ({fixed}); <inertia {six}/> ({r['note']})")
+    for name, body in f["bodies"].items():
+        if body["verdict"] != "consistent":
+            out.append(f"  body    {name} (joint {body['joint']}; links {', '.join(body['links'])}): "
+                       f"{body['verdict']}: {body['reason']}")
+    for leaf, c in f["chains"].items():
+        out.append(f"  chain   {c['name']}: {len(c['joints'])} joints {c['kinds']}, bodies "
+                   f"{'all consistent' if c['bodies_consistent'] else 'not all consistent'}")
+        out.append(f"          M(q) singular: {c['singular']['verdict']}: {c['singular']['argument']}")
+        for key, q in (c["bounds"] or {}).items():
+            if isinstance(q, dict) and "kind" in q:
+                note = f" ({q['note']})" if q.get("note") else ""
+                out.append(f"          {key} = {_number(q)}{note}")
+    return "\n".join(out)
+
+
+def totals(summary):
+    """The audit's counts (its ``summary``) after the number of files, e.g. "43 consistent, ...; signs: ..."."""
+    links = ", ".join(f"{n} {label}" for label, n in summary["links"].items())
+    signs = ", ".join(f"{k} {v}" for k, v in sorted(summary["signs"].items())) or "none"
+    return (f"{summary['files_consistent']} consistent, {summary['files_not_consistent']} not consistent, "
+            f"{summary['unreadable']} unreadable; links: {links}; moving links or bodies not consistent: "
+            f"{summary['moving_not_consistent']}; signs: {signs}")
+
+
+def format_audit(doc):
+    parts = [format_file(path, f) for path, f in doc["files"].items()]
+    parts.append(f"audited {doc['summary']['files']} files in {doc['runtime_s']:.2f} s: {totals(doc['summary'])}")
+    return "\n\n".join(parts)

@@ -1,0 +1,11 @@
+"""Section 4: extremes of M(q, Theta), QJ and the skew partials over configurations and time, and the constants
+of Theorems 2-5.
+
+- ``domain``: the configuration box and where certification stops
+- ``spectral``: spectral functions and their convexity
+- ``extremes``: two-sided brackets of an extreme (a certified side and a side attained at a witness)
+- ``configuration``: brackets over configurations (a-priori bounds, Taylor bounds, branch and bound)
+- ``time``: extremes over the parameter trajectory (Definition 3)
+- ``constants``: alpha1, alpha2 (Theorems 2, 3) and the entry point for audits
+- ``singular``: can M(q) become singular? A structural answer where one exists
+"""

@@ -1,0 +1,380 @@
+"""Ingredients and constants of the Section 4 bounds for a chain and a parameter trajectory, as plain data.
+
+Configuration extremes (inf/sup over q of eigenvalues of M, singular values of
+QJ, of Y_p = dK_p/dq - dK_p/dq^T (DefK)) are bracketed with
+:func:`inertiaproof.bounds.extremes.bracket_extreme`. The certified side rests on
+two facts:
+
+- QJ is a trigonometric polynomial of degree <= 1 in every revolute
+  coordinate and an algebraic polynomial of degree <= 1 in every prismatic one
+  (joint rotations enter once per product; cross products of vectors turned by
+  the same rotation are turned by it), so M = (QJ)^T Z QJ has degree <= 2.
+  Bernstein's inequality (a full period) and Markov's (a finite interval)
+  bound every partial derivative of x^T A(q) y by c_j sup |x^T A y|, hence
+  the Taylor remainder of A on a box of radii r by 1/2 S (sum_j c_j r_j)^2,
+  S = sup ||A|| over the Bernstein domain.
+- lambda_max and sigma_max are convex, lambda_min concave, in the linear part
+  A(c) + sum_j d_j dA/dq_j(c): their extremes over a box lie at its vertices.
+
+Over time, Theta(t) of payloads and scalings lies on segments
+Theta_base + s Phi_load with s in the profile's range; spectral extremes that
+are concave or convex in Theta are then attained at the segment's ends (exact
+for one load per body). Moving masses are bounded by positivity (Z(Phi_load) >= 0)
+and by the profile's rate and acceleration bounds.
+
+The entry point for audits is :func:`mass_matrix_bounds`.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from inertiaproof.dynamics import composite
+from inertiaproof.model.inertia import spatial_inertia
+
+from .domain import bernstein_domain, certification_obstacle, derivative_factors, free_coordinates, search_box
+from .extremes import bracket_extreme
+from .spectral import CONVEX, spectral
+
+__all__ = [
+    "apriori_bound", "apriori_jacobian_blocks", "column_bounds", "configuration_bracket", "EPS", "jacobian_family",
+    "jacobian_normality", "jacobian_sup", "lever_bounds", "mass_family", "mass_inf", "mass_sup", "ROUNDING",
+    "skew_partial_sup", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
+]
+
+
+EPS = np.finfo(float).eps
+ROUNDING = 64.0  # rounding allowance of a computed eigenvalue, in units of eps * ||matrix||_F
+
+# -- matrix families A(q) with derivatives --------------------------------------
+
+def jacobian_family(chain):
+    """q -> (QJ, dQJ/dq) with QJ (K, 1, 6N, n): polynomial degree 1."""
+    def evaluate(q, derivatives=True):
+        qj = chain.body_jacobian(q)[:, None]
+        return (qj, chain.body_jacobian_derivative(q)[:, None]) if derivatives else qj
+    return evaluate, 1
+
+
+def mass_family(chain, thetas):
+    """q -> (M(q, Theta_v), dM/dq) for a stack of parameter sets thetas (V, N, 10): polynomial degree 2."""
+    thetas = np.asarray(thetas, float)
+
+    def evaluate(q, derivatives=True):
+        m = composite.mass_matrix(chain, q[:, None], thetas[None])
+        if not derivatives:
+            return m
+        return m, composite.mass_matrix_partials(chain, q[:, None], thetas[None])
+    return evaluate, 2
+
+
+
+def vertex_bound(a, da, radii, free, kind):
+    """Extreme of the spectral function over the linear part a + sum_j d_j da_j, |d_j| <= r_j, at the box's vertices.
+
+    ``a`` (K, V, r, s), ``da`` (K, V, r, s, n). Convex kinds give the max over
+    vertices (an upper bound), lmin the min (a lower bound); a rounding
+    allowance of the eigen/singular value computation is added outwards.
+    """
+    idx = np.flatnonzero(free)
+    signs = np.array(list(itertools.product((-1.0, 1.0), repeat=len(idx)))) if len(idx) else np.zeros((1, 0))
+    steps = signs[None] * radii[:, idx][:, None, :]  # (K, 2^d, d)
+    lin = np.einsum("kvrsj,kej->kevrs", da[..., idx], steps) + a[:, None]
+    vals = spectral(lin, kind)  # (K, 2^d, V)
+    size = np.linalg.norm(a, axis=(-2, -1)) + np.einsum("kvj,kj->kv", np.linalg.norm(da, axis=(-3, -2)), radii)
+    allowance = ROUNDING * EPS * size  # (K, V)
+    if kind in CONVEX:
+        return (vals.max(1) + allowance).max(1)
+    return (vals.min(1) - allowance).min(1)
+
+
+def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rng, value_kind=None,
+                          square=False, progress=None, thetas=None):
+    """Bracket of sup (convex kinds) or inf (lmin, smin) over the chain's configurations of kind(A(q)).
+
+    ``family`` is (evaluate, degree) from :func:`jacobian_family` or :func:`mass_family`;
+    the value over a stack of parameter sets is the worst over the stack.
+    ``value_kind`` overrides how the observed side is computed (e.g. 'smin' of
+    QJ by SVD while the certified side bounds lmin of (QJ)^T QJ); ``square``
+    squares observed singular values to match.
+    """
+    evaluate, degree = family
+    sense = "max" if kind in CONVEX else "min"
+    pick = np.max if sense == "max" else np.min
+    obs_kind = value_kind or kind
+
+    source = evaluate if value_kind is None else jacobian_family(chain)[0]
+
+    def value(q):
+        v = spectral(source(q, derivatives=False), obs_kind)
+        return pick(v**2 if square else v, axis=-1)
+
+    lo, hi = search_box(chain)
+    free = free_coordinates(chain)
+    obstacle = certification_obstacle(chain)
+    if obstacle is not None:
+        return bracket_extreme(value, None, lo, hi, sense=sense, quantity_name=quantity_name, samples=samples,
+                               refine_s=refine_s, rng=rng, free=free, note=obstacle)
+    dlo, dhi = bernstein_domain(chain)
+    factors = derivative_factors(chain, dlo, dhi, degree)
+    apriori = apriori_bound(chain, thetas if degree == 2 else None, "sup")
+    same = np.allclose(dlo[free], lo[free]) and np.allclose(dhi[free], hi[free])
+
+    def bound_with(scale, kind_here):
+        def box_bound(c, r):
+            a, da = evaluate(c)
+            v = vertex_bound(a, da, r, free, kind_here)
+            rho = (r[:, free] * factors[free]).sum(1)
+            rem = 0.5 * rho**2
+            if scale is None:  # self-referential: the sup itself bounds the remainder (box holding the maximiser)
+                return np.where(rem < 1, np.maximum(v, 0) / np.maximum(1 - rem, 1e-300), np.inf)
+            return v + scale * rem if kind_here in CONVEX else v - scale * rem
+        return box_bound
+
+    stage = refine_s / 2 if (sense == "min" or not same) else refine_s
+    scale, note = None, ""
+    norm_kind = "smax" if degree == 1 else "absmax"
+    if sense == "min" or not same:
+        sup = bracket_extreme(value_for_norm(evaluate, norm_kind), bound_with(None, norm_kind), dlo, dhi, sense="max",
+                              quantity_name=f"sup ||A|| for {quantity_name}", samples=samples, refine_s=stage,
+                              rng=rng, free=free, weights=factors)
+        scale = min(sup.certified, apriori)
+        note = f"Taylor remainder scaled by sup ||A|| <= {scale:.6g} over a full period (certified)"
+        if not np.isfinite(scale):
+            return _with_fallback(bracket_extreme(value, None, lo, hi, sense=sense, quantity_name=quantity_name,
+                                                  samples=samples, refine_s=stage, rng=rng, free=free,
+                                                  note="sup ||A|| over a period not certified in the time budget"),
+                                  kind, apriori, thetas is not None)
+    result = bracket_extreme(value, bound_with(scale, kind), lo, hi, sense=sense, quantity_name=quantity_name,
+                             samples=samples, refine_s=stage if scale is not None else refine_s, rng=rng, free=free,
+                             weights=factors, progress=progress, note=note)
+    if scale is not None and sense == "max" and scale < result.certified:
+        result.certified, result.note = scale, note.replace("Taylor remainder scaled by sup", "the sup over a period")
+        for point in result.convergence:
+            point[2] = min(point[2], scale)
+    psd = thetas is not None and bool(np.all(spectral(spatial_inertia(np.asarray(thetas, float)), "lmin") >= 0))
+    return _with_fallback(result, kind, apriori, psd)
+
+
+def _with_fallback(result, kind, apriori, psd):
+    """Where branch and bound found no better certified side: the a priori length bound (sup) or 0 (inf of a PSD form)."""
+    if kind == "lmin" and psd and result.certified is not None and result.certified < 0:
+        result.certified = None
+    if result.certified is not None and np.isfinite(result.certified):
+        return result
+    if kind in CONVEX:
+        result.certified, result.note = apriori, (result.note + "; " if result.note else "") + \
+            "branch and bound did not finish: a priori bound from link lengths (Frobenius norm)"
+    elif kind == "lmin" and psd:
+        result.certified, result.note = 0.0, (result.note + "; " if result.note else "") + \
+            "branch and bound did not finish: 0, as M = (QJ)^T Z QJ with Z >= 0 (key step, positivity of L)"
+    for point in result.convergence:
+        point[1 if result.sense == "min" else 2] = float(result.certified)
+    return result
+
+
+def value_for_norm(evaluate, kind):
+    def value(q):
+        return spectral(evaluate(q, derivatives=False), kind).max(-1)
+    return value
+
+
+def lever_bounds(chain):
+    """Certified |z_l - p_k| (l >= k) for all q: the sum of the translations of the fixed transforms and of the slides
+    from joint k's axis to body l's origin (rotations keep lengths). Lower triangle of an n x n array; a slide
+    without limits counts as 0 only as the first joint (it moves the joint points too): see certification_obstacle."""
+    lengths = []
+    for joint in chain.joints:
+        slide = 0.0 if joint.revolute or joint.limits is None else max(abs(joint.limits[0]), abs(joint.limits[1]))
+        lengths.append((np.linalg.norm(joint.before[:3, 3]), np.linalg.norm(joint.after[:3, 3]), slide))
+    out = np.zeros((chain.n, chain.n))
+    for l in range(chain.n):
+        for k in range(l + 1):
+            out[l, k] = sum(lengths[m][1] + lengths[m][2] for m in range(k, l + 1)) + sum(
+                lengths[m][0] for m in range(k + 1, l + 1))
+    return out
+
+
+def column_bounds(chain):
+    """Certified bounds (n x n, lower triangle) of the linear and angular parts of column k of body l's block:
+    revolute R_l^T (u_k x (z_l - p_k), u_k) gives (|z_l - p_k|, 1), prismatic (R_l^T u_k, 0) gives (1, 0)."""
+    revolute = np.array([j.revolute for j in chain.joints])
+    mask = np.tril(np.ones((chain.n, chain.n), bool))
+    linear = np.where(mask, np.where(revolute[None, :], lever_bounds(chain), 1.0), 0.0)
+    angular = np.where(mask, np.where(revolute[None, :], 1.0, 0.0), 0.0)
+    return linear, angular
+
+
+def apriori_jacobian_blocks(chain):
+    """Certified ||QJ_l||_F per body l for all q, from lengths alone (identity coordinate maps, bounded slides)."""
+    linear, angular = column_bounds(chain)
+    return np.sqrt((linear**2 + angular**2).sum(1))
+
+
+def triangular_normality_floor(chain):
+    """A certified lower bound of inf_q sigma_min(QJ)^2 over all q (0 when none is available).
+
+    Column l of body l's block is the joint's constant unit twist s_l (identity
+    coordinate maps), and the block has no columns right of l. With the projector
+    P_l onto s_l, (QJ)^T QJ = sum_l QJ_l^T QJ_l >= sum_l QJ_l^T P_l QJ_l = W^T W,
+    W lower triangular with rows s_l^T QJ_l / |s_l|: W_ll = |s_l| and
+    |W_lk| <= (|s_l,v| lin_lk + |s_l,w| ang_lk) / |s_l| (column_bounds). The
+    neighbour entry W_l,l-1 depends on joint l alone, a + b cos x_l + c sin x_l
+    (a slide: affine in x_l), and is bounded exactly. The comparison matrix C
+    (|W_ll| on, minus those bounds off the diagonal) has C^-1 >= |W^-1| entrywise,
+    so sigma_min(QJ)^2 >= 1 / ||C^-1||_2^2 with ||C^-1||_2 <= min(||C^-1||_F,
+    (||C^-1||_1 ||C^-1||_inf)^(1/2)), computed in rational arithmetic, rounded down.
+    """
+    from fractions import Fraction
+
+    if certification_obstacle(chain) is not None:
+        return 0.0
+    linear, angular = column_bounds(chain)
+    twists = [j.unit_twist for j in chain.z_joints]
+    n = chain.n
+    c = [[Fraction(0)] * n for _ in range(n)]
+    for l, s in enumerate(twists):
+        size = np.linalg.norm(s)
+        c[l][l] = Fraction(float(np.nextafter(size, 0)))
+        for k in range(l):
+            bound = (np.linalg.norm(s[:3]) * linear[l, k] + np.linalg.norm(s[3:]) * angular[l, k]) / size
+            if k == l - 1:
+                bound = min(bound, _neighbour_bound(chain.z_joints[l], s, twists[k], chain.joints[l].limits) / size)
+            c[l][k] = -Fraction(float(np.nextafter(bound * (1 + 1e-12) + 1e-300, np.inf)))
+    inverse = [[Fraction(0)] * n for _ in range(n)]
+    for col in range(n):  # forward substitution, exact
+        for l in range(n):
+            rhs = Fraction(int(l == col)) - sum((c[l][k] * inverse[k][col] for k in range(l)), Fraction(0))
+            inverse[l][col] = rhs / c[l][l]
+    frobenius = sum(x * x for row in inverse for x in row)
+    ones = max(sum(abs(inverse[l][col]) for l in range(n)) for col in range(n))
+    infinity = max(sum(abs(x) for x in row) for row in inverse)
+    return float(np.nextafter(float(1 / min(frobenius, ones * infinity)), 0))
+
+
+def _neighbour_bound(joint, s, previous, limits):
+    """max over x of |s . X_after J(x) X_before s_prev|: a + b cos x + c sin x for a turn (|a| + (b^2 + c^2)^(1/2)),
+    affine in x for a slide (its ends over the limits)."""
+    y = previous if joint.before_twist is None else joint.before_twist @ previous
+    v = s if joint.after_twist is None else joint.after_twist.T @ s
+    if joint.revolute:
+        a = v[2] * y[2] + v[5] * y[5]
+        b = v[0] * y[0] + v[1] * y[1] + v[3] * y[3] + v[4] * y[4]
+        c = v[0] * y[1] - v[1] * y[0] + v[3] * y[4] - v[4] * y[3]
+        return abs(a) + np.hypot(b, c)
+    if limits is None:
+        return np.inf
+    base, slope = v @ y, v[0] * y[4] - v[1] * y[3]
+    return max(abs(base + slope * x) for x in limits)
+
+
+def apriori_bound(chain, thetas, kind):
+    """A certified bound of sup_q sigma_max(QJ) (thetas None) or of sup_q ||M(q, Theta_v)|| over all q, from lengths.
+
+    With G[l, k] >= ||QJ_l[:, k]|| (column_bounds), ||QJ x||^2 = sum_l ||QJ_l x||^2 <=
+    ||G |x| ||^2, so sigma_max(QJ) <= ||G||_2; and |x^T M x| <= sum_l max|lambda(Z_l)|
+    ||QJ_l x||^2 <= ||D G||_2^2 with D = diag(max|lambda(Z_l)|^(1/2)). The computed
+    spectral norm is inflated by its rounding allowance.
+    """
+    if certification_obstacle(chain) is not None:
+        return np.inf
+    linear, angular = column_bounds(chain)
+    g = np.sqrt(linear**2 + angular**2)
+    inflate = 1 + ROUNDING * EPS * chain.n
+    if thetas is None:
+        return float(np.linalg.norm(g, 2) * inflate)
+    z = spectral(spatial_inertia(np.asarray(thetas, float)), "absmax")  # (V, N)
+    return float(max(np.linalg.norm(np.sqrt(zv)[:, None] * g, 2) ** 2 for zv in z) * inflate**2)
+
+
+# -- the ingredients over configurations ----------------------------------------------
+
+def jacobian_sup(chain, **kw):
+    """sup_q sigma_max(QJ) (SVD)."""
+    return configuration_bracket(chain, jacobian_family(chain), "smax", quantity_name="sup_q sigma_max(QJ)", **kw)
+
+
+def jacobian_normality(chain, **kw):
+    """inf_q sigma_min(QJ)^2 = inf_q lambda_min((QJ)^T QJ) (Definition 2): observed by SVD of QJ; the certified side is
+    the better of branch and bound and the chain's :func:`triangular_normality_floor`."""
+    unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
+    result = configuration_bracket(chain, mass_family(chain, unit), "lmin", value_kind="smin", square=True,
+                                   quantity_name="inf_q sigma_min(QJ)^2", thetas=unit, **kw)
+    floor = triangular_normality_floor(chain)
+    if floor > (result.certified if result.certified is not None else -np.inf):
+        result.certified = floor
+        result.note = (result.note + "; " if result.note else "") + (
+            "certified side from the block-triangular structure of QJ (unit twist of joint l in column l of body "
+            "l's block, lengths bound the rest): valid for every q")
+        for point in result.convergence:
+            point[1] = max(point[1] if point[1] is not None else -np.inf, floor)
+    return result
+
+
+def mass_inf(chain, thetas, **kw):
+    """inf over q and the parameter sets of lambda_min(M(q, Theta)); where branch and bound certifies less, the
+    proof of Theorem 2 does: lambda_min(M) >= min_l lambda_min(Z(Phi_l)) inf_q sigma_min(QJ)^2 with the
+    :func:`triangular_normality_floor`."""
+    result = configuration_bracket(chain, mass_family(chain, thetas), "lmin",
+                                   quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
+    z = spatial_inertia(np.asarray(thetas, float))
+    z_min = float((spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")).min())  # less its rounding
+    floor = max(z_min, 0.0) * triangular_normality_floor(chain) * (1 - ROUNDING * EPS)
+    if floor > (result.certified if result.certified is not None else -np.inf):
+        result.certified = floor
+        result.note = (result.note + "; " if result.note else "") + (
+            "certified side min_l lambda_min(Z(Phi_l)) times the block-triangular floor of inf sigma_min(QJ)^2")
+        for point in result.convergence:
+            point[1] = max(point[1] if point[1] is not None else -np.inf, floor)
+    return result
+
+
+def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **kw):
+    """sup over q and the parameter sets of lambda_max (or sigma_max, kind='absmax') of M(q, Theta)."""
+    return configuration_bracket(chain, mass_family(chain, thetas), kind, quantity_name=name, thetas=thetas, **kw)
+
+
+def skew_partials(dqj):
+    """Y_p = dK_p/dq - (dK_p/dq)^T for every row p of QJ (DefK, proof of Theorem 5): (..., 6N, n, n)."""
+    return dqj - np.swapaxes(dqj, -1, -2)
+
+
+def skew_partial_sup(chain, *, samples, refine_s, rng, progress=None):
+    """Brackets of max_p sup_q sigma_max(Y_p(q)) and of sup_q (sum_p sigma_max(Y_p)^2)^(1/2).
+
+    Y_p has degree <= 1 per coordinate like QJ, so a first-order Bernstein bound
+    applies: sigma(Y_p(q)) <= sigma(Y_p(c)) + S rho on a box, with S the sup itself.
+    """
+    def sigmas(q):
+        return spectral(skew_partials(chain.body_jacobian_derivative(q)), "smax")  # (K, 6N)
+
+    lo, hi = search_box(chain)
+    free = free_coordinates(chain)
+    obstacle = certification_obstacle(chain)
+    factors = derivative_factors(chain, *bernstein_domain(chain), 1)
+    same = np.allclose(bernstein_domain(chain)[0][free], lo[free]) and np.allclose(bernstein_domain(chain)[1][free], hi[free])
+
+    def max_bound(c, r):
+        rho = (r[:, free] * factors[free]).sum(1)
+        return np.where(rho < 1, sigmas(c).max(1) / np.maximum(1 - rho, 1e-300), np.inf)
+
+    usable = obstacle is None and same
+    worst = bracket_extreme(lambda q: sigmas(q).max(1), max_bound if usable else None, lo, hi, sense="max",
+                            quantity_name="max_p sup_q sigma_max(Y_p)", samples=samples, refine_s=refine_s / 2,
+                            rng=rng, free=free, weights=factors, progress=progress,
+                            note=obstacle or ("" if same else "joint limits inside a period: no certified side"))
+    s = worst.certified
+
+    def rss_bound(c, r):
+        rho = (r[:, free] * factors[free]).sum(1)
+        return np.sqrt(((sigmas(c) + s * rho[:, None]) ** 2).sum(1))
+
+    rss = bracket_extreme(lambda q: np.sqrt((sigmas(q) ** 2).sum(1)),
+                          rss_bound if usable and s is not None and np.isfinite(s) else None, lo, hi, sense="max",
+                          quantity_name="sup_q (sum_p sigma_max(Y_p)^2)^(1/2)", samples=samples, refine_s=refine_s / 2,
+                          rng=rng, free=free, weights=factors, note=worst.note)
+    return worst, rss
+
+

@@ -1,0 +1,194 @@
+"""Two-sided brackets of an extreme of a batched function over a box of configurations.
+
+``bracket_extreme(value, box_bound, lo, hi, sense=...)`` estimates
+inf or sup of ``value`` over the box [lo, hi] from both sides:
+
+- the observed side: the best of random samples, improved by a batched local
+  pattern search; it is attained at ``witness``, so it is a true value of the
+  function (an upper estimate of an inf, a lower estimate of a sup);
+- the certified side: branch and bound over sub-boxes with ``box_bound``
+  (centres, radii) -> a certified bound of the function on each sub-box; the
+  worst bound over the boxes that are left is certified for the whole box.
+
+Both sides are recorded against run time in ``convergence`` so the narrowing
+can be plotted. The budget ``refine_s`` is turned into a number of rounds
+(``ROUNDS_PER_SECOND``), so the bracket is the same for a given seed on any machine. Everything is batched over configurations; the only Python
+loop is over refinement rounds.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from inertiaproof.result import quantity
+
+__all__ = ["Bracket", "bracket_extreme", "LOCAL_ROUNDS_PER_SECOND", "local_search", "ROUNDS_PER_SECOND"]
+
+ROUNDS_PER_SECOND = 600  # refinement rounds (times 2^d) per second of budget: a count, so that a seed gives the same bracket
+LOCAL_ROUNDS_PER_SECOND = 200  # rounds of local search per second of budget, at most 40
+
+
+@dataclass
+class Bracket:
+    quantity: str
+    sense: str  # "min" (an infimum) or "max" (a supremum)
+    observed: float  # attained at ``witness``
+    certified: float | None  # None: no certified side
+    witness: np.ndarray
+    convergence: list = field(default_factory=list)  # [seconds, lower, upper]
+    boxes: int = 0
+    note: str = ""
+
+    @property
+    def lower(self):
+        if self.sense == "min":
+            return -np.inf if self.certified is None else self.certified
+        return self.observed
+
+    @property
+    def upper(self):
+        if self.sense == "max":
+            return np.inf if self.certified is None else self.certified
+        return self.observed
+
+    @property
+    def width(self):
+        return self.upper - self.lower
+
+    def evidence(self):
+        """The ``bracket`` evidence the report plots (inertiaproof.result)."""
+        sampled = "attained at the witness: an {} estimate of the {}".format(
+            "upper" if self.sense == "min" else "lower", "infimum" if self.sense == "min" else "supremum")
+        if self.certified is None:
+            cert = quantity(-np.inf if self.sense == "min" else np.inf,
+                            "lower_bound" if self.sense == "min" else "upper_bound", "no certified side: " + self.note)
+        else:
+            cert = quantity(self.certified, "lower_bound" if self.sense == "min" else "upper_bound",
+                            f"certified by branch and bound over {self.boxes} boxes" + (f"; {self.note}" if self.note else ""))
+        obs = quantity(self.observed, "sampled", sampled)
+        lower, upper = (cert, obs) if self.sense == "min" else (obs, cert)
+        return {"quantity": self.quantity, "lower": lower, "upper": upper,
+                "witness": np.asarray(self.witness).tolist(), "convergence": self.convergence}
+
+
+def local_search(value, q, lo, hi, free, *, sign, rounds=40, step=0.25):
+    """Batched pattern search from starting points q (K, n): each round tries +-step along every free coordinate."""
+    q = np.array(q, dtype=float)
+    best = sign * value(q)
+    width = np.where(free, hi - lo, 0.0)
+    steps = np.full(len(q), step)
+    dirs = np.concatenate([np.diag(width), -np.diag(width)])[np.concatenate([free, free])]
+    if not len(dirs):
+        return q, sign * best
+    for _ in range(rounds):
+        trial = np.clip(q[:, None, :] + steps[:, None, None] * dirs[None], lo, hi)  # (K, 2d, n)
+        vals = sign * value(trial.reshape(-1, q.shape[1])).reshape(trial.shape[:2])
+        k = np.argmin(vals, 1)
+        better = vals[np.arange(len(q)), k] < best
+        q[better] = trial[better, k[better]]
+        best = np.where(better, vals[np.arange(len(q)), k], best)
+        steps = np.where(better, steps, steps * 0.5)
+        if steps.max() < 1e-6:  # of the box width: at an interior optimum the value is then within ~1e-12
+            break
+    return q, sign * best
+
+
+def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, refine_s, rng, free=None,
+                    progress=None, rtol=1e-6, batch=64, max_boxes=400_000, weights=None, note=""):
+    """Bracket inf (sense 'min') or sup ('max') of ``value`` over the box [lo, hi].
+
+    ``value(q)`` maps configurations (K, n) to (K,). ``box_bound(centres, radii)``
+    returns a certified lower (min) or upper (max) bound of ``value`` on each box,
+    or is None when no certified bound is available. ``free`` marks the
+    coordinates the function depends on (the others stay at the box centre).
+    ``weights`` scale the widths when choosing the coordinate to split.
+    """
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    n = lo.size
+    free = np.ones(n, bool) if free is None else np.asarray(free, bool)
+    weights = np.ones(n) if weights is None else np.asarray(weights, float)
+    sign = 1.0 if sense == "min" else -1.0
+    mid = 0.5 * (lo + hi)
+    start = time.perf_counter()
+
+    q = np.where(free, lo + (hi - lo) * rng.random((samples, n)), mid)
+    vals = value(q)
+    top = np.argsort(sign * vals)[: min(8, samples)]
+    qs, vs = local_search(value, q[top], lo, hi, free, sign=sign,
+                          rounds=int(min(40, max(4, refine_s * LOCAL_ROUNDS_PER_SECOND))))
+    k = int(np.argmin(sign * vs))
+    best_q, best = qs[k].copy(), float(vs[k])
+    if sign * vals[top[0]] < sign * best:
+        best_q, best = q[top[0]].copy(), float(vals[top[0]])
+
+    def record(cert):
+        lower, upper = (cert, best) if sense == "min" else (best, cert)
+        conv.append([round(time.perf_counter() - start, 6), _finite(lower), _finite(upper)])
+
+    conv = []
+    if box_bound is None:
+        record(None)
+        return Bracket(quantity_name, sense, best, None, best_q, conv, 0, note)
+
+    centres, radii = mid[None].copy(), np.where(free, 0.5 * (hi - lo), 0.0)[None]
+    bounds = sign * box_bound(centres, radii)
+    boxes = 1
+    certified = sign * float(np.min(bounds))
+    record(certified)
+    last_report = start
+    rounds = 0
+    budget = max(1, int(refine_s * ROUNDS_PER_SECOND / 2.0 ** free.sum()))  # a box's vertices cost 2^d
+    while rounds < budget and len(bounds):
+        rounds += 1
+        # boxes that cannot beat the observed value are done
+        keep = bounds < sign * best
+        centres, radii, bounds = centres[keep], radii[keep], bounds[keep]
+        if not len(bounds):
+            certified = best
+            break
+        take = np.argsort(bounds)[:batch] if len(bounds) > batch else np.arange(len(bounds))
+        rest = np.ones(len(bounds), bool)
+        rest[take] = False
+        c, r = centres[take], radii[take]
+        axis = np.argmax(r * weights, 1)
+        half = r.copy()
+        half[np.arange(len(r)), axis] *= 0.5
+        shift = np.zeros_like(r)
+        shift[np.arange(len(r)), axis] = half[np.arange(len(r)), axis]
+        child_c = np.concatenate([c - shift, c + shift])
+        child_r = np.concatenate([half, half])
+        child_v = value(child_c)
+        k = int(np.argmin(sign * child_v))
+        if sign * child_v[k] < sign * best:
+            best, best_q = float(child_v[k]), child_c[k].copy()
+        child_b = sign * box_bound(child_c, child_r)
+        boxes += len(child_c)
+        centres = np.concatenate([centres[rest], child_c])
+        radii = np.concatenate([radii[rest], child_r])
+        bounds = np.concatenate([bounds[rest], child_b])
+        certified = sign * float(min(np.min(bounds), sign * best))
+        record(certified)
+        if abs(best - certified) <= rtol * max(abs(best), 1e-300) or len(bounds) > max_boxes:
+            break
+        if progress and time.perf_counter() - last_report > 2.0:
+            progress(f"{quantity_name}: [{conv[-1][1]:.6g}, {conv[-1][2]:.6g}] after {boxes} boxes")
+            last_report = time.perf_counter()
+    if len(bounds) == 0:
+        certified = best
+    record(certified)
+    return Bracket(quantity_name, sense, best, certified, best_q, _thin(conv), boxes, note)
+
+
+def _finite(x):
+    return None if x is None or not np.isfinite(x) else float(x)
+
+
+def _thin(points, keep=60):
+    """At most ``keep`` convergence points, always the first and the last."""
+    if len(points) <= keep:
+        return points
+    idx = np.unique(np.round(np.geomspace(1, len(points), keep)).astype(int) - 1)
+    return [points[i] for i in idx]

@@ -1,0 +1,193 @@
+"""Extremes over time of the parameter trajectory's ingredients (Definition 3; Theorems 2-5).
+
+Theta(t) of payloads and scalings lies on segments Theta_base + s Phi_load with s in the profile's range;
+spectral extremes that are concave or convex in Theta are then attained at the segment's ends (exact for one
+load per body). Moving masses are bounded by positivity (Z(Phi_load) >= 0) and by the profile's rate and
+acceleration bounds.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from inertiaproof.dynamics.trajectory import MovingMass, Payload, Scaling
+from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
+
+from .spectral import spectral
+
+__all__ = [
+    "ACCELERATION_PEAK", "affine_loads", "BODY_FUNCTIONS", "lumped_velocity_bounds", "parameter_vertices",
+    "profile_acceleration_bound", "profile_range", "time_extreme",
+]
+
+
+
+ACCELERATION_PEAK = {"constant": 0.0, "linear": 0.0, "smoothstep": 6.0, "smootherstep": 10.0 / np.sqrt(3.0),
+                     "cosine": np.pi**2 / 2}
+
+
+def profile_range(profile, span):
+    """[min, max] of s(t) over the span (the ramps are monotone; exp is monotone)."""
+    t0, t1 = span
+    if profile.shape == "exp":
+        a = np.exp(profile.rate * (t0 - profile.start))
+        b = np.exp(profile.rate * (t1 - profile.start)) if np.isfinite(t1) else (np.inf if profile.rate > 0 else 0.0)
+        return min(a, b), max(a, b)
+    s0 = float(profile.derivatives(t0)[0])
+    s1 = float(profile.derivatives(t1 if np.isfinite(t1) else profile.start + profile.duration + 1)[0])
+    return min(s0, s1), max(s0, s1)
+
+
+def profile_acceleration_bound(profile):
+    """sup_t |s''(t)| (inf for 'linear', whose rate jumps)."""
+    if profile.shape == "exp":
+        return profile.rate**2 if profile.rate <= 0 else np.inf
+    if profile.shape == "linear":
+        return np.inf
+    return ACCELERATION_PEAK[profile.shape] / (profile.duration**2 if profile.shape != "constant" else 1.0)
+
+
+def affine_loads(trajectory):
+    """True when every load is a payload or a scaling: Theta(t) is affine in the profiles' values s_i(t)."""
+    return all(isinstance(load, (Payload, Scaling)) for load in trajectory.loads)
+
+
+def parameter_vertices(trajectory):
+    """Stacks (V, N, 10) of Theta and of Thetadot whose convex hulls hold Theta(t) and Thetadot(t) for all t.
+
+    None when a moving mass makes Theta(t) non-affine. With one load the hull of
+    Theta is the segment the trajectory sweeps: extremes over it are exact.
+    """
+    if not affine_loads(trajectory):
+        return None
+    loads = trajectory.loads
+    ranges = [profile_range(load.profile, trajectory.span) for load in loads]
+    rates = [load.profile.rate_bound() for load in loads]
+    values, rate_values = [], []
+    for corner in itertools.product(*[(a, b) for a, b in ranges]) if loads else [()]:
+        values.append(_theta_at(trajectory, corner, None))
+    for corner in itertools.product(*[(-r, r) for r in rates]) if loads else [()]:
+        for s in itertools.product(*[(a, b) for a, b in ranges]) if loads else [()]:
+            rate_values.append(_theta_at(trajectory, s, corner))
+    return np.array(values), np.array(rate_values)
+
+
+def _theta_at(trajectory, s, ds):
+    """Theta (ds None) or Thetadot for profile values s and rates ds, in the order ParameterTrajectory.theta uses."""
+    theta = trajectory.base.astype(float).copy()
+    dot = np.zeros_like(theta)
+    for load, si, k in zip(trajectory.loads, s, range(len(s))):
+        if isinstance(load, Scaling):  # an unbounded s leaves non-finite entries, which callers leave out
+            dsi = 0.0 if ds is None else ds[k]
+            with np.errstate(invalid="ignore"):
+                theta[load.body], dot[load.body] = si * theta[load.body], dsi * theta[load.body] + si * dot[load.body]
+    for load, si, k in zip(trajectory.loads, s, range(len(s))):
+        if isinstance(load, Payload):
+            theta[load.body] += si * load.phi
+            dot[load.body] += (0.0 if ds is None else ds[k]) * load.phi
+    return theta if ds is None else dot
+
+
+def _path_geometry(path):
+    """(max |c|, max |dc/ds|, max |d2c/ds2|) of a load's path over s in [0, 1]."""
+    if path.shape == "line":
+        a, b = np.asarray(path.start, float), np.asarray(path.end, float)
+        return max(np.linalg.norm(a), np.linalg.norm(b)), np.linalg.norm(b - a), 0.0
+    r = path.radius
+    return np.linalg.norm(path.center) + r, 2 * np.pi * r, (2 * np.pi) ** 2 * r
+
+
+def _moving_mass_terms(load):
+    """Certified bounds of one moving mass: sup ||f(Phi_p)||, sup sigma(f(Phidot_p)), Psi*, dPsi*."""
+    cmax, d1, d2 = _path_geometry(load.path)
+    m = load.mass
+    rate, acc = load.path.profile.rate_bound(), profile_acceleration_bound(load.path.profile)
+    sigma_c = 0.5 * np.trace(load.inertia_com) * np.eye(3) - load.inertia_com
+    lever = np.sqrt(1 + cmax**2)
+    return {
+        "f_norm": m * (1 + cmax**2) + np.linalg.eigvalsh(sigma_c)[-1],
+        "f_rate": m * rate * d1 * (2 * cmax + 1),
+        "psi": m * rate * d1 * lever,
+        "psi_dot": m * (acc * d1 + rate**2 * d2) * lever if np.isfinite(acc) else np.inf,
+    }
+
+
+BODY_FUNCTIONS = {  # name: (matrix of Phi, spectral kind, uses Thetadot)
+    "lmin_f": (pseudo_inertia, "lmin", False),
+    "lmax_f": (pseudo_inertia, "lmax", False),
+    "lmin_Z": (spatial_inertia, "lmin", False),
+    "lmax_Z": (spatial_inertia, "lmax", False),
+    "smax_fdot": (pseudo_inertia, "absmax", True),
+    "smax_Zdot": (spatial_inertia, "absmax", True),
+}
+
+
+def time_extreme(trajectory, name, *, samples=2001, horizon=None):
+    """min over bodies of inf_t (lmin_*) or max over bodies of sup_t (the others) of a body function, bracketed.
+
+    Returns dict(observed, certified, witness_time, body, how). The observed side
+    is a true value on a time grid; the certified side comes from the segment
+    ends (payloads, scalings) or from positivity and rate bounds (moving masses).
+    """
+    build, kind, rate = BODY_FUNCTIONS[name]
+    t = trajectory.times(samples, horizon)
+    theta, theta_dot = trajectory.theta(t)
+    vals = spectral(build(theta_dot if rate else theta), kind)  # (T, N)
+    sense = "min" if kind == "lmin" else "max"
+    flat = np.argmin(vals) if sense == "min" else np.argmax(vals)
+    ti, body = np.unravel_index(flat, vals.shape)
+    observed = float(vals[ti, body])
+    verts = parameter_vertices(trajectory)
+    if verts is not None:
+        stack = verts[1] if rate else verts[0]
+        finite = np.all(np.isfinite(stack), axis=(-2, -1))
+        cvals = spectral(build(stack[finite]), kind)
+        if finite.all():
+            certified = float(cvals.min() if sense == "min" else cvals.max())
+            how = ("exact: the extreme over t is at an end of the segment Theta_base + s Phi_load (one load per body)"
+                   if len(trajectory.loads) <= 1 else "the hull of the loads' segments (an outer bound)")
+        elif sense == "min":
+            certified = float(cvals.min())
+            how = "a scaling grows without bound on the span; growth of a consistent body only raises lambda_min"
+        else:
+            certified, how = np.inf, "a profile grows without bound on the span: the supremum is infinite"
+    else:
+        certified, how = _moving_mass_bound(trajectory, name), "positivity of the loads and their rate bounds"
+    return {"observed": observed, "certified": certified, "witness_time": float(t[ti]), "body": int(body), "how": how,
+            "sense": sense}
+
+
+def _moving_mass_bound(trajectory, name):
+    build, kind, rate = BODY_FUNCTIONS[name]
+    base = spectral(build(trajectory.base), kind)
+    extra = np.zeros(trajectory.bodies)
+    for load in trajectory.loads:
+        if not isinstance(load, MovingMass):
+            return -np.inf if kind == "lmin" else np.inf
+        terms = _moving_mass_terms(load)
+        factor = 2.0 if build is spatial_inertia else 1.0  # ||Z(F)|| <= 2 ||F|| for F >= 0 or |F| bounded (key step)
+        extra[load.body] += factor * (terms["f_rate"] if rate else terms["f_norm"])
+    if rate:
+        return float(extra.max())
+    if kind == "lmin":
+        return float(base.min())  # adding a consistent body only adds a PSD term
+    return float((base + extra).max())
+
+
+def lumped_velocity_bounds(trajectory, *, samples=2001):
+    """Psi* = sup_t ||Psi||, dPsi* = sup_t ||Psidot||: observed on a time grid, certified from the paths and profiles."""
+    t = trajectory.times(samples)
+    psi, psi_dot = trajectory.psi(t)
+    n_psi, n_dot = np.linalg.norm(psi, axis=-1), np.linalg.norm(psi_dot, axis=-1)
+    cert_psi = cert_dot = 0.0
+    for load in trajectory.loads:
+        if isinstance(load, MovingMass):
+            terms = _moving_mass_terms(load)
+            cert_psi += terms["psi"]
+            cert_dot += terms["psi_dot"]
+    return {"psi": {"observed": float(n_psi.max()), "certified": cert_psi, "witness_time": float(t[np.argmax(n_psi)])},
+            "psi_dot": {"observed": float(n_dot.max()), "certified": cert_dot, "witness_time": float(t[np.argmax(n_dot)])}}
+
+

@@ -1,0 +1,58 @@
+"""The ``inertiaproof`` command: one module per command, each with ``configure(parser)`` and ``main(args) -> int``.
+
+Exit status: 0 nothing VIOLATED (or all rows consistent), 1 something
+VIOLATED (or a check crashed, or a row is not consistent), 2 bad usage or
+bad input, with a one-line message naming the problem.
+
+The commands of the top-level folders (``gate`` in ``symbolic``, ``report`` in
+``report``) have the same shape. This package is the only part of the core that
+hands results to ``inertiaproof.report``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from inertiaproof.errors import InputError
+
+__all__ = ["COMMANDS", "main", "parser"]
+
+COMMANDS = {  # name: (module, help)
+    "run": ("inertiaproof.cli.run", "run the proof-check suite"),
+    "list": ("inertiaproof.cli.listing", "list the checks (and, with --scene, which ones that scene needs)"),
+    "replay": ("inertiaproof.cli.replay", "re-run a saved counterexample"),
+    "inertia": ("inertiaproof.cli.inertia", "classify rows of inertial parameters (CSV or JSON)"),
+    "gate": ("inertiaproof.symbolic.gate", "fingerprint derivations and compare with the lockfile"),
+    "report": ("inertiaproof.report.cli", "write report.html, report.tex (and report.pdf) from a results folder"),
+    "audit": ("inertiaproof.cli.audit", "audit URDF robots for physical consistency and mass-matrix bounds"),
+}
+
+
+def parser():
+    p = argparse.ArgumentParser(prog="inertiaproof", description="Proof-check 'On robotic manipulators with "
+                                "time-dependent inertial parameters' (Kaufmann & Reger).")
+    sub = p.add_subparsers(dest="command", required=True)
+    for name, (module, help_text) in COMMANDS.items():
+        command = importlib.import_module(module)
+        sp = sub.add_parser(name, help=help_text)
+        command.configure(sp)
+        sp.set_defaults(func=command.main)
+    return p
+
+
+def main(argv=None):
+    args = parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except InputError as exc:
+        print(f"inertiaproof: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # reading or writing a file the user named
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"inertiaproof: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("inertiaproof: interrupted", file=sys.stderr)
+        return 130

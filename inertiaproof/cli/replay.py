@@ -1,0 +1,23 @@
+"""``inertiaproof replay FILE``: re-run a saved counterexample."""
+
+from __future__ import annotations
+
+import json
+
+from inertiaproof.result import Verdict
+from inertiaproof.suite.replay import replay
+
+__all__ = ["configure", "main"]
+
+
+def configure(parser):
+    parser.add_argument("file")
+    parser.add_argument("--json", action="store_true")
+
+
+def main(args):
+    result = replay(args.file)
+    print(f"{result.id}: {result.verdict}: {result.summary}")
+    if args.json:
+        print(json.dumps(result.to_json(), indent=1))
+    return 1 if result.verdict == Verdict.VIOLATED else 0

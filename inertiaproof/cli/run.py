@@ -1,0 +1,48 @@
+"""``inertiaproof run``: run the checks, print the table, write results.json (and JUnit XML, the report)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from inertiaproof.scene.format import load_scene
+from inertiaproof.suite import runner
+from inertiaproof.suite.profiles import PROFILES
+
+__all__ = ["configure", "main"]
+
+
+def configure(parser):
+    parser.add_argument("--profile", choices=sorted(PROFILES), default="ci")
+    parser.add_argument("--only", nargs="+", metavar="ID", help="catalog IDs (or check names) to run")
+    parser.add_argument("--scene", metavar="FILE", help="check one scene (TOML): only the checks it needs")
+    parser.add_argument("--symbolic", action="store_true", help="with --scene: also derive its equations symbolically")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--out", default="out", metavar="DIR", help="where results.json and data files go (default: out)")
+    parser.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
+    parser.add_argument("--report", action="store_true", help="also write the HTML/LaTeX report into --out")
+    parser.add_argument("--counterexamples", default="counterexamples/found", metavar="DIR",
+                        help="where counterexamples are saved (default: counterexamples/found)")
+    parser.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+
+
+def main(args):
+    scene = load_scene(args.scene) if args.scene else None
+    out = Path(args.out)
+    say = runner.progress_printer() if not args.quiet else None
+    if scene is not None and say:
+        say(f"scene {scene.source}: {scene.description or scene.name}; it has: {', '.join(sorted(scene.features()))}")
+    run = runner.run_checks(profile=args.profile, seed=args.seed, only=args.only, scene=scene, symbolic=args.symbolic,
+                            out_dir=out, counterexample_dir=Path(args.counterexamples), progress=say)
+    doc = runner.results_document(run, profile=args.profile, seed=args.seed, scene=args.scene)
+    path = runner.write_results(out / "results.json", doc)
+    print(runner.format_table(run))
+    print(f"results: {path}")
+    if args.junit:
+        print(f"junit: {runner.write_junit(args.junit, run)}")
+    if args.report:
+        from inertiaproof.report.cli import build
+
+        for written in build(out, only=("report",)):
+            print(f"report: {written}")
+    crashed = any(r.evidence.get("crashed") for r in run.results)
+    return 1 if run.violated or crashed else 0

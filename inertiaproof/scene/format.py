@@ -1,0 +1,404 @@
+"""Scenes: a chain, its bodies and how their parameters change in time, from a TOML file.
+
+See ``scenes/README.md`` for the format. Every mistake is reported as a
+:class:`SceneError` naming the file, the line and the field.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from inertiaproof.dynamics.chain import COORDINATE_MAPS, Chain, Coordinate, Joint, origin
+from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Profile, Scaling
+from inertiaproof.dynamics.trajectory import Path as LoadPath
+from inertiaproof.errors import InputError
+from inertiaproof.model import solids
+from inertiaproof.model.consistency import INCONSISTENT, INVALID, physical_consistency
+from inertiaproof.model.inertia import from_urdf, rotation_rpy, urdf_inertia
+
+__all__ = ["ControlSettings", "load_scene", "parse_scene", "Scene", "SceneError"]
+
+
+class SceneError(InputError):
+    """A scene file that cannot be used; the message names file, line and field."""
+
+
+@dataclass(frozen=True)
+class ControlSettings:
+    """How a simulation of the scene drives it (inertiaproof.sim.control.controller): a controller of ``kind``
+    with ``bandwidth`` rad/s and ``damping``, gains ``per_joint`` or ``uniform``, tracking
+    home + amplitude sin(2 pi frequency t + k pi / 3) on joint k, over ``horizon`` seconds."""
+
+    kind: str = "pd"
+    bandwidth: float = 10.0
+    damping: float = 1.0
+    gains: str = "per_joint"
+    home: tuple | None = None
+    amplitude: float = 0.3
+    frequency: float = 0.5
+    horizon: float | None = None
+
+    KINDS = ("pd", "computed_torque", "none")
+    GAINS = ("per_joint", "uniform")
+
+
+@dataclass(frozen=True)
+class Scene:
+    name: str
+    chain: Chain
+    trajectory: ParameterTrajectory
+    description: str = ""
+    source: str | None = None
+    warnings: tuple = field(default_factory=tuple)
+    control: ControlSettings = ControlSettings()
+
+    def features(self):
+        """What this scene has; checks declare what they need of it."""
+        have = {"chain"}
+        if self.trajectory.time_varying:
+            have.add("time_varying")
+        if self.trajectory.internal_motion:
+            have.add("internal_motion")
+        if self.trajectory.mass_change:
+            have.add("mass_change")
+        return frozenset(have)
+
+    def horizon(self, default=3.0):
+        """Seconds a simulation of the scene covers: [control] horizon, else the time span up to ``default``."""
+        if self.control.horizon is not None:
+            return self.control.horizon
+        t0, t1 = self.trajectory.span
+        return min(t1 - t0, default)
+
+
+# -- locating fields in the source -------------------------------------------
+
+_HEADER = re.compile(r"^\s*\[(\[)?\s*([A-Za-z0-9_.\-]+)\s*\]?\]\s*(#.*)?$")
+
+
+def _locate(text, path):
+    """1-based line of a field given as a path like ('body', 1, 'solid', 'dims'), or None.
+
+    Walks the path: a name is a table header ([a.b] or the i-th [[a.b]]) or a key inside the current
+    table; once a key's value is an inline table or array, deeper names are looked up on that line.
+    """
+    lines = text.splitlines()
+    headers = [(n, m.group(2)) for n, line in enumerate(lines) if (m := _HEADER.match(line))]
+    lo, hi, found, dotted = 0, len(lines), None, ""
+    parts = list(path)
+    for i, part in enumerate(parts):
+        if not isinstance(part, str):
+            continue
+        index = parts[i + 1] if i + 1 < len(parts) and isinstance(parts[i + 1], int) else 0
+        name = f"{dotted}.{part}" if dotted else part
+        tables = [n for n, h in headers if h == name and lo <= n < hi]
+        if tables:
+            lo = tables[min(index, len(tables) - 1)]
+            hi = next((n for n, h in headers if n > lo and (h == name or not h.startswith(name + "."))), len(lines))
+            found, dotted = lo, name
+            continue
+        key = re.compile(rf"(^|[{{,\s]){re.escape(part)}\s*=")
+        line = next((n for n in range(lo, hi) if key.search(lines[n])
+                     and not (n != lo and _HEADER.match(lines[n]))), None)
+        if line is None:
+            break
+        found, lo, hi, dotted = line, line, line + 1, name
+    return None if found is None else found + 1
+
+
+def _field_name(path):
+    out = ""
+    for p in path:
+        out += f"[{p + 1}]" if isinstance(p, int) else (f".{p}" if out else p)
+    return out
+
+
+class _Reader:
+    """Typed access to the parsed TOML with errors that point into the file."""
+
+    def __init__(self, text, source):
+        self.text, self.source = text, source
+
+    def error(self, path, message):
+        line = _locate(self.text, path)
+        where = f"{self.source}:{line}" if line else self.source
+        field = _field_name(path)
+        raise SceneError(f"{where}: {field}: {message}" if field else f"{where}: {message}")
+
+    def keys(self, table, path, allowed, required=()):
+        for k in table:
+            if k not in allowed:
+                self.error(path + (k,), f"unknown key; expected one of {', '.join(sorted(allowed))}")
+        for k in required:
+            if k not in table:
+                self.error(path, f"missing required key {k!r}")
+
+    def number(self, table, path, key, default=None, positive=False, nonnegative=False):
+        if key not in table:
+            if default is None:
+                self.error(path, f"missing required key {key!r}")
+            return default
+        v = table[key]
+        if isinstance(v, str) and v in ("inf", "+inf"):
+            v = float("inf")
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            self.error(path + (key,), f"must be a number, got {v!r}")
+        v = float(v)
+        if np.isnan(v):
+            self.error(path + (key,), "must be a number, got nan")
+        if positive and not v > 0:
+            self.error(path + (key,), f"must be > 0, got {v:g}")
+        if nonnegative and not v >= 0:
+            self.error(path + (key,), f"must be >= 0, got {v:g}")
+        return v
+
+    def vector(self, table, path, key, size, default=None):
+        if key not in table:
+            if default is None:
+                self.error(path, f"missing required key {key!r}")
+            return np.asarray(default, dtype=float)
+        v = table[key]
+        if not isinstance(v, list) or len(v) != size or not all(
+                isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
+            self.error(path + (key,), f"must be a list of {size} numbers, got {v!r}")
+        a = np.asarray(v, dtype=float)
+        if not np.all(np.isfinite(a)):
+            self.error(path + (key,), f"must be finite, got {v!r}")
+        return a
+
+    def choice(self, table, path, key, options, default=None):
+        v = table.get(key, default)
+        if v is None:
+            self.error(path, f"missing required key {key!r}")
+        if v not in options:
+            self.error(path + (key,), f"must be one of {', '.join(options)}, got {v!r}")
+        return v
+
+    def table(self, table, path, key, required=True):
+        v = table.get(key)
+        if v is None:
+            if required:
+                self.error(path, f"missing required table {key!r}")
+            return None
+        if not isinstance(v, dict):
+            self.error(path + (key,), f"must be a table, got {v!r}")
+        return v
+
+    def tables(self, table, path, key, required=True):
+        v = table.get(key)
+        if v is None:
+            if required:
+                self.error(path, f"missing required array of tables [[{key}]]")
+            return []
+        if not isinstance(v, list) or not all(isinstance(x, dict) for x in v):
+            self.error(path + (key,), "must be an array of tables")
+        return v
+
+
+# -- the parts of a scene ------------------------------------------------------
+
+def _inertia_matrix(r, table, path, key):
+    """3x3 inertia from [ixx, iyy, izz, ixy, iyz, ixz], a 3x3 list, or a table of those names."""
+    v = table[key]
+    if isinstance(v, dict):
+        r.keys(v, path + (key,), {"ixx", "iyy", "izz", "ixy", "iyz", "ixz"}, required=("ixx", "iyy", "izz"))
+        vals = [r.number(v, path + (key,), k, default=0.0) for k in ("ixx", "iyy", "izz", "ixy", "iyz", "ixz")]
+        return urdf_inertia(*vals)
+    if isinstance(v, list) and len(v) == 3 and all(isinstance(row, list) for row in v):
+        rows = [r.vector({"row": row}, path + (key,), "row", 3) for row in v]
+        a = np.array(rows)
+        if not np.allclose(a, a.T, rtol=0, atol=1e-12 * max(1.0, np.abs(a).max())):
+            r.error(path + (key,), f"inertia matrix is not symmetric: {v!r}")
+        return 0.5 * (a + a.T)
+    return urdf_inertia(*r.vector(table, path, key, 6))
+
+
+def _body_phi(r, table, path, extra_keys=()):
+    """Phi from exactly one of: mass + com + inertia (about the CoM) [+ rpy], phi, or solid."""
+    allowed = {"name", "mass", "com", "inertia", "rpy", "phi", "solid"} | set(extra_keys)
+    r.keys(table, path, allowed)
+    given = [k for k in ("inertia", "phi", "solid") if k in table]
+    if len(given) != 1:
+        r.error(path, "give exactly one of 'inertia' (with mass and com), 'phi' or 'solid'")
+    if "phi" in table:
+        phi = r.vector(table, path, "phi", 10)
+        if not phi[0] > 0:
+            r.error(path + ("phi",), f"mass (first entry) must be > 0, got {phi[0]:g}")
+    elif "solid" in table:
+        s = r.table(table, path, "solid")
+        sp = path + ("solid",)
+        r.keys(s, sp, {"shape", "dims", "rpy", "position"}, required=("shape", "dims"))
+        shape = r.choice(s, sp, "shape", solids.SHAPES)
+        size = {"sphere": 1, "cylinder": 2, "cone": 2, "tetrahedron": 12}.get(shape, 3)
+        dims = r.vector(s, sp, "dims", size)
+        if shape != "tetrahedron" and not np.all(dims > 0):
+            r.error(sp + ("dims",), f"dimensions must be > 0, got {dims.tolist()}")
+        mass = r.number(table, path, "mass", positive=True)
+        try:
+            phi = solids.solid(shape, mass, dims, rotation_rpy(r.vector(s, sp, "rpy", 3, (0, 0, 0))),
+                               r.vector(s, sp, "position", 3, (0, 0, 0)))
+        except ValueError as exc:
+            r.error(sp + ("dims",), str(exc))
+    else:
+        mass = r.number(table, path, "mass", positive=True)
+        com = r.vector(table, path, "com", 3, (0, 0, 0))
+        inertia = _inertia_matrix(r, table, path, "inertia")
+        rpy = r.vector(table, path, "rpy", 3, (0, 0, 0))
+        phi = from_urdf(mass, com, inertia, rotation_rpy(rpy))
+    verdict = physical_consistency(phi)
+    if verdict.verdict in (INCONSISTENT, INVALID):
+        r.error(path + (given[0],), f"not a physical body: {verdict.reason(0)}")
+    return phi
+
+
+def _profile(r, table, path):
+    if "profile" not in table:
+        r.error(path, "missing required table 'profile'")
+    p = r.table(table, path, "profile")
+    pp = path + ("profile",)
+    r.keys(p, pp, {"shape", "start", "duration", "rate"}, required=("shape",))
+    shape = r.choice(p, pp, "shape", Profile.SHAPES)
+    return Profile(shape=shape, start=r.number(p, pp, "start", 0.0),
+                   duration=r.number(p, pp, "duration", 1.0, positive=shape not in ("constant", "exp")),
+                   rate=r.number(p, pp, "rate", 0.0))
+
+
+def _joint(r, table, path, convention, index):
+    common = {"type", "limits", "coordinate", "name"}
+    if convention == "joints":
+        r.keys(table, path, common | {"axis", "xyz", "rpy"}, required=("type",))
+    else:
+        r.keys(table, path, common | {"a", "alpha", "d", "theta"}, required=("type",))
+    kind = r.choice(table, path, "type", ("revolute", "prismatic"))
+    coordinate = r.choice(table, path, "coordinate", tuple(COORDINATE_MAPS), default="identity")
+    limits = None
+    if "limits" in table:
+        lo, hi = r.vector(table, path, "limits", 2)
+        if not lo < hi:
+            r.error(path + ("limits",), f"lower limit must be below the upper, got [{lo:g}, {hi:g}]")
+        limits = (lo, hi)
+    name = table.get("name", f"joint{index + 1}")
+    if convention == "joints":
+        axis = r.vector(table, path, "axis", 3, (0, 0, 1))
+        if not np.linalg.norm(axis) > 0:
+            r.error(path + ("axis",), "must be a nonzero vector")
+        return Joint(kind, tuple(axis), before=origin(r.vector(table, path, "xyz", 3, (0, 0, 0)),
+                                                      r.vector(table, path, "rpy", 3, (0, 0, 0))),
+                     coordinate=Coordinate(coordinate), limits=limits, name=name)
+    row = [r.number(table, path, k, 0.0) for k in ("a", "alpha", "d", "theta")]
+    proto = Chain.from_dh([row], convention=convention, kinds="R" if kind == "revolute" else "P").joints[0]
+    return Joint(kind, proto.axis, proto.before, proto.after, Coordinate(coordinate), limits, name)
+
+
+def _load(r, table, path, bodies):
+    kind = r.choice(table, path, "kind", ("payload", "scaling", "moving_mass"))
+    body = r.number(table, path, "body")
+    if body != int(body) or not 1 <= body <= bodies:
+        r.error(path + ("body",), f"must be a body number from 1 to {bodies}, got {body:g}")
+    body = int(body) - 1
+    if kind == "scaling":
+        r.keys(table, path, {"kind", "body", "profile"})
+        return Scaling(body, _profile(r, table, path))
+    if kind == "payload":
+        phi = _body_phi(r, table, path, extra_keys=("kind", "body", "profile"))
+        return Payload(body, phi, _profile(r, table, path))
+    r.keys(table, path, {"kind", "body", "mass", "inertia", "path", "profile"}, required=("mass", "path"))
+    mass = r.number(table, path, "mass", positive=True)
+    inertia = _inertia_matrix(r, table, path, "inertia") if "inertia" in table else np.zeros((3, 3))
+    if "inertia" in table:
+        check = physical_consistency(from_urdf(mass, np.zeros(3), inertia))
+        if check.verdict in (INCONSISTENT, INVALID):
+            r.error(path + ("inertia",), f"not a physical body: {check.reason(0)}")
+    p = r.table(table, path, "path")
+    pp = path + ("path",)
+    shape = r.choice(p, pp, "shape", ("line", "circle"))
+    if shape == "line":
+        r.keys(p, pp, {"shape", "from", "to"}, required=("from", "to"))
+        lp = LoadPath("line", _profile(r, table, path), start=tuple(r.vector(p, pp, "from", 3)),
+                      end=tuple(r.vector(p, pp, "to", 3)))
+    else:
+        r.keys(p, pp, {"shape", "center", "radius", "normal"}, required=("radius",))
+        lp = LoadPath("circle", _profile(r, table, path), center=tuple(r.vector(p, pp, "center", 3, (0, 0, 0))),
+                      radius=r.number(p, pp, "radius", positive=True),
+                      normal=tuple(r.vector(p, pp, "normal", 3, (0, 0, 1))))
+    return MovingMass(body, mass, inertia, lp)
+
+
+def parse_scene(text, source="<scene>"):
+    """A :class:`Scene` from TOML text; raises :class:`SceneError`."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        m = re.search(r"line (\d+)", str(exc))
+        raise SceneError(f"{source}:{m.group(1) if m else '?'}: not valid TOML: {exc}") from None
+    r = _Reader(text, source)
+    r.keys(data, (), {"name", "description", "chain", "body", "load", "time", "control"},
+           required=("name", "chain", "body"))
+    chain_t = r.table(data, (), "chain")
+    r.keys(chain_t, ("chain",), {"convention", "gravity", "joint", "name"}, required=("joint",))
+    convention = r.choice(chain_t, ("chain",), "convention", ("standard", "modified", "joints"), default="standard")
+    joints = [_joint(r, j, ("chain", "joint", i), convention, i)
+              for i, j in enumerate(r.tables(chain_t, ("chain",), "joint"))]
+    if not joints:
+        r.error(("chain",), "needs at least one [[chain.joint]]")
+    chain = Chain(tuple(joints), name=str(data["name"]),
+                  gravity=tuple(r.vector(chain_t, ("chain",), "gravity", 3, (0, 0, -9.81))))
+    bodies = r.tables(data, (), "body")
+    if len(bodies) != len(joints):
+        r.error(("body",), f"needs one [[body]] per joint: {len(joints)} joints, {len(bodies)} bodies")
+    base = np.stack([_body_phi(r, b, ("body", i)) for i, b in enumerate(bodies)])
+    loads = tuple(_load(r, t, ("load", i), len(bodies)) for i, t in enumerate(r.tables(data, (), "load", required=False)))
+    time_t = r.table(data, (), "time", required=False) or {}
+    r.keys(time_t, ("time",), {"start", "end"})
+    t0 = r.number(time_t, ("time",), "start", 0.0)
+    t1 = r.number(time_t, ("time",), "end", t0 + 5.0)
+    if not t1 > t0:
+        r.error(("time", "end"), f"must be after time.start = {t0:g}, got {t1:g}")
+    trajectory = ParameterTrajectory(base, loads, (t0, t1))
+    _check_trajectory(r, trajectory)
+    control = _control(r, r.table(data, (), "control", required=False), chain.n)
+    return Scene(str(data["name"]), chain, trajectory, str(data.get("description", "")), source, control=control)
+
+
+def _control(r, table, joints):
+    if table is None:
+        return ControlSettings()
+    path = ("control",)
+    r.keys(table, path, {"kind", "bandwidth", "damping", "gains", "home", "amplitude", "frequency", "horizon"})
+    defaults = ControlSettings()
+    home = table.get("home")
+    return ControlSettings(
+        kind=r.choice(table, path, "kind", ControlSettings.KINDS, default=defaults.kind),
+        bandwidth=r.number(table, path, "bandwidth", defaults.bandwidth, positive=True),
+        damping=r.number(table, path, "damping", defaults.damping, positive=True),
+        gains=r.choice(table, path, "gains", ControlSettings.GAINS, default=defaults.gains),
+        home=None if home is None else tuple(r.vector(table, path, "home", joints)),
+        amplitude=r.number(table, path, "amplitude", defaults.amplitude, nonnegative=True),
+        frequency=r.number(table, path, "frequency", defaults.frequency, nonnegative=True),
+        horizon=r.number(table, path, "horizon", None, positive=True) if "horizon" in table else None,
+    )
+
+
+def _check_trajectory(r, trajectory):
+    """Every body must stay consistent (or degenerate) over the scene's time span."""
+    theta, _ = trajectory.theta(trajectory.times(201))
+    verdicts = physical_consistency(theta, margins=False)
+    bad = np.argwhere(np.isin(verdicts.verdict, (INCONSISTENT, INVALID)))
+    if bad.size:
+        ti, body = bad[0]
+        r.error(("load",), f"body {body + 1} becomes non-physical at t = {trajectory.times(201)[ti]:g}: "
+                           f"{verdicts.reason(int(ti) * trajectory.bodies + int(body))}")
+
+
+def load_scene(path):
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read scene file: {exc.strerror}") from None
+    return parse_scene(text, str(path))

@@ -1,0 +1,335 @@
+"""Loading as the limit of many small plastic captures (GRE-physics, loading).
+
+The paper's Lagrangian with Thetadot (KineticEnergy, LagrangeFormalism) gives
+d/dt (M qd + J^T Q^T Psi) = tau + w - G + 1/2 d(qd^T M qd)/dq + ..., with no
+momentum brought in by the mass that appears: the added mass arrives *at rest
+in the Newtonian frame*. To see that physically, the mass is added instead in
+K pieces, each a rigid body that joins its body in a perfectly plastic
+capture. Between captures the chain is an ordinary rigid multibody system
+(Pinocchio, :class:`inertiaproof.multibody.RigidChain`); at a capture the
+joint torques stay finite, so the generalized momentum is continuous:
+
+- a piece lying at rest brings no momentum: M(q, Theta+) qd+ = M(q, Theta-) qd-;
+- a piece already moving with the point it joins (e.g. carried along by the
+  end-effector) needs no impulse: qd+ = qd-.
+
+As K grows the first converges to the solution of (RoboticEquation); the
+second converges to the equation *without* M(q, Thetadot) qd for the added
+mass, a mismatch of order one. The same formulas hold for mass that leaves
+(Thetadot < 0): the equation then has it leave at rest in the Newtonian frame.
+
+All solutions use one fixed grid of classical Runge-Kutta steps; captures sit
+on grid points, so the integration error is the same O(h^4) for every
+variant and is estimated by halving the steps.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from inertiaproof.dynamics import motion
+from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
+from inertiaproof.result import Verdict
+
+from . import simulate
+from .control import FeedforwardPD
+from .multibody import RigidChain
+
+__all__ = [
+    "ARRIVALS", "CaptureStudy", "convergence_verdict", "distance", "FLOOR_BELOW", "mass_window", "MAX_FLOOR",
+    "observed_order", "Pieces", "PLACEMENTS", "Solution", "solve", "steps_for", "study",
+]
+
+PLACEMENTS = ("start", "middle")  # where in its time slice a piece joins
+ARRIVALS = ("rest", "carried")  # at rest in the Newtonian frame, or moving with the point it joins
+MAX_FLOOR = 1e-3  # an integration floor above this leaves nothing to compare
+FLOOR_BELOW = 1e-2  # the steps double until the floor is this far below the smallest capture error
+
+
+def mass_window(trajectory, horizon=2.0):
+    """[a, b]: the times over which mass is added or removed, cut to the span (an endless span at a + horizon)."""
+    t0, t1 = trajectory.span
+    t1 = min(t1, t0 + horizon) if np.isfinite(t1) else t0 + horizon
+    starts, ends = [], []
+    for load in trajectory.loads:
+        if isinstance(load, (Payload, Scaling)) and load.profile.shape != "constant":
+            p = load.profile
+            if p.shape == "exp":
+                starts.append(t0)
+                ends.append(t1)
+            else:
+                starts.append(max(t0, p.start))
+                ends.append(min(t1, p.start + p.duration))
+    if not starts or max(ends) <= min(starts):
+        raise ValueError("the trajectory adds or removes no mass inside its time span")
+    return min(starts), max(ends)
+
+
+@dataclass(frozen=True)
+class Pieces:
+    """K pieces over [a, b]; piece j holds the mass change over [t_j, t_{j+1}] and joins at its slice's start or
+    middle, arriving at ``rest`` or ``carried`` with the body it joins."""
+
+    count: int
+    placement: str = "middle"
+    arrival: str = "rest"
+
+    def __post_init__(self):
+        if self.placement not in PLACEMENTS or self.arrival not in ARRIVALS or self.count < 1:
+            raise ValueError(f"pieces: count >= 1, placement in {PLACEMENTS}, arrival in {ARRIVALS}; got {self}")
+
+    def schedule(self, a, b, steps):
+        """(grid index of each capture, the mass time in force after it)."""
+        if steps % (2 * self.count):
+            raise ValueError(f"{steps} steps do not put every capture of {self.count} pieces on the grid")
+        per_piece = steps // self.count
+        offset = 0 if self.placement == "start" else per_piece // 2
+        index = np.arange(self.count) * per_piece + offset
+        return index, a + (b - a) * (np.arange(self.count) + 1) / self.count
+
+    @property
+    def name(self):
+        return f"{self.count} pieces, {self.placement}, {self.arrival}"
+
+
+@dataclass
+class Solution:
+    """States at the end of the window: GRE (ours), the continuous rigid model without the rate term, captures."""
+
+    window: tuple
+    steps: int
+    equation: np.ndarray  # (2n,) q, qd of (RoboticEquation) at b
+    equation_half_steps: np.ndarray  # the same with steps / 2 (integration error estimate)
+    without_rate: np.ndarray  # the rigid chain with Theta(t) and no momentum brought in or taken: qd+ = qd-
+    captures: dict = field(default_factory=dict)  # Pieces -> (2n,)
+    scale: np.ndarray = None  # per-component scale of the motion over the window (for relative errors)
+
+
+def _rk4(step_fn, state, times, feedforwards, jumps=None):
+    """Classical Runge-Kutta over ``times``; stage inputs from ``feedforwards[i]`` = (t_i, t_i + h/2, t_{i+1});
+    ``jumps(i, state)`` applies captures at grid index i (before step i; index len(times) - 1 after the last)."""
+    for i in range(len(times) - 1):
+        if jumps is not None:
+            state = jumps(i, state)
+        t, h = times[i], times[i + 1] - times[i]
+        f0, fm, f1 = feedforwards[i]
+        k1 = step_fn(t, state, f0)
+        k2 = step_fn(t + h / 2, state + h / 2 * k1, fm)
+        k3 = step_fn(t + h / 2, state + h / 2 * k2, fm)
+        k4 = step_fn(t + h, state + h * k3, f1)
+        state = state + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    if jumps is not None:
+        state = jumps(len(times) - 1, state)
+    return state
+
+
+def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.generalized_forces, horizon=2.0,
+          progress=lambda message: None):
+    """Integrate (RoboticEquation) and every capture model over the mass window; see :class:`Solution`."""
+    a, b = mass_window(trajectory, horizon)
+    n = scene_chain.n
+    pd = FeedforwardPD(scene_chain, control)
+    mass_only = ParameterTrajectory(trajectory.base, tuple(load for load in trajectory.loads
+                                                           if not isinstance(load, MovingMass)), trajectory.span)
+    q0, qd0, _ = control.reference(np.array(a))
+    start = np.concatenate([q0, qd0])
+
+    def grid(count):
+        times = np.linspace(a, b, count + 1)
+        ff = pd.feedforward(np.stack([times[:-1], times[:-1] + np.diff(times) / 2, times[1:]], -1))
+        return times, ff
+
+    def equation_rhs(t, state, ff):
+        q, qd = state[:n], state[n:]
+        kin = motion.kinematics(scene_chain, q)
+        p = motion.parameters(trajectory, np.array(t))
+        tau = pd.torque(ff, t, q, qd)
+        return np.concatenate([qd, simulate.accelerations(kin, scene_chain.gravity, p, qd, tau, forces)])
+
+    times, ff = grid(steps)
+    progress(f"(RoboticEquation) over [{a:g}, {b:g}] s in {steps} steps")
+    equation = _rk4(equation_rhs, start, times, ff)
+    half_times, half_ff = grid(steps // 2)
+    equation_half = _rk4(equation_rhs, start, half_times, half_ff)
+
+    rigid = RigidChain(scene_chain, trajectory)
+    rider_cache = {}
+
+    def rider(t):
+        if t not in rider_cache:
+            rider_cache[t] = rigid.rider_motion(t)
+        return rider_cache[t]
+
+    inertias = {}
+
+    def set_mass_time(mass_time):
+        if mass_time not in inertias:
+            rigid.set_theta(mass_only.theta(np.array(mass_time))[0])
+            inertias[mass_time] = [rigid.pin.Inertia(i) for i in rigid.model.inertias]
+        else:
+            for k, inertia in enumerate(inertias[mass_time]):
+                rigid.model.inertias[k] = inertia
+
+    def rigid_rhs(mass_time_at):
+        def rhs(t, state, f):
+            q, qd = state[:n], state[n:]
+            set_mass_time(mass_time_at(t))
+            return np.concatenate([qd, rigid.accelerations(q, qd, pd.torque(f, t, q, qd), rider(t))])
+        return rhs
+
+    progress("rigid chain with Theta(t), no momentum exchanged with the added mass")
+    without_rate = _rk4(rigid_rhs(lambda t: t), start, times, ff)
+
+    out = Solution((a, b), steps, equation, equation_half, without_rate)
+    for piece in pieces:
+        index, mass_times = piece.schedule(a, b, steps)
+        current = {"mass_time": a}
+
+        def jumps(i, state, index=index, mass_times=mass_times, piece=piece, current=current):
+            hits = np.flatnonzero(index == i)
+            if not hits.size:
+                return state
+            q, qd = state[:n], state[n:]
+            new_time = mass_times[hits[-1]]
+            if piece.arrival == "rest":
+                set_mass_time(current["mass_time"])
+                momentum = rigid.mass_matrix(q) @ qd
+                set_mass_time(new_time)
+                qd = np.linalg.solve(rigid.mass_matrix(q), momentum)
+            current["mass_time"] = new_time
+            return np.concatenate([q, qd])
+
+        progress(piece.name)
+        out.captures[piece] = _rk4(rigid_rhs(lambda t, c=current: c["mass_time"]), start, times, ff, jumps)
+    span = np.abs(equation - start)
+    tiny = np.finfo(float).tiny
+    out.scale = np.concatenate([np.full(n, max(span[:n].max(), np.abs(qd0).max() * (b - a), tiny)),
+                                np.full(n, max(np.abs(equation[n:]).max(), np.abs(qd0).max(), tiny))])
+    return out
+
+
+def distance(x, y, scale):
+    """max over components of |x - y| / scale."""
+    return float(np.max(np.abs(np.asarray(x) - np.asarray(y)) / scale))
+
+
+def observed_order(counts, errors):
+    """Least-squares slope p of log(error) against -log(K)."""
+    k, e = np.log(np.asarray(counts, float)), np.log(np.asarray(errors, float))
+    return float(-np.polyfit(k, e, 1)[0])
+
+
+def convergence_verdict(counts, errors, floor):
+    """Do the captures converge to the equation? (verdict, observed order, why, settled).
+
+    The order is fitted over the finest three piece counts whose error is above ten times the integration
+    floor; it is *settled* when the last two pairwise orders agree within 0.5. HOLDS: the errors reach the
+    floor, or fall with a settled order >= 0.8. VIOLATED: they level off (settled order < 0.3) clearly above
+    the floor, so the limit is another motion. Otherwise INCONCLUSIVE (more pieces may settle it).
+    """
+    counts, errors = np.asarray(counts, float), np.asarray(errors, float)
+    if not np.all(np.isfinite(errors)) or not np.isfinite(floor):
+        return Verdict.INCONCLUSIVE, None, "a solution is not finite (the fixed-step integration blew up)", True
+    if floor > MAX_FLOOR:
+        return Verdict.INCONCLUSIVE, None, (f"the fixed-step solutions themselves are uncertain by {floor:.1e} "
+                                            "(relative): nothing can be compared"), True
+    above = errors > 10 * floor
+    if not above[-1]:
+        return Verdict.HOLDS, None, (f"the captures reach the integration floor {floor:.1e} at K = "
+                                     f"{int(counts[np.argmin(above)])} pieces"), True
+    usable = np.flatnonzero(above)[-3:]
+    if usable.size < 2:
+        return Verdict.INCONCLUSIVE, None, "fewer than two piece counts above the integration floor", True
+    order = observed_order(counts[usable], errors[usable])
+    pairwise = -np.diff(np.log(errors[usable])) / np.diff(np.log(counts[usable]))
+    settled = pairwise.size < 2 or abs(pairwise[-1] - pairwise[-2]) <= 0.5
+    if not settled:
+        return Verdict.INCONCLUSIVE, order, (f"the order has not settled (pairwise {np.round(pairwise, 2).tolist()} "
+                                             f"up to K = {int(counts[-1])})"), False
+    if order >= 0.8:
+        return Verdict.HOLDS, order, (f"the error falls as K^-{order:.2f} down to {errors[-1]:.1e} "
+                                      f"at K = {int(counts[-1])}"), True
+    if order < 0.3:
+        return Verdict.VIOLATED, order, (f"the error levels off at {errors[-1]:.1e} (order {order:.2f}), "
+                                         f"far above the integration floor {floor:.1e}: the limit of the captures "
+                                         "is another motion"), True
+    return Verdict.INCONCLUSIVE, order, f"the error falls only as K^-{order:.2f}", True
+
+
+def steps_for(window, rate, counts, minimum):
+    """Grid steps: at least ``minimum``, a multiple of 2 max(counts), with h x rate <= 1 (inside RK4's stability
+    interval, 2.78, and accurate for the slow motion that the study compares)."""
+    unit = 2 * max(counts)
+    needed = max(minimum, (window[1] - window[0]) * rate)
+    return int(unit * max(1, 2 ** int(np.ceil(np.log2(max(needed / unit, 1.0))))))
+
+
+@dataclass
+class CaptureStudy:
+    """Errors of the captures against the equation at the window's end, refined until the order settles."""
+
+    window: tuple
+    steps: int
+    counts: tuple
+    rate: float
+    floor: float
+    at_rest: list  # centred pieces at rest -> equation
+    fine: tuple  # the finest three counts
+    at_start: list  # pieces at rest joining at their slice's start -> equation
+    carried: list  # pieces carried with the body -> equation
+    carried_limit: list  # pieces carried -> the rigid chain without momentum exchange
+    mismatch: float  # equation vs the carried limit
+    verdict: object
+    order: float | None
+    why: str
+    history: list  # (steps, counts) tried
+
+
+def study(chain, trajectory, control, counts, steps, forces=motion.generalized_forces, horizon=2.0, max_steps=2048,
+          max_count=256, progress=lambda message: None):
+    """Captures of pieces at rest (and carried) against (RoboticEquation). The RK4 steps double until the
+    integration floor lies FLOOR_BELOW under the smallest error; K doubles while the order is unsettled or between
+    the bands of convergence and levelling off."""
+    window = mass_window(trajectory, horizon)
+    rate = simulate.fastest_rate(chain, trajectory, control, window)
+    condition = simulate.conditioning(chain, trajectory, control, window)
+    counts, history = tuple(counts), []
+
+    def unanswered(need, why):
+        return CaptureStudy(window, need, counts, rate, np.nan, [], counts[-3:], [], [], [], np.nan,
+                            Verdict.INCONCLUSIVE, None, why, history)
+
+    if condition > simulate.MAX_CONDITION:
+        return unanswered(steps, f"M is numerically singular for forward dynamics (cond {condition:.1e}): qdd keeps "
+                                 f"fewer than 6 correct digits in float64")
+    while True:
+        need = steps_for(window, rate, counts, steps)
+        fine = counts[-3:]
+        if need > max_steps:
+            return unanswered(need, f"too stiff for the fixed-step study: the fastest closed-loop mode ({rate:.3g} "
+                                    f"rad/s) needs {need} RK4 steps over the window, more than {max_steps}")
+        history.append((need, counts))
+        pieces = ([Pieces(k, "middle", "rest") for k in counts] + [Pieces(k, "start", "rest") for k in fine]
+                  + [Pieces(k, "middle", "carried") for k in fine])
+        with np.errstate(all="ignore"):
+            sol = solve(chain, trajectory, control, pieces, need, forces, horizon, progress)
+        d = lambda x, y=None: distance(x, sol.equation if y is None else y, sol.scale)  # noqa: E731
+        floor = 2 * d(sol.equation_half_steps) / 15
+        at_rest = [d(sol.captures[Pieces(k, "middle", "rest")]) for k in counts]
+        if floor > FLOOR_BELOW * min(at_rest) and 2 * need <= max_steps:
+            steps = 2 * need
+            progress(f"integration floor {floor:.1e} too close to the errors; {steps} steps")
+            continue
+        verdict, order, why, settled = convergence_verdict(counts, at_rest, floor)
+        if (settled and verdict != Verdict.INCONCLUSIVE) or counts[-1] * 2 > max_count:
+            break
+        counts = counts[1:] + (counts[-1] * 2,)
+        progress(f"{why}; refining to K = {counts[-1]}")
+    return CaptureStudy(
+        window, need, counts, rate, floor, at_rest, fine,
+        [d(sol.captures[Pieces(k, "start", "rest")]) for k in fine],
+        [d(sol.captures[Pieces(k, "middle", "carried")]) for k in fine],
+        [d(sol.captures[Pieces(k, "middle", "carried")], sol.without_rate) for k in fine],
+        d(sol.without_rate), verdict, order, why, history)

@@ -1,0 +1,210 @@
+"""Forward dynamics of the generalized robotics equation (RoboticEquation) under a controller, with SciPy.
+
+    M(q, Theta) qdd = tau + w - J^T Q^T Psidot - (C + M(q, Thetadot) + H(q, Psi)) qd - G
+
+The state is (q, qd, W) with W the work supplied so far (inertiaproof.dynamics.energy):
+the power balance E(t) - E(t0) = W(t) that Prop1 implies measures a run's
+accuracy without a reference solution. :func:`simulate` integrates with one
+of SciPy's ``solve_ivp`` methods and reports how the run ended: ``ok``,
+``step collapse`` (the step size fell to round-off), ``solver failure`` (the
+method gave up otherwise, e.g. LSODA's "unexpected istate"), ``nan``,
+``budget`` (too many right-hand-side evaluations), ``error`` (an exception),
+or, judged afterwards by inertiaproof.sim.study, ``wrong energy`` (finished, but
+the power balance is off by more than the tolerance allows).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from inertiaproof.dynamics import energy, motion, terms
+
+__all__ = [
+    "accelerations", "balance_error", "conditioning", "fastest_rate", "MAX_CONDITION", "METHODS", "Run",
+    "simulate", "System",
+]
+
+METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
+
+
+def fastest_rate(chain, trajectory, control, times):
+    """rad/s of the fastest closed-loop mode about the home posture over the parameters at ``times``:
+    max(sqrt(lambda_max(Kp, M)), lambda_max(Kd, M)) as generalized eigenvalues; inf if M is not positive definite."""
+    from scipy.linalg import eigh
+
+    kp, kd = control.gain_matrices(chain)
+    qj = chain.body_jacobian(control.home)
+    sym = lambda a: 0.5 * (a + a.T)  # noqa: E731
+    rate = 0.0
+    for t in times:
+        m = terms.mass_matrix(qj, trajectory.theta(np.array(t))[0])
+        try:
+            stiff = eigh(sym(kp), m, eigvals_only=True).max()
+            damp = eigh(sym(kd), m, eigvals_only=True).max()
+        except np.linalg.LinAlgError:
+            return np.inf
+        rate = max(rate, np.sqrt(max(stiff, 0.0)), damp)
+    return float(rate)
+
+
+def conditioning(chain, trajectory, control, times):
+    """max over ``times`` of cond(M(home, Theta(t))): qdd = M^-1 (...) keeps about -log10(cond x eps) digits."""
+    qj = chain.body_jacobian(control.home)
+    return float(max(np.linalg.cond(terms.mass_matrix(qj, trajectory.theta(np.array(t))[0])) for t in times))
+
+
+MAX_CONDITION = 1e-6 / np.finfo(float).eps  # beyond this, forward dynamics keeps fewer than 6 digits
+
+
+# -- the equation as an ODE ----------------------------------------------------
+
+def accelerations(kin, gravity, p, qd, tau, forces=motion.generalized_forces):
+    """qdd solving (RoboticEquation) with w = 0; ``forces`` is the equation's inverse dynamics."""
+    bias = forces(kin, gravity, p, qd, np.zeros_like(qd))
+    return np.linalg.solve(terms.mass_matrix(kin.qj, p.theta), (tau - bias)[..., None])[..., 0]
+
+
+@dataclass
+class System:
+    """The closed loop of one scene: chain, parameter trajectory, controller, and the forces used (replaceable
+    so that tests can feed a deliberately wrong equation)."""
+
+    chain: object
+    trajectory: object
+    control: Controller
+    forces: object = staticmethod(motion.generalized_forces)
+    evaluations: int = 0
+
+    def parameters(self, t):
+        return motion.parameters(self.trajectory, t)
+
+    def rhs(self, t, y):
+        """d/dt (q, qd, W); ``y`` may be (2n + 1,) or (2n + 1, k) (solve_ivp's vectorized Jacobians)."""
+        n = self.chain.n
+        y = np.asarray(y, dtype=float)
+        states = y.T if y.ndim == 2 else y
+        q, qd = states[..., :n], states[..., n:2 * n]
+        self.evaluations += 1
+        kin = motion.kinematics(self.chain, q)
+        p = self.parameters(np.full(q.shape[:-1], t))
+        tau = self.control.torque(kin, self.chain.gravity, t, q, qd)
+        qdd = accelerations(kin, self.chain.gravity, p, qd, tau, self.forces)
+        work_rate = energy.supplied_power(kin, self.chain.gravity, p, qd, tau)
+        out = np.concatenate([qd, qdd, work_rate[..., None]], -1)
+        return out.T if y.ndim == 2 else out
+
+    def energy(self, t, q, qd):
+        """E = T_q + U along samples."""
+        kin = motion.kinematics(self.chain, q)
+        p = self.parameters(t)
+        return (energy.kinetic_energy(kin.qj, p.theta, qd)
+                + energy.potential_energy(kin.rotations, kin.origins, p.theta, self.chain.gravity))
+
+    def initial_state(self):
+        q0, qd0, _ = self.control.reference(np.array(self.trajectory.span[0]))
+        return np.concatenate([q0, qd0, [0.0]])
+
+
+# -- one run -------------------------------------------------------------------
+
+class _Budget(Exception):
+    pass
+
+
+@dataclass
+class Run:
+    method: str
+    rtol: float
+    status: str  # ok, step collapse, nan, budget, wrong energy, error
+    seconds: float
+    steps: int
+    evaluations: int
+    note: str = ""
+    t: np.ndarray = field(default=None, repr=False)
+    y: np.ndarray = field(default=None, repr=False)
+    balance_error: float = np.nan  # max_t |E - E0 - W| / energy scale
+
+    @property
+    def finished(self):
+        return self.status in ("ok", "wrong energy")
+
+
+def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evaluations=200_000, max_seconds=60.0,
+             atol_scale=None):
+    """Integrate the closed loop over [t0, t0 + horizon]; state samples at ``samples`` equally spaced times.
+
+    A run stops as ``budget`` after ``max_evaluations`` right-hand sides or ``max_seconds``."""
+    t0 = system.trajectory.span[0]
+    t_eval = np.linspace(t0, t0 + horizon, samples)
+    y0 = system.initial_state()
+    scale = atol_scale if atol_scale is not None else _state_scale(system, y0)
+    system.evaluations = 0
+    deadline = time.perf_counter() + max_seconds
+
+    def fun(t, y):
+        if system.evaluations > max_evaluations or time.perf_counter() > deadline:
+            raise _Budget
+        return system.rhs(t, y)
+
+    vectorized = method in ("Radau", "BDF")
+    start = time.perf_counter()
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(fun, (t0, t0 + horizon), y0, method=method, dense_output=True, rtol=rtol,
+                            atol=rtol * scale, vectorized=vectorized)
+    except _Budget:
+        return Run(method, rtol, "budget", time.perf_counter() - start, 0, system.evaluations,
+                   f"stopped after {system.evaluations} right-hand-side evaluations "
+                   f"(budget {max_evaluations} or {max_seconds:g} s)")
+    except (np.linalg.LinAlgError, ValueError, FloatingPointError) as exc:
+        return Run(method, rtol, "error", time.perf_counter() - start, 0, system.evaluations,
+                   f"{type(exc).__name__}: {exc}")
+    seconds = time.perf_counter() - start
+    steps = max(len(sol.t) - 1, 0)
+    if sol.status != 0:
+        if not np.all(np.isfinite(sol.y)):
+            status = "nan"
+        else:
+            status = "step collapse" if "step size" in sol.message else "solver failure"
+        return Run(method, rtol, status, seconds, steps, system.evaluations,
+                   f"{sol.message} (reached t = {sol.t[-1] if sol.t.size else t0:.6g})")
+    y = sol.sol(t_eval).T
+    if not (np.all(np.isfinite(sol.y)) and np.all(np.isfinite(y))):
+        return Run(method, rtol, "nan", seconds, steps, system.evaluations, "non-finite state")
+    run = Run(method, rtol, "ok", seconds, steps, system.evaluations, t=t_eval, y=y)
+    run.balance_error = balance_error(system, sol.t, sol.y.T)
+    return run
+
+
+def _state_scale(system, y0):
+    """Absolute tolerance per state component, from the system itself: the reference's amplitude (else the
+    coordinate box), that amplitude per second at the reference's frequency (at least 1/s), and an energy scale
+    max(|E0|, 1/2 qd_s^T M qd_s, |G^T q_s|)."""
+    n = system.chain.n
+    c = system.control
+    lo, hi = system.chain.coordinate_box()
+    q_scale = np.full(n, max(c.amplitude, np.abs(c.home).max(initial=0.0)))
+    q_scale = np.where(q_scale > 0, q_scale, hi - lo)
+    qd_scale = q_scale * max(2 * np.pi * c.frequency, 1.0)
+    q0, qd0 = y0[:n], y0[n:2 * n]
+    kin = motion.kinematics(system.chain, q0)
+    p = system.parameters(np.array(system.trajectory.span[0]))
+    m = terms.mass_matrix(kin.qj, p.theta)
+    g = terms.gravity(kin.qj, kin.rotations, p.theta, system.chain.gravity)
+    e0 = float(system.energy(np.array(system.trajectory.span[0]), q0, qd0))
+    e_scale = max(abs(e0), 0.5 * qd_scale @ m @ qd_scale, abs(g @ q_scale), np.finfo(float).tiny)
+    return np.concatenate([q_scale, qd_scale, [e_scale]])
+
+
+def balance_error(system, t, y):
+    """max over the integrator's own steps of |E(t) - E(t0) - W(t)| over the energy in play
+    (max |E - E0|, |W|, |E0|)."""
+    n = system.chain.n
+    q, qd, work = y[:, :n], y[:, n:2 * n], y[:, 2 * n]
+    e = system.energy(t, q, qd)
+    scale = max(np.abs(e - e[0]).max(), np.abs(work).max(), np.abs(e[0]), np.finfo(float).tiny)
+    return float(np.abs(e - e[0] - work).max() / scale)

@@ -1,0 +1,32 @@
+"""Profiles: how hard a run looks. Checks and audits scale their work by these numbers."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["PROFILES", "Profile"]
+
+
+@dataclass(frozen=True)
+class Profile:
+    name: str
+    examples: int  # Hypothesis examples per hunt
+    samples: int  # configurations / times sampled per extreme
+    refine_s: float  # seconds a bracket may spend narrowing
+    symbolic_max_n: int  # largest n for the abstract symbolic derivation
+    derandomize: bool  # Hypothesis: same examples every run, no database
+    concrete_chains: tuple = ("2R", "3R")  # concrete chains derived symbolically
+    symbolic_parameters: int = 2  # generic M^h, U^h of the abstract derivation (linearity covers any 10N)
+    symbolic_rows: int = 2  # generic rows of QJ of the abstract derivation (linearity covers any 6N)
+    moment_samples: int = 2**18  # Monte Carlo points per density (EQ-moments)
+    bernstein_degree: int = 3  # highest Bernstein degree checked symbolically (EQ-moments)
+    audit_samples: int = 512  # configurations per chain in an audit (a sweep audits dozens of chains)
+    audit_refine_s: float = 0.05  # seconds an audit's chain bracket may spend narrowing
+
+
+PROFILES = {
+    "ci": Profile("ci", examples=60, samples=2000, refine_s=0.5, symbolic_max_n=3, derandomize=True),
+    "deep": Profile("deep", examples=2000, samples=50000, refine_s=20.0, symbolic_max_n=5, derandomize=False,
+                    concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6,
+                    moment_samples=2**22, bernstein_degree=8, audit_samples=20000, audit_refine_s=5.0),
+}

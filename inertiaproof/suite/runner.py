@@ -1,0 +1,202 @@
+"""Run checks: select what a scene needs, run, save counterexamples, write results.json and JUnit XML.
+
+results.json (schema ``inertiaproof.results/1``)::
+
+    {
+      "schema": "inertiaproof.results/1",
+      "profile": "ci", "seed": 0, "scene": null | "path/to/scene.toml",
+      "runtime_s": 41.2, "versions": {"python": ..., "numpy": ..., ...},
+      "summary": {"HOLDS": 27, "VIOLATED": 0, "INCONCLUSIVE": 1},
+      "checks": [
+        {"id": "Thm2", "check": "Thm2", "verdict": "HOLDS", "summary": "...",
+         "runtime_s": 0.8, "seed": 0, "profile": "ci", "scene": null,
+         "evidence": {...}, "counterexample": null | {"kind": ..., "data": ..., "file": ...},
+         "artifacts": ["data/thm2-bracket.json"]}
+      ],
+      "skipped": [{"check": "Thm4", "reason": "..."}]
+    }
+
+Every number in ``evidence`` is either plain data or a quantity
+``{"value": ..., "kind": ..., "note": ...}`` (see inertiaproof.result.KINDS).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+import traceback
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from inertiaproof.errors import InputError
+from inertiaproof.result import Result, Verdict
+
+from . import catalog
+from .context import Context
+from .discovery import load_checks
+from .environment import versions
+from .outputs import Outputs
+from .profiles import PROFILES
+
+__all__ = [
+    "FEATURE_WORDS", "format_table", "progress_printer", "results_document", "Run", "run_checks", "select",
+    "write_junit", "write_results",
+]
+
+FEATURE_WORDS = {
+    "chain": "a chain",
+    "time_varying": "time-varying parameters (the scene's are constant, so no rate-of-change check applies)",
+    "internal_motion": "internal motion (the scene has no moving mass, Psi = 0)",
+    "mass_change": "mass added or removed (the scene has no payload or scaling)",
+    "symbolic": "symbolic work (not asked for: add --symbolic)",
+}
+
+
+@dataclass
+class Run:
+    results: list = field(default_factory=list)
+    skipped: list = field(default_factory=list)  # (check name, reason)
+    runtime_s: float = 0.0
+
+    def counts(self):
+        return {v.value: sum(r.verdict == v for r in self.results) for v in Verdict}
+
+    @property
+    def violated(self):
+        return any(r.verdict == Verdict.VIOLATED for r in self.results)
+
+
+def select(checks, *, only=None, scene=None, symbolic=False):
+    """(specs to run, [(name, reason)] left out), in the paper's order."""
+    specs = sorted(checks.values(), key=lambda s: (catalog.order(s.id), s.name))
+    if only:
+        known = {s.id for s in specs} | {s.name for s in specs}
+        unknown = [x for x in only if x not in known]
+        if unknown:
+            raise InputError(f"unknown check ID {', '.join(unknown)}; see 'inertiaproof list'")
+        specs = [s for s in specs if s.id in only or s.name in only]
+    if scene is None:
+        scene_only = [s for s in specs if "symbolic" in s.needs]
+        return ([s for s in specs if s not in scene_only],
+                [(s.name, "derives a scene's own chain: run it with --scene FILE --symbolic") for s in scene_only])
+    have = set(scene.features()) | ({"symbolic"} if symbolic else set())
+    run, skipped = [], []
+    for s in specs:
+        if not s.needs:
+            skipped.append((s.name, "a statement about the paper, not about one scene: it runs without --scene"))
+        elif not s.needs <= have:
+            missing = sorted(s.needs - have)
+            skipped.append((s.name, "needs " + "; ".join(FEATURE_WORDS.get(m, m) for m in missing)))
+        else:
+            run.append(s)
+    return run, skipped
+
+
+def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, out_dir=None,
+               counterexample_dir=Path("counterexamples/found"), progress=None):
+    """Run the selected checks and return a :class:`Run`."""
+    checks = load_checks()
+    specs, skipped = select(checks, only=only, scene=scene, symbolic=symbolic)
+    say = progress or (lambda message: None)
+    run = Run(skipped=skipped)
+    memo = {}
+    start = time.perf_counter()
+    for i, spec in enumerate(specs, 1):
+        outputs = Outputs(out_dir, Path(counterexample_dir))
+        ctx = Context(PROFILES[profile], seed=seed, scene=scene, outputs=outputs, memo=memo,
+                      progress=lambda message, name=spec.name: say(f"      {name}: {message}"))
+        say(f"[{i}/{len(specs)}] {spec.name} ...")
+        t0 = time.perf_counter()
+        try:
+            result = spec.fn(ctx)
+        except Exception as exc:  # a crashed check is reported, never silently passed
+            result = Result(spec.id, Verdict.INCONCLUSIVE, f"the check crashed: {type(exc).__name__}: {exc}",
+                            evidence={"traceback": traceback.format_exc()})
+            result.evidence["crashed"] = True
+        result.runtime_s = time.perf_counter() - t0
+        result.check, result.seed, result.profile = spec.name, seed, profile
+        result.scene = getattr(scene, "source", None) or getattr(scene, "name", None)
+        result.artifacts = list(outputs.artifacts)
+        if result.verdict == Verdict.VIOLATED and result.counterexample:
+            path = ctx.save_counterexample(result)
+            result.counterexample["file"] = str(path)
+        say(f"[{i}/{len(specs)}] {spec.name}: {result.verdict} ({result.runtime_s:.2f} s)")
+        run.results.append(result)
+    run.runtime_s = time.perf_counter() - start
+    return run
+
+
+def results_document(run, *, profile, seed, scene):
+    return {
+        "schema": "inertiaproof.results/1",
+        "profile": profile,
+        "seed": seed,
+        "scene": scene,
+        "runtime_s": run.runtime_s,
+        "versions": versions(),
+        "summary": run.counts(),
+        "checks": [r.to_json() for r in run.results],
+        "skipped": [{"check": name, "reason": reason} for name, reason in run.skipped],
+    }
+
+
+def write_results(path, document):
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(document, indent=1, sort_keys=False, allow_nan=False))
+    return path
+
+
+def write_junit(path, run):
+    """JUnit XML: VIOLATED is a failure, INCONCLUSIVE and left-out checks are skipped."""
+    suite = ET.Element("testsuite", name="inertiaproof", tests=str(len(run.results) + len(run.skipped)),
+                       failures=str(sum(r.verdict == Verdict.VIOLATED for r in run.results)),
+                       skipped=str(sum(r.verdict == Verdict.INCONCLUSIVE for r in run.results) + len(run.skipped)),
+                       time=f"{run.runtime_s:.3f}")
+    for r in run.results:
+        case = ET.SubElement(suite, "testcase", classname=f"section{catalog.BY_ID[r.id].section}",
+                             name=r.check or r.id, time=f"{r.runtime_s:.3f}")
+        if r.verdict == Verdict.VIOLATED:
+            failure = ET.SubElement(case, "failure", message=r.summary)
+            failure.text = json.dumps(r.counterexample or r.to_json()["evidence"], indent=1)[:20000]
+        elif r.verdict == Verdict.INCONCLUSIVE:
+            ET.SubElement(case, "skipped", message=f"INCONCLUSIVE: {r.summary}")
+        ET.SubElement(case, "system-out").text = r.summary
+    for name, reason in run.skipped:
+        case = ET.SubElement(suite, "testcase", classname="left-out", name=name, time="0")
+        ET.SubElement(case, "skipped", message=reason)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
+    return path
+
+
+def format_table(run, width=110):
+    """The run as a plain-text table, then what was left out."""
+    names = [r.check or r.id for r in run.results] + [name for name, _ in run.skipped]
+    w = max([len(n) for n in names] + [16])
+    lines = [f"{'ID':<{w}} {'verdict':<13} {'time/s':>7}  summary", "-" * width]
+    room = max(width - w - 24, 30)
+    for name, r in zip(names, run.results):
+        summary = r.summary if len(r.summary) <= room else r.summary[: room - 3] + "..."
+        lines.append(f"{name:<{w}} {str(r.verdict):<13} {r.runtime_s:>7.2f}  {summary}")
+        if r.counterexample and r.counterexample.get("file"):
+            lines.append(f"{'':<{w}} replay: inertiaproof replay {r.counterexample['file']}")
+    if run.skipped:
+        lines.append("")
+        lines.append("left out:")
+        lines.extend(f"  {name:<{w}} {reason}" for name, reason in run.skipped)
+    c = run.counts()
+    lines.append("")
+    lines.append(f"{c['HOLDS']} HOLDS, {c['VIOLATED']} VIOLATED, {c['INCONCLUSIVE']} INCONCLUSIVE "
+                 f"in {run.runtime_s:.1f} s")
+    return "\n".join(lines)
+
+
+def progress_printer(stream=sys.stderr):
+    def say(message):
+        print(message, file=stream, flush=True)
+
+    return say
