@@ -18,6 +18,7 @@ a body and is not judged, but a body made only of massless frames is.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -29,14 +30,17 @@ from inertiaproof.model.consistency import CONSISTENT, LABELS, physical_consiste
 from inertiaproof.result import quantity
 from inertiaproof.suite.profiles import PROFILES
 
-from .kinematic_tree import kinematic_tree
+from .engines import engine_column
+from .kinematic_tree import LEFT_OUT, kinematic_tree
 from .mistakes import diagnose, entries
-from .repair import DEFAULT_SLACK, nearest_consistent_inertia
+from .mjcf import is_mjcf, read_mjcf
+from .repair import DEFAULT_SLACK, nearest_consistent_inertia, written_inertia
+from .rewrite import replacement
 from .urdf import read_urdf
 
 __all__ = [
-    "audit_paths", "audit_robot", "audit_urdf", "BOUNDS_MODES", "chain_bounds", "document", "exit_status", "is_serial_arm",
-    "SCHEMA",
+    "audit_file", "audit_paths", "audit_robot", "BOUNDS_MODES", "chain_bounds", "document", "exit_status",
+    "is_serial_arm", "read_robot", "SCHEMA",
 ]
 
 SCHEMA = "inertiaproof.audit/1"
@@ -105,21 +109,33 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
     massless = ~phi.any(axis=1)
 
     link_out, judged = {}, []
+    engine_moving = {j.child for j in robot.joints if j.type in LEFT_OUT}
     for k, link in enumerate(links):
         role, anchor = tree.role(link.name)
+        source = robot.sources.get(link.name)
+        joint_frame = source is not None and source.kind == "joint_frame"
         moving = role != "base" or floating_base
-        entry = {"role": role, "group": anchor, "moving": moving, "massless_frame": bool(massless[k])}
+        entry = {"role": "joint_frame" if joint_frame else role, "group": anchor, "moving": moving,
+                 "massless_frame": bool(massless[k]), "source": None if source is None else source.kind,
+                 "location": _location(source)}
         entry.update(rows[k])
         entry["inertial"] = None if written[k] is None else {
             "mass": written[k].mass, "com": written[k].com.tolist(), "inertia": entries(written[k].inertia)}
         entry["signs"] = signs[k]
         entry["hypotheses_tested"] = tested[k]
-        entry["repair"] = _repair(mass[k], inertia[k], slack) if rows[k]["verdict"] != "consistent" and not massless[k] else None
+        entry["engines"] = None if written[k] is None or joint_frame else engine_column(
+            mass[k], inertia[k], fmt=robot.format, moving=role == "body" or link.name in engine_moving,
+            rescued=_rescued(tree.groups[anchor], link.name, links), lumped=role == "merged",
+            full=source is None or source.kind in ("urdf", "fullinertia"), compiler=robot.compiler,
+            from_geoms=source is not None and source.kind == "geoms")
+        entry["repair"] = _repair(mass[k], inertia[k], slack, source) \
+            if rows[k]["verdict"] != "consistent" and not massless[k] else None
         if moving and not massless[k]:
             judged.append((link.name, rows[k]["verdict"]))
         link_out[link.name] = entry
 
-    body_out = _bodies(tree, links, verdicts, massless, floating_base)
+    frames = {name for name, src in robot.sources.items() if src.kind == "joint_frame"}
+    body_out = _bodies(tree, links, verdicts, massless, floating_base, frames)
     judged += [(f"body {name}", b["verdict"]) for name, b in body_out.items() if b["judged"]]
     chains_out, arm = {}, is_serial_arm(tree.chains)
     for sc in tree.chains:
@@ -135,17 +151,19 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
             "bodies": names,
             "bodies_consistent": all(c == CONSISTENT for c in codes),
             "bounds": found,
-            "singular": singularity(sc.chain, sc.theta, codes, names, found),
+            "singular": _singularity(sc, codes, names, found, frames),
         }
     not_consistent = [name for name, v in judged if v != "consistent"]
     return {
         "status": "ok",
         "robot": robot.name,
+        "format": robot.format,
         "serial_arm": arm,
         "consistent": not not_consistent,
         "not_consistent": not_consistent,
         "left_out_joints": [{"joint": name, "type": kind, "reason": f"{kind} joints are reported and left out; "
                              "their child is treated as a fixed base"} for name, kind in tree.left_out],
+        "joint_frames": sorted(frames),
         "mimic_joints": [{"joint": j.name, "mimics": j.mimic} for j in robot.joints if j.mimic is not None],
         "counts": {label: int(np.sum(verdicts.verdict == code)) for code, label in enumerate(LABELS)},
         "links": link_out,
@@ -154,10 +172,88 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
     }
 
 
-def _repair(mass, inertia, slack):
+def _singularity(sc, codes, names, bounds, frames):
+    """Whether M(q) can become singular; a chain through joint frames by the MuJoCo bodies they belong to.
+
+    QJ is block lower triangular in the MuJoCo bodies along the chain (the
+    joints of body k move bodies k.. and none before), so with every body
+    consistent (Z >= lambda_min(f) I, Theorem 2's key step) M(q) > 0 at every
+    q when each body's own joint twists are independent at every q: a single
+    hinge, or two with axes not parallel (a rotation about one axis keeps the
+    angle to the other), and slides with independent axes and no hinge
+    between them (their directions then keep their relative place). Anything
+    else (three hinges can lock like gimbals) falls back to
+    :func:`~inertiaproof.bounds.singular.singularity`.
+    """
+    if not frames.intersection(names):
+        return singularity(sc.chain, sc.theta, codes, names, bounds)
+    groups, run = [], []
+    for k, name in enumerate(names):
+        run.append(k)
+        if name not in frames:
+            groups.append(run)
+            run = []
+    bad = [names[g[-1]] for g in groups if codes[g[-1]] != CONSISTENT]
+    locking = [names[g[-1]] for g in groups if not _independent([sc.chain.joints[k] for k in g])]
+    if not bad and not locking:
+        return {"verdict": "never",
+                "argument": "every MuJoCo body has f(Phi) > 0 (Theorem 2, key step) and the joints of each body have "
+                            "independent twists at every q (one hinge or two with axes not parallel; slides with "
+                            "independent axes), so QJ(q) has full column rank: M(q) > 0 for all q"}
+    answer = singularity(sc.chain, sc.theta, codes, names, bounds)
+    if answer["verdict"] == "not_excluded":
+        why = [f"bodies {', '.join(bad)} are not consistent"] if bad else []
+        why += [f"the joints of {', '.join(locking)} can lose independence (three hinges lock like a gimbal, "
+                "slides split by a hinge turn)"] if locking else []
+        answer.update(bodies_not_consistent=bad, argument="; ".join(why) + ": the structural argument does not apply")
+    return answer
+
+
+def _independent(joints):
+    """The twists of one MuJoCo body's joints (axes in one frame: joint frames differ by translations) are
+    independent at every q: see :func:`_singularity`."""
+    hinges = [np.asarray(j.axis, float) for j in joints if j.revolute]
+    slides = [np.asarray(j.axis, float) for j in joints if not j.revolute]
+    if len(hinges) > 2 or not re.fullmatch("h*s*h*", "".join("h" if j.revolute else "s" for j in joints)):
+        return False
+    if len(hinges) == 2 and np.linalg.norm(np.cross(*hinges)) <= 1e-9 * np.linalg.norm(hinges[0]) * np.linalg.norm(hinges[1]):
+        return False
+    return not slides or np.linalg.matrix_rank(np.array(slides), tol=1e-9) == len(slides)
+
+
+def _location(source):
+    """Where the link's inertia element stands: file, line, and column and end where the markup was paired."""
+    if source is None or source.span is None:
+        return None
+    return {"path": source.path, **source.span.region()}
+
+
+def _rescued(group, name, links):
+    """MuJoCo: a link welded to ``name`` in its group carries mass and inertia above mjMINVAL."""
+    from .engines import MJ_MINVAL
+
+    for link in links:
+        if link.name in group.links and link.name != name and link.inertial is not None:
+            if link.inertial.mass >= MJ_MINVAL and np.linalg.eigvalsh(link.inertial.inertia)[0] >= MJ_MINVAL:
+                return True
+    return False
+
+
+def _repair(mass, inertia, slack, source):
+    """The nearest consistent inertia, its entries as written (consistent as printed) and the element's new text."""
     r = nearest_consistent_inertia(mass, inertia, slack)
-    out = {"note": r.note, "inertia": None if r.inertia is None else entries(r.inertia)}
+    out = {"note": r.note, "inertia": None if r.inertia is None else entries(r.inertia), "written": None,
+           "replacement": None}
     if r.inertia is not None:
+        written = written_inertia(mass, r.inertia, slack)
+        if written is not None:
+            out["written"] = written[0]
+            out["written_slack_rel"] = quantity(written[1], "margin", "triangle slack of the numbers as written, "
+                                                "relative to tr(I_CoM)")
+            if source is not None and source.span is not None and source.span.column is not None \
+                    and source.kind in ("urdf", "diaginertia", "fullinertia"):
+                out["replacement"] = {"path": source.path, **source.span.region(), "start": source.span.start,
+                                      "end": source.span.end, "text": replacement(source, written[0])}
         out.update(
             change_frobenius_rel=quantity(r.change_frobenius_rel, "value", "||I - W||_F / ||W||_F"),
             change_spectral=quantity(r.change_spectral, "value", "||I - W||_2: bound on the change of 1/2 w^T I w per |w|^2/2",
@@ -169,8 +265,10 @@ def _repair(mass, inertia, slack):
     return out
 
 
-def _bodies(tree, links, verdicts, massless, floating_base):
-    """The verdict of every group the mass matrix sees: exact as written when one link carries all the mass."""
+def _bodies(tree, links, verdicts, massless, floating_base, frames=()):
+    """The verdict of every group the mass matrix sees: exact as written when one link carries all the mass.
+
+    A joint frame (between two joints of one MJCF body) is not a body and is not judged."""
     index = {link.name: k for k, link in enumerate(links)}
     groups = [g for g in tree.groups.values() if g.is_body or floating_base]
     summed = physical_consistency(np.array([g.phi for g in groups])) if groups else None
@@ -182,20 +280,29 @@ def _bodies(tree, links, verdicts, massless, floating_base):
             verdict, reason = LABELS[verdicts.verdict.flat[k]], verdicts.reason(k)
         else:
             verdict, reason = LABELS[summed.verdict[i]], summed.reason(i)
-        out[g.anchor] = {"joint": g.joint, "links": list(g.links), "massless": not massive,
-                         "verdict": verdict, "reason": reason if massive else "no link of the body carries mass",
-                         "mass": quantity(g.phi[0], "value", unit="kg"), "judged": g.is_body or floating_base}
+        if g.anchor in frames:
+            reason = "a frame between two joints of one MuJoCo body, not a body"
+        elif not massive:
+            reason = "no link of the body carries mass"
+        out[g.anchor] = {"joint": g.joint, "links": list(g.links), "massless": not massive, "verdict": verdict,
+                         "reason": reason, "mass": quantity(g.phi[0], "value", unit="kg"),
+                         "judged": (g.is_body or floating_base) and g.anchor not in frames}
     return out
 
 
+def read_robot(path):
+    """A URDF or MJCF file (MJCF: a root element ``<mujoco>``), read into links and joints."""
+    return read_mjcf(path) if Path(path).suffix.lower() != ".urdf" and is_mjcf(path) else read_urdf(path)
+
+
 def audit_paths(paths, **options):
-    """Every URDF under ``paths`` (files, or folders searched for *.urdf): {path: entry}."""
+    """Every robot under ``paths`` (files, or folders searched for *.urdf and MJCF *.xml): {path: entry}."""
     files = {}
     for path in map(Path, paths):
         if path.is_dir():
-            found = sorted(path.rglob("*.urdf"))
+            found = sorted([*path.rglob("*.urdf"), *(p for p in path.rglob("*.xml") if is_mjcf(p))])
             if not found:
-                files[str(path)] = {"status": "error", "error": f"{path}: no *.urdf files in this folder"}
+                files[str(path)] = {"status": "error", "error": f"{path}: no *.urdf or MJCF *.xml files in this folder"}
             for f in found:
                 files[str(f)] = _audit_one(f, options)
         else:
@@ -203,18 +310,18 @@ def audit_paths(paths, **options):
     return files
 
 
-def audit_urdf(path, *, profile="ci", bounds="arms", floating_base=False, slack=DEFAULT_SLACK, seed=0):
-    """The audit of one URDF file as a JSON-ready dict (README, ``inertiaproof audit``); its chains get the
-    per-chain budget of ``profile`` (``audit_samples``, ``audit_refine_s``). Raises InputError on a bad file."""
+def audit_file(path, *, profile="ci", bounds="arms", floating_base=False, slack=DEFAULT_SLACK, seed=0):
+    """The audit of one URDF or MJCF file as a JSON-ready dict (README, ``inertiaproof audit``); its chains get
+    the per-chain budget of ``profile`` (``audit_samples``, ``audit_refine_s``). Raises InputError on a bad file."""
     budget = PROFILES[profile]
     with np.errstate(all="ignore"):
-        return audit_robot(read_urdf(path), samples=budget.audit_samples, refine_s=budget.audit_refine_s,
+        return audit_robot(read_robot(path), samples=budget.audit_samples, refine_s=budget.audit_refine_s,
                            bounds=bounds, floating_base=floating_base, slack=slack, seed=seed)
 
 
 def _audit_one(path, options):
     try:
-        return audit_robot(read_urdf(path), **options)
+        return audit_robot(read_robot(path), **options)
     except InputError as exc:
         return {"status": "error", "error": str(exc)}
 

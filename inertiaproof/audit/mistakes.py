@@ -32,12 +32,11 @@ import numpy as np
 from inertiaproof.model.consistency import CONSISTENT, INCONSISTENT, physical_consistency
 from inertiaproof.model.inertia import pack, skew
 
-from .repair import NEGLIGIBLE
+from .repair import ENTRIES, NEGLIGIBLE
 
 __all__ = ["diagnose", "ENTRIES", "entries", "HYPOTHESES", "POWERS"]
 
 POWERS = (-1, 1, -2, 2, -3, 3)
-ENTRIES = {"ixx": (0, 0), "iyy": (1, 1), "izz": (2, 2), "ixy": (0, 1), "iyz": (1, 2), "ixz": (0, 2)}
 HYPOTHESES = ("parallel_axis", "power_of_ten", "products_sign")
 
 

@@ -33,8 +33,8 @@ from inertiaproof.model.consistency import CONSISTENT, physical_consistency
 from inertiaproof.model.inertia import pack
 
 __all__ = [
-    "DEFAULT_SLACK", "DIAGONAL", "nearest_consistent_inertia", "NEGLIGIBLE", "Repair", "SQRT2", "SVEC",
-    "SVEC_SCALE",
+    "DEFAULT_SLACK", "DIAGONAL", "ENTRIES", "nearest_consistent_inertia", "NEGLIGIBLE", "Repair", "SQRT2", "SVEC",
+    "SVEC_SCALE", "written_inertia",
 ]
 
 DEFAULT_SLACK = 1e-3
@@ -45,6 +45,8 @@ SQRT2 = np.sqrt(2.0)
 SVEC = ((0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2))
 SVEC_SCALE = np.array([1.0, SQRT2, 1.0, SQRT2, SQRT2, 1.0])
 DIAGONAL = np.array([1.0, 0.0, 1.0, 0.0, 0.0, 1.0])
+# URDF's six <inertia> attributes and their places in the 3x3 matrix
+ENTRIES = {"ixx": (0, 0), "iyy": (1, 1), "izz": (2, 2), "ixy": (0, 1), "iyz": (1, 2), "ixz": (0, 2)}
 
 
 @dataclass(frozen=True)
@@ -99,6 +101,8 @@ def nearest_consistent_inertia(mass, inertia_com, slack=DEFAULT_SLACK):
     if str(solution.status) != "Solved":
         return Repair(None, np.nan, np.nan, np.nan, f"the convex program ended with status {solution.status}")
     fixed = _matrix(np.asarray(solution.x)) * scale
+    if not (w - np.diag(np.diag(w))).any():  # the projection of a diagonal W is diagonal (it commutes with sign flips)
+        fixed = np.diag(np.diag(fixed))
     if np.trace(fixed) <= 1e-9 * scale:
         return Repair(None, np.nan, np.nan, np.nan,
                       "no nearest consistent inertia: the closest one shrinks to a point mass")
@@ -108,3 +112,31 @@ def nearest_consistent_inertia(mass, inertia_com, slack=DEFAULT_SLACK):
     change = fixed - w
     return Repair(fixed, float(np.linalg.norm(change) / scale), float(np.linalg.norm(change, 2)),
                   float(verdict.triangle_slack), f"mass and CoM kept; triangle slack >= {slack:g} of tr(I_CoM)")
+
+
+def written_inertia(mass, inertia, slack=DEFAULT_SLACK):
+    """The six entries of a repaired ``inertia`` as decimal strings that are themselves consistent.
+
+    A repair is read back from the file as written, so its printed numbers,
+    not its floats, must be consistent: the fewest significant digits (six at
+    least) whose values keep a triangle slack of at least ``slack`` / 2,
+    decided by :func:`physical_consistency` on the rounded numbers (exact near
+    the boundary); else ``repr``, which round-trips the floats themselves.
+    Returns ({attribute: text}, triangle slack of the written numbers), or
+    None when not even the floats are consistent.
+    """
+    inertia = np.asarray(inertia, dtype=float)
+    for digits in range(6, 18):
+        text = {name: _decimal(inertia[i, j], digits) for name, (i, j) in ENTRIES.items()}
+        back = np.zeros((3, 3))
+        for name, (i, j) in ENTRIES.items():
+            back[i, j] = back[j, i] = float(text[name])
+        check = physical_consistency(pack(mass, np.zeros(3), back), margins=False)
+        if check.verdict == CONSISTENT and (check.triangle_slack >= slack / 2 or digits == 17):
+            return text, float(check.triangle_slack)
+    return None
+
+
+def _decimal(x, digits):
+    """``x`` with ``digits`` significant digits; at 17, the shortest string that round-trips it."""
+    return repr(float(x)) if digits == 17 else f"{x:.{digits}g}"

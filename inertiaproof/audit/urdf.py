@@ -21,13 +21,15 @@ from __future__ import annotations
 
 import io
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from inertiaproof.errors import InputError
 from inertiaproof.model.inertia import from_urdf, pack, urdf_inertia
+
+from .locate import urdf_sources
 
 __all__ = ["INERTIA_ATTRIBUTES", "Inertial", "JOINT_TYPES", "LARGEST", "Link", "read_urdf", "Robot", "UrdfJoint"]
 
@@ -90,6 +92,9 @@ class Robot:
     path: str
     links: tuple  # of Link, in file order
     joints: tuple  # of UrdfJoint, in file order
+    sources: dict = field(default_factory=dict, compare=False)  # link name -> locate.Source of its inertia
+    format: str = "urdf"  # or "mjcf"
+    compiler: dict = field(default_factory=dict, compare=False)  # MJCF <compiler> settings that touch inertias
 
     def link(self, name):
         return next(link for link in self.links if link.name == name)
@@ -114,7 +119,7 @@ def read_urdf(path):
         raise InputError(f"{path}: cannot read: {exc.strerror}") from None
     root = _parse_xml(data, path)
     _check(root, path)
-    return _from_yourdfpy(data, path)
+    return replace(_from_yourdfpy(data, path), sources=urdf_sources(data, root, path))
 
 
 def _parse_xml(data, path):

@@ -1,0 +1,125 @@
+"""Where an element of an XML file stands in its text: line, column and the span of its markup.
+
+lxml keeps the line of every element (``sourceline``: the line on which its
+start tag ends), but no column and no span. A small tokenizer walks the
+markup of the text in document order (skipping comments, CDATA, processing
+instructions and the document type declaration) and pairs its k-th start tag
+with lxml's k-th element. The pairing is accepted only when every tag name
+agrees and every start tag ends on the line lxml reports; otherwise the
+elements keep lxml's line alone. Lines and columns count from 1; columns
+count Unicode code points; ``end_column`` is the column just after the
+element's last character (SARIF's convention).
+"""
+
+from __future__ import annotations
+
+import bisect
+import re
+from dataclasses import dataclass
+
+__all__ = ["Source", "Span", "element_spans", "text_of", "urdf_sources"]
+
+TOKEN = re.compile(
+    r"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<!DOCTYPE(?:[^\[>]|\[.*?\])*>"
+    r"|<(/?)([A-Za-z_:][\w:.\-]*)((?:\s+[^\s=/>]+\s*=\s*(?:\"[^\"]*\"|'[^']*'))*)\s*(/?)>",
+    re.S,
+)
+
+
+@dataclass(frozen=True)
+class Span:
+    line: int
+    column: int | None  # None: lxml's line only
+    end_line: int | None = None
+    end_column: int | None = None
+    start: int | None = None  # character offsets of the element's markup in the text
+    end: int | None = None
+
+    def region(self):
+        """The SARIF region of the element."""
+        out = {"startLine": self.line}
+        if self.column is not None:
+            out.update(startColumn=self.column, endLine=self.end_line, endColumn=self.end_column)
+        return out
+
+
+@dataclass(frozen=True)
+class Source:
+    """Where a link's inertia comes from, and the element a repair of it replaces.
+
+    ``kind``: ``urdf`` (an ``<inertia>`` element), ``diaginertia`` or
+    ``fullinertia`` (an MJCF ``<inertial>`` element), ``geoms`` (MuJoCo
+    computed it from the body's geoms; ``span`` is then the ``<body>``), or
+    ``joint_frame`` (a frame between two joints of one MJCF body, not a body).
+    """
+
+    path: str  # the file that holds the element (an MJCF include may differ from the model's file)
+    span: Span | None
+    kind: str
+    attributes: tuple = ()  # MJCF <inertial>: (name, value) in file order
+
+
+def text_of(data, root):
+    """The text of an XML file's bytes, decoded as its declaration says."""
+    return data.decode(root.getroottree().docinfo.encoding or "utf-8", errors="replace")
+
+
+def urdf_sources(data, root, path):
+    """{link name: Source} of every ``<link>`` with an ``<inertial><inertia>`` in a parsed URDF."""
+    spans = element_spans(text_of(data, root), root)
+    out = {}
+    for link in root.findall("link"):
+        inertia = link.find("inertial/inertia")
+        if inertia is not None:
+            out[link.get("name")] = Source(str(path), spans.get(inertia), "urdf")
+    return out
+
+
+def _line_starts(text):
+    return [0] + [m.end() for m in re.finditer("\n", text)]
+
+
+def _position(starts, offset):
+    """1-based (line, column) of a character offset."""
+    line = bisect.bisect_right(starts, offset)
+    return line, offset - starts[line - 1] + 1
+
+
+def element_spans(text, root):
+    """{element: Span} for every element under ``root`` (lxml, parsed from ``text``)."""
+    from lxml import etree
+
+    elements = [e for e in root.iter() if isinstance(e.tag, str)]
+    starts = _line_starts(text)
+    opened, stack, spans = [], [], {}
+    for m in TOKEN.finditer(text):
+        if m.group(2) is None:
+            continue
+        if m.group(1):  # end tag
+            if not stack or stack[-1][1] != m.group(2):
+                return _lines_only(elements)
+            k, _, begin = stack.pop()
+            spans[k] = (begin, m.end())
+            continue
+        k = len(opened)
+        opened.append(m)
+        if m.group(4):
+            spans[k] = (m.start(), m.end())
+        else:
+            stack.append((k, m.group(2), m.start()))
+    if stack or len(opened) != len(elements):
+        return _lines_only(elements)
+    out = {}
+    for k, (element, m) in enumerate(zip(elements, opened)):
+        if etree.QName(element).localname != m.group(2).rpartition(":")[2] or \
+                _position(starts, m.end() - 1)[0] != element.sourceline:
+            return _lines_only(elements)
+        begin, end = spans[k]
+        line, column = _position(starts, begin)
+        end_line, last = _position(starts, end - 1)
+        out[element] = Span(line, column, end_line, last + 1, begin, end)
+    return out
+
+
+def _lines_only(elements):
+    return {e: Span(e.sourceline, None) for e in elements}
