@@ -5,7 +5,7 @@ The core, by concern (dependencies point down this list, never up):
 - ``model``: one rigid body's inertial parameters, physical consistency, densities
 - ``dynamics``: chains, QJ, the terms of the generalized robotics equation, parameter trajectories
 - ``scene``, ``bounds``: scenes and built-in robots; the Section 4 brackets and constants
-- ``sim``, ``audit``: simulation and the studies on it; the audit of URDF robots
+- ``sim``, ``audit``: simulation and the studies on it; the audit of URDF and MJCF robots
 - ``suite``: the catalog, checks, runs, hunts and replays; ``cli``: the command
 
 ``inertiaproof.symbolic``, ``inertiaproof.checks``, ``inertiaproof.counterexamples`` and
@@ -29,7 +29,7 @@ _API = {
     "Joint": "inertiaproof.dynamics.chain",
     "mass_matrix": "inertiaproof.dynamics.composite",
     "load_scene": "inertiaproof.scene.format",
-    "audit_urdf": "inertiaproof.audit.document",
+    "audit_urdf": "inertiaproof.audit.api",
     "run_checks": "inertiaproof.suite.runner",
 }
 __all__ = ["__version__", *_API]

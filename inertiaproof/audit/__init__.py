@@ -1,8 +1,12 @@
 """The audit of robot descriptions: per-link consistency, authoring mistakes, repairs and mass-matrix bounds.
 
-- ``urdf``: URDF files read strictly into links and joints
+- ``urdf``, ``mjcf``: URDF files read strictly, MJCF files read by MuJoCo, into links and joints
+- ``locate``: where each inertia element stands in its file (line, column, span)
 - ``kinematic_tree``: the bodies of movable joints and their serial chains
-- ``mistakes``, ``repair``: signs of common authoring mistakes; the nearest consistent inertia
-- ``document``: the audit of a robot and of many files, as one JSON-ready document (:func:`audit_urdf`)
-- ``text``: that document as readable tables
+- ``mistakes``, ``repair``: signs of common authoring mistakes; the nearest consistent inertia, printed consistent
+- ``engines``: what MuJoCo, Drake, PyBullet and Gazebo do with an inertia as written
+- ``document``: the audit of a robot and of many files, as one JSON-ready document
+- ``api``: :func:`audit_urdf` and the :class:`Audit` object for Python and notebooks
+- ``text``, ``annotations``, ``rewrite``: the document as tables, as SARIF and GitHub annotations, as repaired copies
+- ``pytest_plugin``: ``pytest --inertiaproof-audit PATH``
 """

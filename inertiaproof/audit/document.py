@@ -28,7 +28,6 @@ from inertiaproof.bounds.singular import singularity
 from inertiaproof.errors import InputError
 from inertiaproof.model.consistency import CONSISTENT, LABELS, physical_consistency
 from inertiaproof.result import quantity
-from inertiaproof.suite.profiles import PROFILES
 
 from .engines import engine_column
 from .kinematic_tree import LEFT_OUT, kinematic_tree
@@ -39,7 +38,7 @@ from .rewrite import replacement
 from .urdf import read_urdf
 
 __all__ = [
-    "audit_file", "audit_paths", "audit_robot", "BOUNDS_MODES", "chain_bounds", "document", "exit_status",
+    "audit_paths", "audit_robot", "BOUNDS_MODES", "chain_bounds", "document", "exit_status",
     "is_serial_arm", "read_robot", "SCHEMA",
 ]
 
@@ -308,15 +307,6 @@ def audit_paths(paths, **options):
         else:
             files[str(path)] = _audit_one(path, options)
     return files
-
-
-def audit_file(path, *, profile="ci", bounds="arms", floating_base=False, slack=DEFAULT_SLACK, seed=0):
-    """The audit of one URDF or MJCF file as a JSON-ready dict (README, ``inertiaproof audit``); its chains get
-    the per-chain budget of ``profile`` (``audit_samples``, ``audit_refine_s``). Raises InputError on a bad file."""
-    budget = PROFILES[profile]
-    with np.errstate(all="ignore"):
-        return audit_robot(read_robot(path), samples=budget.audit_samples, refine_s=budget.audit_refine_s,
-                           bounds=bounds, floating_base=floating_base, slack=slack, seed=seed)
 
 
 def _audit_one(path, options):

@@ -17,7 +17,7 @@ import bisect
 import re
 from dataclasses import dataclass
 
-__all__ = ["Source", "Span", "element_spans", "text_of", "urdf_sources"]
+__all__ = ["decode", "element_spans", "Source", "Span", "urdf_sources"]
 
 TOKEN = re.compile(
     r"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|<!DOCTYPE(?:[^\[>]|\[.*?\])*>"
@@ -59,14 +59,20 @@ class Source:
     attributes: tuple = ()  # MJCF <inertial>: (name, value) in file order
 
 
-def text_of(data, root):
-    """The text of an XML file's bytes, decoded as its declaration says."""
-    return data.decode(root.getroottree().docinfo.encoding or "utf-8", errors="replace")
+def decode(data):
+    """(text, encoding) of an XML file's bytes, decoded as its declaration says (UTF-8 without one); bytes that do
+    not decode survive a round trip (surrogateescape)."""
+    declared = re.match(rb"<\?xml[^>]*?encoding\s*=\s*[\"']([A-Za-z0-9._-]+)[\"']", data.lstrip(b"\xef\xbb\xbf"))
+    encoding = declared.group(1).decode("ascii") if declared else "utf-8"
+    try:
+        return data.decode(encoding, errors="surrogateescape"), encoding
+    except LookupError:
+        return data.decode("utf-8", errors="surrogateescape"), "utf-8"
 
 
 def urdf_sources(data, root, path):
     """{link name: Source} of every ``<link>`` with an ``<inertial><inertia>`` in a parsed URDF."""
-    spans = element_spans(text_of(data, root), root)
+    spans = element_spans(decode(data)[0], root)
     out = {}
     for link in root.findall("link"):
         inertia = link.find("inertial/inertia")

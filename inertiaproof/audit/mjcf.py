@@ -35,7 +35,7 @@ import numpy as np
 from inertiaproof.errors import InputError
 from inertiaproof.model.inertia import urdf_inertia
 
-from .locate import Source, element_spans, text_of
+from .locate import Source, decode, element_spans
 from .urdf import Inertial, Link, Robot, UrdfJoint
 
 __all__ = ["is_mjcf", "read_mjcf"]
@@ -115,7 +115,7 @@ def _locate(path, count):
             root = etree.fromstring(data, etree.XMLParser(remove_comments=True, resolve_entities=False, no_network=True))
         except (OSError, etree.XMLSyntaxError):
             return
-        spans = element_spans(text_of(data, root), root)
+        spans = element_spans(decode(data)[0], root)
         for element in root.iter("body", "include"):
             if element.tag == "include":
                 walk(Path(path).parent / element.get("file", ""))

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["format_audit", "format_file", "headline", "remarks", "role", "totals"]
+__all__ = ["engine_actions", "format_audit", "format_file", "headline", "remarks", "role", "totals"]
 
 
 def _number(q):
@@ -16,8 +16,22 @@ def _count(items, one, many=None):
     return f"{len(items)} {one if len(items) == 1 else many or one + 's'}"
 
 
+ENGINE_NAMES = {"mujoco": "MuJoCo", "drake": "Drake", "pybullet": "PyBullet", "gazebo": "Gazebo"}
+ENGINE_HEADER = "MuJoCo/Drake/PyBullet/Gazebo"
+ENGINE_WIDTH = 34
+
+
+def engine_actions(link):
+    """What the four engines do with a link's inertia, in one word each ("loads/replaces/zeroes/rejects")."""
+    if not link.get("engines"):
+        return "-"
+    return "/".join(e["action"].replace("not_documented", "?") for e in link["engines"].values())
+
+
 def role(link):
     """A link's role as a reader says it: base, body or merged into its body's anchor, and whether it moves."""
+    if link["role"] == "joint_frame":
+        return f"joint frame of {link['group'].split('/')[0]}"
     if link["role"] == "merged":
         return f"merged into {link['group']}"
     return link["role"] + ("" if link["moving"] else " (fixed)")
@@ -47,13 +61,21 @@ def format_file(path, f):
     width = max(len(name) for name in links)
     roles = {name: role(link) for name, link in links.items()}
     role_width = max(len(r) for r in roles.values())
-    out.append(f"  {'link':<{width}}  {'role':<{role_width}}  {'verdict':<12}  reason")
+    engines = {name: engine_actions(link) for name, link in links.items()}
+    out.append(f"  {'link':<{width}}  {'role':<{role_width}}  {'verdict':<12}  {ENGINE_HEADER:<{ENGINE_WIDTH}}  reason")
     for name, link in links.items():
         reason = link["reason"] + (" -- a massless frame, not a body: not judged" if link["massless_frame"] else "")
-        out.append(f"  {name:<{width}}  {roles[name]:<{role_width}}  {link['verdict']:<12}  {reason}")
+        out.append(f"  {name:<{width}}  {roles[name]:<{role_width}}  {link['verdict']:<12}  "
+                   f"{engines[name]:<{ENGINE_WIDTH}}  {reason}")
+    if f.get("format") == "mjcf":
+        out.append(f"  (MJCF: source {', '.join(sorted({str(link['source']) for link in links.values()}))}; "
+                   "'geoms': the inertia MuJoCo computed from the body's geoms)")
     for name, link in links.items():
         for s in link["signs"]:
             out.append(f"  sign    {name}: {s['text']}")
+    for name, link in links.items():
+        if link["engines"] and any(e["action"] != "loads" for e in link["engines"].values()):
+            out.append(f"  engines {name}: " + "; ".join(f"{ENGINE_NAMES[k]} {e['text']}" for k, e in link["engines"].items()))
     for name, link in links.items():
         r = link["repair"]
         if r is None:
@@ -63,7 +85,7 @@ def format_file(path, f):
             continue
         moments = ", ".join(f"{x:.4g}" for x in r["principal_moments_before"]["value"])
         fixed = ", ".join(f"{x:.4g}" for x in r["principal_moments_after"]["value"])
-        six = " ".join(f'{k}="{v:.6g}"' for k, v in r["inertia"].items())
+        six = " ".join(f'{k}="{v}"' for k, v in (r["written"] or {}).items())
         out.append(f"  repair  {name}: nearest consistent I_CoM changes it by {r['change_frobenius_rel']['value']:.3g} "
                    f"(relative Frobenius), {r['change_spectral']['value']:.3g} kg m^2 (spectral); principal moments "
                    f"({moments}) -> ({fixed}); <inertia {six}/> ({r['note']})")

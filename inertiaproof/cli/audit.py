@@ -1,4 +1,9 @@
-"""``inertiaproof audit ROBOT.urdf|DIR ...``: the audit of robot descriptions, printed, as JSON or as a report.
+"""``inertiaproof audit ROBOT.urdf|MODEL.xml|DIR ...``: the audit of robot descriptions.
+
+Printed as tables, or as JSON (``--json``), GitHub Actions annotations
+(``--github``) or the unified diff of repaired copies (``--write-repaired``);
+also as SARIF 2.1.0 (``--sarif FILE``) and as a report (``--report DIR``).
+When stdout carries annotations or a diff, the tables go to stderr.
 
 Exit status: 0 every moving link and every body is consistent; 1 some is not;
 2 some input could not be read (the others are still audited).
@@ -13,19 +18,29 @@ from pathlib import Path
 
 import numpy as np
 
+from inertiaproof.audit.annotations import github_commands, sarif_log
 from inertiaproof.audit.document import BOUNDS_MODES, audit_paths, document
 from inertiaproof.audit.repair import DEFAULT_SLACK
+from inertiaproof.audit.rewrite import repaired_copies, unified_diff
 from inertiaproof.audit.text import format_audit
 from inertiaproof.errors import InputError
 from inertiaproof.suite.environment import versions
 from inertiaproof.suite.profiles import PROFILES
 
-__all__ = ["configure", "main", "write_report"]
+__all__ = ["configure", "main", "write_repaired", "write_report"]
 
 
 def configure(parser):
-    parser.add_argument("paths", nargs="+", metavar="URDF_OR_DIR", help="URDF files, or folders searched for *.urdf")
-    parser.add_argument("--json", action="store_true", help="print the audit as JSON instead of tables")
+    parser.add_argument("paths", nargs="+", metavar="URDF_MJCF_OR_DIR",
+                        help="URDF or MJCF files, or folders searched for *.urdf and MJCF *.xml")
+    shown = parser.add_mutually_exclusive_group()
+    shown.add_argument("--json", action="store_true", help="print the audit as JSON instead of tables")
+    shown.add_argument("--github", action="store_true",
+                       help="print GitHub Actions workflow annotations (::error file=...,line=...::) on stdout")
+    shown.add_argument("--write-repaired", metavar="OUT",
+                       help="write a copy of each file with every repairable link replaced by its repair (OUT: the "
+                            "copy for one file, else a folder) and print the unified diff; the originals are untouched")
+    parser.add_argument("--sarif", metavar="FILE", help="also write the findings as SARIF 2.1.0 to FILE")
     parser.add_argument("--report", metavar="DIR", help="also write DIR/audit.json and its report: audit.html, "
                         "audit.tex (and audit.pdf when latexmk is installed)")
     parser.add_argument("--profile", choices=sorted(PROFILES), default="ci")
@@ -48,19 +63,48 @@ def main(args):
     with np.errstate(all="ignore"):  # values up to the reader's range overflow inside margins; verdicts fall back to LAPACK
         files = audit_paths(args.paths, **options)
     doc = document(files, profile=args.profile, seed=args.seed, bounds=args.bounds, floating_base=args.floating_base,
-                   slack=args.repair_slack, runtime_s=time.perf_counter() - start, versions=versions("yourdfpy"))
+                   slack=args.repair_slack, runtime_s=time.perf_counter() - start, versions=versions("yourdfpy", "mujoco"))
     for f in files.values():
         if f["status"] == "error":
             print(f"inertiaproof: error: {f['error']}", file=sys.stderr)
+    if args.sarif:
+        _write(Path(args.sarif), json.dumps(sarif_log(doc, version=versions()["inertiaproof"]), indent=1))
     if args.json:
         print(json.dumps(doc, allow_nan=False))
+    elif args.github:
+        print(format_audit(doc), file=sys.stderr)
+        print("\n".join(github_commands(doc)))
+    elif args.write_repaired:
+        print(format_audit(doc), file=sys.stderr)
+        write_repaired(files, args.paths, args.write_repaired)
     else:
         print(format_audit(doc))
     if args.report:
-        say = sys.stderr if args.json else sys.stdout
+        say = sys.stdout if not (args.json or args.github or args.write_repaired) else sys.stderr
         for path in write_report(doc, Path(args.report)):
             print(f"report: {path}", file=say)
     return doc["summary"]["exit_status"]
+
+
+def write_repaired(files, paths, out):
+    """The repaired copies of ``--write-repaired``, their unified diff on stdout, what stays as written on stderr."""
+    try:
+        copies = repaired_copies(files, paths, out)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+    for path, (target, encoding, old, new, left) in copies.items():
+        target.parent.mkdir(parents=True, exist_ok=True)
+        _write(target, new, encoding)
+        sys.stdout.write(unified_diff(old, new, path, str(target)))
+        for name, why in left:
+            print(f"inertiaproof: {path}: link {name} left as written: {why}", file=sys.stderr)
+
+
+def _write(path, text, encoding="utf-8"):
+    try:
+        path.write_bytes(text.encode(encoding, errors="surrogateescape"))
+    except OSError as exc:
+        raise InputError(f"{exc.filename or path}: cannot write: {exc.strerror}") from None
 
 
 def write_report(doc, out_dir):
