@@ -82,7 +82,7 @@ class AuditItem(pytest.Item):
     def runtest(self):
         kind, text = self.outcome
         if kind == "skip":
-            pytest.skip(text)
+            pytest.skip(f"{self.name}: {text}")
         if kind == "fail":
             raise AuditError(text)
 
