@@ -201,7 +201,7 @@ def _repairs(links):
         notes.append(r["note"])
         change = f"{_number(r.get('change_frobenius_rel'))} relative; {_number(r.get('change_spectral'))}"
         moments = f"({_numbers(r.get('principal_moments_before'))}) -> ({_numbers(r.get('principal_moments_after'))})"
-        six = " ".join(f'{k}="{_number(v, 6)}"' for k, v in r["inertia"].items())
+        six = " ".join(f'{k}="{v}"' for k, v in (r.get("written") or {}).items())  # digits consistent as written
         rows.append((cell(code(name)), cell(code(change)), cell(code(moments)), cell(code(f"<inertia {six}/>"))))
     if not rows:
         return []
