@@ -196,24 +196,19 @@ def test_pre_commit_hook_fails_a_bad_urdf_and_passes_its_repair(tmp_path):
     assert passed.returncode == 0, passed.stdout + passed.stderr
 
 
-def _pytest(cwd, *args):
-    return subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-rA", *args], cwd=cwd,
-                          capture_output=True, text=True)
-
-
 def test_pytest_plugin_turns_links_into_items(tmp_path):
-    repo = _git_repo(tmp_path, BAD)
-    failed = _pytest(repo, "--inertiaproof-audit", "arm.urdf")
-    assert failed.returncode == 1, failed.stdout + failed.stderr
-    assert re.search(r"2 failed, 1 passed, 1 skipped", failed.stdout)
-    assert "FAILED arm.urdf::l2 - inconsistent" in failed.stdout and "suggested: ixx=" in failed.stdout
-    fixed = tmp_path / "fixed"
-    fixed.mkdir()
-    assert cli.main(["audit", str(repo / "arm.urdf"), "--bounds", "none", "--write-repaired",
-                     str(fixed / "arm.urdf")]) == 1
-    passed = _pytest(tmp_path, "--inertiaproof-audit", "fixed")
-    assert passed.returncode == 0 and "3 passed, 1 skipped" in passed.stdout, passed.stdout + passed.stderr
-    assert "PASSED fixed::arm.urdf::l2" in passed.stdout and "base: base link that does not move" in passed.stdout
+    """One pytest run over the bad file and its repaired copy: the bad links fail, the repaired ones pass."""
+    write(tmp_path, BAD, "arm.urdf")
+    (tmp_path / "fixed").mkdir()
+    assert cli.main(["audit", str(tmp_path / "arm.urdf"), "--bounds", "none", "--write-repaired",
+                     str(tmp_path / "fixed" / "arm.urdf")]) == 1
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-rA", "--inertiaproof-audit",
+                          "arm.urdf", "--inertiaproof-audit", "fixed"], cwd=tmp_path, capture_output=True, text=True)
+    out = run.stdout
+    assert run.returncode == 1 and "2 failed, 4 passed, 2 skipped" in out, out + run.stderr
+    assert "FAILED arm.urdf::l2 - inconsistent" in out and "FAILED arm.urdf::l3 - inconsistent" in out
+    assert "suggested: ixx=" in out and "PASSED fixed::arm.urdf::l2" in out and "PASSED fixed::arm.urdf::l3" in out
+    assert "base: base link that does not move" in out
 
 
 def test_python_api_records_and_html(tmp_path):
