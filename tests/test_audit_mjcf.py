@@ -195,6 +195,25 @@ def test_the_mujoco_column_is_what_mujoco_does(tmp_path, name):
         assert predicted["mujoco"]["text"].removeprefix("rejects: ") in message
 
 
+@pytest.mark.parametrize("first, tool, want", [
+    (inertial(1.0), inertial(0.2, ixx=0.001, iyy=0.001, izz=0.01), "rejects"),  # checked before fusing
+    (inertial(0.0, ixx=0, iyy=0, izz=0), inertial(0.2), "loads"),  # a massless moving body with a welded mass
+    (inertial(1e-16), inertial(0.2), "loads"),
+    (inertial(1e-16), inertial(0.0, ixx=0, iyy=0, izz=0), "rejects"),
+])
+def test_the_mujoco_column_follows_welded_links(tmp_path, first, tool, want):
+    path = write(tmp_path, robot(link("base"), link("l1", first), link("tool", tool), joint("j1", "base", "l1"),
+                                 joint("jt", "l1", "tool", kind="fixed")))
+    links = audit_robot(read_urdf(path), **NONE)["links"]
+    predicted = [links[name]["engines"]["mujoco"]["action"] for name in ("l1", "tool")]
+    try:
+        mujoco.MjModel.from_xml_path(str(path))
+        actual = "loads"
+    except ValueError:
+        actual = "rejects"
+    assert actual == want and ("rejects" in predicted) == (want == "rejects")
+
+
 @pytest.mark.parametrize("name", CASES)
 def test_the_pybullet_column_is_what_pybullet_does(tmp_path, name):
     pybullet = pytest.importorskip("pybullet", reason="pybullet is not installed")

@@ -29,7 +29,7 @@ from inertiaproof.errors import InputError
 from inertiaproof.model.consistency import CONSISTENT, LABELS, physical_consistency
 from inertiaproof.result import quantity
 
-from .engines import engine_column
+from .engines import MJ_MINVAL, engine_column
 from .kinematic_tree import LEFT_OUT, kinematic_tree
 from .mistakes import diagnose, entries
 from .mjcf import is_mjcf, read_mjcf
@@ -202,8 +202,8 @@ def _singularity(sc, codes, names, bounds, frames):
     answer = singularity(sc.chain, sc.theta, codes, names, bounds)
     if answer["verdict"] == "not_excluded":
         why = [f"bodies {', '.join(bad)} are not consistent"] if bad else []
-        why += [f"the joints of {', '.join(locking)} can lose independence (three hinges lock like a gimbal, "
-                "slides split by a hinge turn)"] if locking else []
+        why += [f"the joints of {', '.join(locking)} can lose independent twists (three hinges can lock like a "
+                "gimbal; slides split by a hinge turn with it)"] if locking else []
         answer.update(bodies_not_consistent=bad, argument="; ".join(why) + ": the structural argument does not apply")
     return answer
 
@@ -229,8 +229,6 @@ def _location(source):
 
 def _rescued(group, name, links):
     """MuJoCo: a link welded to ``name`` in its group carries mass and inertia above mjMINVAL."""
-    from .engines import MJ_MINVAL
-
     for link in links:
         if link.name in group.links and link.name != name and link.inertial is not None:
             if link.inertial.mass >= MJ_MINVAL and np.linalg.eigvalsh(link.inertial.inertia)[0] >= MJ_MINVAL:

@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ENGINES", "engine_column"]
+__all__ = ["ENGINES", "engine_column", "MJ_EPS", "MJ_MINVAL"]
 
 ENGINES = ("mujoco", "drake", "pybullet", "gazebo")
 EPS = np.finfo(float).eps

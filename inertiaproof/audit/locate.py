@@ -17,6 +17,8 @@ import bisect
 import re
 from dataclasses import dataclass
 
+from lxml import etree
+
 __all__ = ["decode", "element_spans", "Source", "Span", "urdf_sources"]
 
 TOKEN = re.compile(
@@ -93,8 +95,6 @@ def _position(starts, offset):
 
 def element_spans(text, root):
     """{element: Span} for every element under ``root`` (lxml, parsed from ``text``)."""
-    from lxml import etree
-
     elements = [e for e in root.iter() if isinstance(e.tag, str)]
     starts = _line_starts(text)
     opened, stack, spans = [], [], {}

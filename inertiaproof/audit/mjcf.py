@@ -31,6 +31,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from lxml import etree
 
 from inertiaproof.errors import InputError
 from inertiaproof.model.inertia import urdf_inertia
@@ -45,8 +46,6 @@ X_AXIS = np.array([1.0, 0.0, 0.0])
 
 def is_mjcf(path):
     """Whether a file's root element is ``<mujoco>`` (read up to the first start tag)."""
-    from lxml import etree
-
     try:
         for _, element in etree.iterparse(str(path), events=("start",), resolve_entities=False, no_network=True):
             return element.tag == "mujoco"
@@ -59,7 +58,7 @@ def read_mjcf(path):
     """The robot in an MJCF file; raises InputError with MuJoCo's one-line message when MuJoCo cannot read it."""
     path = Path(path)
     try:
-        import mujoco
+        import mujoco  # the optional extra inertiaproof[mjcf]
     except ImportError:
         raise InputError(f"{path}: reading MJCF needs the mujoco package: pip install 'inertiaproof[mjcf]'") from None
     try:
@@ -105,8 +104,6 @@ def _locate(path, count):
     MuJoCo resolves them); bodies pair with MuJoCo's ids in document order
     when the counts agree, else nothing is located.
     """
-    from lxml import etree
-
     found = []
 
     def walk(file):

@@ -41,7 +41,7 @@ class AuditFile(pytest.File):
     """The files under one PATH, audited once at collection."""
 
     def collect(self):
-        from .api import audit_urdf
+        from .api import audit_urdf  # loaded with every pytest session: the numerical stack only when asked for
 
         audit = audit_urdf(self.path, bounds="none",
                            floating_base=self.config.getoption("inertiaproof_floating_base"))
