@@ -1,9 +1,13 @@
-"""``inertiaproof audit ROBOT.urdf|DIR ...``: physical consistency and mass-matrix bounds of real robots.
+"""``inertiaproof audit ROBOT.urdf|MODEL.xml|DIR ...``: physical consistency and mass-matrix bounds of real robots.
 
-Per link: the verdict of ``physical_consistency`` on the ``<inertial>`` as
-written (mass, and the inertia about the CoM; Theorem 1), the signs of
-common authoring mistakes (:mod:`inertiaproof.audit.mistakes`) and, where it is not
-consistent, the nearest consistent inertia (:mod:`inertiaproof.audit.repair`).
+Per link (URDF :mod:`.urdf`, MJCF :mod:`.mjcf`): the verdict of
+``physical_consistency`` on the inertial as written (mass, and the inertia
+about the CoM; Theorem 1), where its element stands in the file
+(:mod:`.locate`), what MuJoCo, Drake, PyBullet and Gazebo do with it
+(:mod:`.engines`), the signs of common authoring mistakes
+(:mod:`inertiaproof.audit.mistakes`) and, where it is not consistent, the
+nearest consistent inertia (:mod:`inertiaproof.audit.repair`) with the
+element's replacement text (:mod:`.rewrite`).
 Per movable joint: the body the mass matrix sees (its child link and the
 links fixed to it). Per chain (:mod:`inertiaproof.audit.kinematic_tree`): the
 eigenvalue extremes of M(q) over the file's joint limits
