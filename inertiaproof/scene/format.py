@@ -55,7 +55,7 @@ class AdaptiveSettings:
 
     lam: float = 5.0
     kd: float = 10.0
-    gamma: tuple = (("natural", 1.0), ("slotine-li", 1.0))  # (law name, gain) pairs
+    gamma: tuple = (("natural", 10.0), ("slotine-li", 1.0))  # (law name, gain) pairs
     estimate: tuple = (1.0,)
 
     def gain(self, law):
