@@ -19,6 +19,7 @@ The runs of the robustness study are shared with APP-estimate-bounds (Context.sh
 from __future__ import annotations
 
 import dataclasses
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,34 +47,37 @@ BALANCE = 1000.0  # a run's Lyapunov balance error may reach BALANCE x rtol (int
 
 @dataclass(frozen=True)
 class AppSettings:
-    scenes: tuple  # built-in scenes of the study and the estimate bounds (without --scene)
-    hunt_scenes: tuple
-    hunt_examples: int
+    scenes: tuple  # (built-in scene, durations of its loads in the robustness study) without --scene
+    hunts: tuple  # (built-in scene, Hypothesis examples) of the escape hunt without --scene
+    hunt_seconds: float  # the hunt stops simulating after this long (examples left are skipped)
     hunt_horizon: float
     shrink: bool  # let Hypothesis shrink an escape to a simpler run
-    ramps: tuple  # durations (s) of payload ramps
-    traverses: tuple  # durations (s) of moving-mass traverses
+    ramps: tuple  # durations (s) of payload ramps of a --scene
+    traverses: tuple  # durations (s) of moving-mass traverses of a --scene
     start: float  # when the loads start (s)
     settle: float  # seconds simulated after the slowest load
     laws: tuple
     samples_per_second: float
     configurations: int  # sampled configurations for the extremes of M(q, Theta_hat) over q
     rtol: float
-    max_evaluations: int
-    max_seconds: float
+    max_evaluations: int  # per batch of runs
+    max_seconds: float  # per batch of runs
 
 
 SETTINGS = {
-    "ci": AppSettings(scenes=("planar-2r-payload", "trolley-2r"), hunt_scenes=("planar-2r-payload",), hunt_examples=3,
-                      hunt_horizon=2.0, shrink=False, ramps=(1.0, 0.1, 0.01), traverses=(1.0, 0.25), start=0.2,
-                      settle=0.5, laws=("slotine-li", "natural"), samples_per_second=50, configurations=128,
-                      rtol=3e-5, max_evaluations=4_000, max_seconds=30.0),
-    "deep": AppSettings(scenes=("planar-2r-payload", "trolley-2r", "panda-payload-3kg"),
-                        hunt_scenes=("planar-2r-payload", "trolley-2r", "panda-payload-3kg"), hunt_examples=150,
-                        hunt_horizon=3.0, shrink=True, ramps=(10.0, 3.0, 1.0, 0.3, 0.1, 0.03, 0.01),
-                        traverses=(4.0, 2.0, 1.0, 0.5, 0.25, 0.1), start=0.5, settle=1.5,
-                        laws=("slotine-li", "natural"), samples_per_second=100, configurations=1024, rtol=1e-6,
-                        max_evaluations=400_000, max_seconds=1200.0),
+    "ci": AppSettings(scenes=(("planar-2r-payload", (1.0, 0.1, 0.01)), ("trolley-2r", (1.0, 0.25))),
+                      hunts=(("planar-2r-payload", 3),), hunt_seconds=60.0, hunt_horizon=2.0, shrink=False,
+                      ramps=(1.0, 0.1, 0.01), traverses=(1.0, 0.25), start=0.2, settle=0.5,
+                      laws=("slotine-li", "natural"), samples_per_second=50, configurations=128, rtol=3e-5,
+                      max_evaluations=4_000, max_seconds=60.0),
+    "deep": AppSettings(scenes=(("planar-2r-payload", (10.0, 3.0, 1.0, 0.3, 0.1, 0.03, 0.01)),
+                                ("trolley-2r", (4.0, 2.0, 1.0, 0.5, 0.25, 0.1)),
+                                ("panda-payload-3kg", (1.0, 0.1, 0.01))),
+                        hunts=(("planar-2r-payload", 60), ("trolley-2r", 40), ("panda-payload-3kg", 10)),
+                        hunt_seconds=900.0, hunt_horizon=3.0, shrink=True,
+                        ramps=(10.0, 3.0, 1.0, 0.3, 0.1, 0.03, 0.01), traverses=(4.0, 2.0, 1.0, 0.5, 0.25, 0.1),
+                        start=0.5, settle=1.5, laws=("slotine-li", "natural"), samples_per_second=100,
+                        configurations=1024, rtol=1e-6, max_evaluations=400_000, max_seconds=1200.0),
 }
 
 
@@ -81,12 +85,13 @@ def settings_for(ctx):
     return SETTINGS.get(ctx.profile.name, SETTINGS["ci"])
 
 
-def _scene_keys(ctx, s, default):
+def _scene_keys(ctx, default):
+    """The built-in scenes ``default`` (pairs of key and a setting), or the run's scene file with None."""
     if ctx.scene is None:
-        return list(default)
+        return dict(default)
     if not ctx.scene.source:
         raise ValueError(f"scene {ctx.scene.name!r} has no file: a run of it could not be replayed")
-    return [ctx.scene.source]
+    return {ctx.scene.source: None}
 
 
 def _samples(s, horizon):
@@ -121,9 +126,8 @@ def study(ctx, key, forces=motion.generalized_forces):
     s = settings_for(ctx)
 
     def compute():
-        scene = scene_of(key)
-        moving = scene.trajectory.internal_motion
-        durations = s.traverses if moving else s.ramps
+        moving = scene_of(key).trajectory.internal_motion
+        durations = dict(s.scenes).get(key) or (s.traverses if moving else s.ramps)
         plants = tracking.PLANTS if moving else ("gre", "classical")  # Eq. (2) is the generalized one when Psi = 0
         horizon = s.start + max(durations) + s.settle
         recipes = [Recipe(key, law, plant, horizon=horizon, timing=(s.start, d))
@@ -135,16 +139,18 @@ def study(ctx, key, forces=motion.generalized_forces):
     return compute() if forces is not motion.generalized_forces else ctx.shared(("APP study", key), compute)
 
 
-def _rate(recipe, run):
-    """sup over the run's samples of max_l sigma_max(f(Phidot_l)): the rate of change as Theorem 4 measures it."""
-    _, theta_dot = recipe.spec().trajectory.theta(run.t)
-    return float(np.abs(np.linalg.eigvalsh(pseudo_inertia(theta_dot))).max()) if run.t is not None else np.nan
+def _rate(recipe):
+    """max_l sup_t sigma_max(f(Phidot_l(t))), the rate of change as Theorem 4 measures it, on 201 times across the
+    loads' profiles (the smooth profiles peak in the middle, which is one of them)."""
+    start, duration = recipe.timing
+    _, theta_dot = recipe.spec().trajectory.theta(np.linspace(start, start + duration, 201))
+    return float(np.abs(np.linalg.eigvalsh(pseudo_inertia(theta_dot))).max())
 
 
 def _summary(recipe, run, batch):
     chain = recipe.chain()
     row = {"law": recipe.law, "plant": recipe.plant, "duration_s": recipe.timing[1] if recipe.timing else None,
-           "status": run.status, "balance_error": run.balance_error, "rate": _rate(recipe, run)}
+           "status": run.status, "balance_error": run.balance_error, "rate": _rate(recipe)}
     if run.t is None or len(run.t) < 2:
         return row
     x = estimates.series(chain, run, batch)
@@ -158,8 +164,13 @@ def _summary(recipe, run, batch):
 
 # -- APP-robustness -------------------------------------------------------------------------------
 
-COLUMNS = ("scene", "law", "plant", "duration_s", "rate", "rms_tracking_error", "vs_gre", "max_tracking_error",
-           "final_parameter_error", "min_lambda_min_f_hat", "min_lambda_min_M_hat", "balance_error", "status")
+TABLE = (("scene", "scene"), ("law", "law"), ("plant", "plant"), ("load_s", "duration_s"), ("rate", "rate"),
+         ("rms_e", "rms_tracking_error"), ("vs_gre", "vs_gre"), ("param_err", "final_parameter_error"),
+         ("min_lmin_f", "min_lambda_min_f_hat"), ("min_lmin_M", "min_lambda_min_M_hat"), ("balance", "balance_error"))
+LEGEND = ("load_s: duration of the payload ramp or the trolley's traverse; rate: max_l sup_t sigma_max(f(Phidot_l)); "
+          "rms_e: RMS of |q - q_d| (rad); vs_gre: rms_e / (rms_e on gre) - 1; param_err: sum_l |f(Phi_hat_l - "
+          "Phi_l)|_F / sum_l |f(Phi_l)|_F at the end; min_lmin_f: min_t,l lambda_min(f(Phi_hat_l)); min_lmin_M: "
+          "min_t lambda_min(M(q(t), Theta_hat(t))); balance: max_t |V - V(0) - W| / max_t |V|")
 
 
 def robustness_result(ctx, keys, forces=motion.generalized_forces):
@@ -183,22 +194,21 @@ def robustness_result(ctx, keys, forces=motion.generalized_forces):
         if not st["moving"]:
             notes.append(f"{key}: no pagilla runs: with Psi = 0 Eq. (2) with F = M(q, Thetadot) is the generalized "
                          "equation")
-        for metric, label in (("rms_tracking_error", "RMS tracking error (rad)"),
-                              ("final_parameter_error", "parameter error at the end (relative, f-norm)")):
+        for metric, label, log in (("rms_tracking_error", "RMS tracking error (rad)", True),
+                                   ("final_parameter_error", "parameter error at the end (relative, f-norm)", False)):
             figures[f"{key}: {metric}"] = {"series": {
                 "title": f"{key}: {label} against the load's duration", "x_label": "duration of the load (s)",
-                "y_label": label, "x_log": True, "y_log": True,
+                "y_label": label, "x_log": True, "y_log": log,
                 "lines": {f"{law}, {plant}": [[x["duration_s"], x.get(metric, np.nan)] for x in summaries
                                               if x["law"] == law and x["plant"] == plant]
                           for law in s.laws for plant in st["plants"]}}}
-    table = {"columns": list(COLUMNS), "rows": [[x.get(c) for c in COLUMNS] for x in rows]}
-    ctx.outputs.write_data("app_robustness.json", table)
+    table = [{name: _rounded(x.get(key)) for name, key in TABLE} for x in rows]
     verdict = combine(verdicts) if verdicts else Verdict.HOLDS
     misled = _misled(rows)
     summary = ("; ".join(misled) if misled else "no run finished") + (
         f"; {len(unbalanced)} runs do not close their Lyapunov balance" if unbalanced else "")
     evidence = {
-        "table": table, "figures": figures, "notes": notes,
+        "table": table, "columns": LEGEND, "figures": figures, "notes": notes,
         "balance_tolerance": quantity(BALANCE * s.rtol, "tolerance",
                                       "largest Lyapunov balance error a resolved run may have (BALANCE x rtol)"),
         "worst_balance_error": quantity(max((x["balance_error"] for x in rows if np.isfinite(x["balance_error"])),
@@ -212,6 +222,10 @@ def robustness_result(ctx, keys, forces=motion.generalized_forces):
         counterexample = {"kind": "adaptive-balance", "data": {"recipe": recipe.to_data(), "rtol": s.rtol / 10,
                                                                "balance_error": worst["balance_error"]}}
     return Result("APP-robustness", verdict, summary, evidence, counterexample=counterexample)
+
+
+def _rounded(x):
+    return float(f"{x:.4g}") if isinstance(x, float) else x
 
 
 def _misled(rows):
@@ -232,7 +246,7 @@ def _misled(rows):
 @check("APP-robustness", needs={"time_varying"})
 def robustness(ctx):
     try:
-        keys = _scene_keys(ctx, settings_for(ctx), settings_for(ctx).scenes)
+        keys = list(_scene_keys(ctx, settings_for(ctx).scenes))
     except ValueError as exc:
         return Result("APP-robustness", Verdict.INCONCLUSIVE, str(exc))
     return robustness_result(ctx, keys)
@@ -307,7 +321,11 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
         gamma_b, sigma_b = qj_brackets(ctx, chain, key)
         gamma = gamma_b.lower if gamma_override is None else gamma_override
         sigma = sigma_b.upper if sigma_override is None else sigma_override
-        brackets[key] = {"inf_sigma_min_QJ_sq": gamma_b.evidence(), "sup_sigma_max_QJ": sigma_b.evidence()}
+        brackets[key] = {
+            "inf_sigma_min_QJ_sq": quantity(gamma_b.lower, "lower_bound", "certified: " + gamma_b.quantity),
+            "inf_sigma_min_QJ_sq_observed": quantity(gamma_b.upper, "sampled", "attained at a witness"),
+            "sup_sigma_max_QJ": quantity(sigma_b.upper, "upper_bound", "certified: " + sigma_b.quantity),
+            "sup_sigma_max_QJ_observed": quantity(sigma_b.lower, "sampled", "attained at a witness")}
         q_samples = np.concatenate([estimates.configurations(chain, s.configurations, ctx.rng(f"{key}:APP q")),
                                     np.atleast_2d(gamma_b.witness), np.atleast_2d(sigma_b.witness)])
         for recipe, run, batch in zip(st["recipes"], st["runs"], st["batches"]):
@@ -339,6 +357,7 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
                         "alpha2 = 2 zeta_hat sigma^2": [[series["t"][0], case["alpha2"]],
                                                         [series["t"][-1], case["alpha2"]]]}}}
     applicable = [c for c in cases.values() if c["applicable"]]
+    rows = {name: _case_row(c) for name, c in cases.items()}
     if not verdicts:
         verdicts = [Verdict.INCONCLUSIVE]
     verdict = combine(verdicts)
@@ -347,7 +366,12 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
                + (f"smallest relative margin {min(worst['lower_margin'], worst['upper_margin']):.3g} "
                   f"(tightness alpha1 / inf lambda_min {worst['tightness_lower']:.2g}, "
                   f"sup lambda_max / alpha2 {worst['tightness_upper']:.2g})" if worst else "no run to check"))
-    evidence = {"cases": cases, "qj_brackets": brackets, "figures": figures,
+    evidence = {"runs": rows, "qj_brackets": brackets, "figures": figures,
+                "smallest_margin": quantity(min((min(c["lower_margin"], c["upper_margin"]) for c in applicable),
+                                                default=np.nan), "margin",
+                                            "min over the consistent runs, times and sampled q (> 0 holds)"),
+                "resolution": quantity(_resolution(max(scene_of(k).chain.n for k in keys) + 4), "tolerance",
+                                       "rounding of the eigenvalues against the largest one"),
                 "note": "Margins are relative to the largest eigenvalue of M_hat at that time; the extremes over q "
                         "are sampled (the run's configurations, random ones and the brackets' witnesses): a sampled "
                         "inf is an upper estimate, so a negative margin is a true violation, a positive one is not "
@@ -355,10 +379,21 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
     return Result("APP-estimate-bounds", verdict, summary, evidence, counterexample=violation)
 
 
+def _case_row(case):
+    """One run of APP-estimate-bounds as a flat row of the evidence table."""
+    keys = ("status", "xi_hat", "zeta_hat", "alpha1", "inf_lambda_min_M_hat", "sup_lambda_max_M_hat", "alpha2")
+    row = {k: _rounded(case[k]) for k in keys if k in case}
+    if case["applicable"]:
+        row["margin"] = _rounded(min(case["lower_margin"], case["upper_margin"]))
+    else:
+        row["why"] = case["why"]
+    return row
+
+
 @check("APP-estimate-bounds", needs={"chain"})
 def estimate_bounds(ctx):
     try:
-        keys = _scene_keys(ctx, settings_for(ctx), settings_for(ctx).scenes)
+        keys = list(_scene_keys(ctx, settings_for(ctx).scenes))
     except ValueError as exc:
         return Result("APP-estimate-bounds", Verdict.INCONCLUSIVE, str(exc))
     return estimate_bounds_result(ctx, keys)
@@ -403,7 +438,7 @@ def escape_margin(recipe, s, q_samples, forces=motion.generalized_forces, twin=n
     out = {"recipes": [recipe.to_data(), twin_recipe.to_data()], "laws": {}}
     for name, run in zip(("euclidean", "natural"), runs):
         theta_hat = estimates.estimates(run)
-        f = np.linalg.eigvalsh(pseudo_inertia(theta_hat))[..., 0]
+        f = np.linalg.eigvalsh(pseudo_inertia(theta_hat))[..., 0].min(-1)
         low, high, at = estimates.spectrum_over(chain, run.y[:, :chain.n], theta_hat, q_samples)
         ti = int(np.argmin(low / high.max()))
         out["laws"][name] = {
@@ -422,27 +457,34 @@ def _natural_fails(data):
     return law["min_lambda_min_f_hat"] <= 0 or law["margin"] < -data["resolution"]
 
 
-def euclidean_escape_result(ctx, keys, twin=natural_twin):
+def euclidean_escape_result(ctx, hunts, twin=natural_twin):
+    """One hunt per scene of ``hunts`` ({scene: Hypothesis examples, None: the profile's}); all stop simulating
+    after the profile's hunt_seconds. ``twin`` gives the law compared with Slotine-Li (a test passes a wrong one)."""
     s = settings_for(ctx)
-    q_samples = {k: estimates.configurations(scene_of(k).chain, s.configurations, ctx.rng(f"{k}:APP escape q"))
-                 for k in keys}
-    seen, failures = {}, []
-
-    def margin(recipe):
-        if recipe not in seen:  # Hypothesis replays the failing example once more
-            seen[recipe] = escape_margin(recipe, s, q_samples[recipe.scene], twin=twin)
-            if _natural_fails(seen[recipe]):
-                failures.append(seen[recipe])
-        data = seen[recipe]
-        if not data["resolved"]:
-            return np.nan
-        return data["laws"]["euclidean"]["margin"], data["resolution"]
-
+    deadline = time.perf_counter() + s.hunt_seconds
     phases = (Phase.explicit, Phase.reuse, Phase.generate, Phase.target) + ((Phase.shrink,) if s.shrink else ())
-    found = hunt(euclidean_runs(tuple(keys), s.hunt_horizon), margin, ctx, label="APP-euclidean-escape",
-                 max_examples=s.hunt_examples, phases=phases)
-    searched = {"scenes": list(keys), "examples": len(seen), "horizon_s": s.hunt_horizon,
-                "space": euclidean_runs.__doc__.split(": ", 1)[1].replace("\n", " "), **found.summary()}
+    seen, failures, scenes, witnesses = {}, [], {}, {}
+    for key, examples in hunts.items():
+        q_samples = estimates.configurations(scene_of(key).chain, s.configurations, ctx.rng(f"{key}:APP escape q"))
+
+        def margin(recipe):
+            if recipe not in seen:  # Hypothesis replays a failing example once more
+                if time.perf_counter() > deadline:
+                    return np.nan
+                seen[recipe] = escape_margin(recipe, s, q_samples, twin=twin)
+                if _natural_fails(seen[recipe]):
+                    failures.append(seen[recipe])
+            data = seen[recipe]
+            return (data["laws"]["euclidean"]["margin"], data["resolution"]) if data["resolved"] else np.nan
+
+        runs_before = len(seen)
+        found = hunt(euclidean_runs((key,), s.hunt_horizon), margin, ctx, label=f"APP-euclidean-escape:{key}",
+                     max_examples=examples or max(n for _, n in s.hunts), phases=phases)
+        scenes[key] = {"runs": len(seen) - runs_before, **found.summary()}
+        if found.violation is not None:
+            witnesses[key] = seen[found.violation]
+    searched = {"scenes": scenes, "horizon_s": s.hunt_horizon, "seconds_budget": s.hunt_seconds,
+                "space": " ".join(euclidean_runs.__doc__.split(": ", 1)[1].split())}
     if failures:
         data = failures[0]
         return Result("APP-euclidean-escape", Verdict.VIOLATED,
@@ -450,27 +492,31 @@ def euclidean_escape_result(ctx, keys, twin=natural_twin):
                       f"{data['laws']['natural']['min_lambda_min_f_hat']:.3g}",
                       {"searched": searched, "run": _brief(data)},
                       counterexample={"kind": "adaptive-escape", "data": _replay_data(data, s)})
-    if found.violation is None:
+    if not witnesses:
+        worst = min((v["smallest_margin"]["value"] for v in scenes.values()), default=np.nan)
         return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE,
-                      f"no Slotine-Li run with an indefinite M(q, Theta_hat) in {len(seen)} runs "
-                      f"(smallest relative lambda_min {found.worst_margin:.3g}); the natural law stayed consistent "
+                      f"no Slotine-Li run with an indefinite M(q, Theta_hat) in {len(seen)} runs on "
+                      f"{', '.join(hunts)} (smallest relative lambda_min {worst}); the natural law stayed consistent "
                       "in all", {"searched": searched})
-    data = seen[found.violation]
-    witness = Result("APP-euclidean-escape", Verdict.HOLDS, "a Slotine-Li run whose M(q, Theta_hat) turns indefinite",
-                     counterexample={"kind": "adaptive-escape", "data": _replay_data(data, s)})
-    path = ctx.save_counterexample(witness)
+    found = {}
+    for key, data in witnesses.items():
+        path = ctx.save_counterexample(Result(
+            "APP-euclidean-escape", Verdict.HOLDS, f"{key}: a Slotine-Li run whose M(q, Theta_hat) turns indefinite",
+            counterexample={"kind": "adaptive-escape", "data": _replay_data(data, s)}))
+        found[key] = {"run": _brief(data), "figures": _escape_figures(data), "witness_file": str(path),
+                      "replay": f"inertiaproof replay {path}"}
+    key, data = next(iter(witnesses.items()))
     e, nat = data["laws"]["euclidean"], data["laws"]["natural"]
-    evidence = {"searched": searched, "run": _brief(data), "figures": _escape_figures(data),
-                "witness_file": str(path), "replay": f"inertiaproof replay {path}",
+    evidence = {"searched": searched, "escapes": found, "replay": found[key]["replay"],
                 "escape_margin": quantity(e["margin"], "margin", "min_t,q lambda_min(M(q, Theta_hat)) / "
                                           "max lambda_max under Slotine-Li (< 0: indefinite)"),
                 "natural_margin": quantity(nat["margin"], "margin", "the same under the natural law (> 0)")}
     return Result("APP-euclidean-escape", Verdict.HOLDS,
-                  f"Slotine-Li: lambda_min(M(q, Theta_hat)) = {e['inf_lambda_min_M_hat']:.3g} at t = "
-                  f"{e['witness']['t']:.3g} s (min lambda_min(f(Phi_hat)) {e['min_lambda_min_f_hat']:.3g}); natural "
+                  f"{key}: Slotine-Li's lambda_min(M(q, Theta_hat)) = {e['inf_lambda_min_M_hat']:.3g} at t = "
+                  f"{e['witness']['t']:.3g} s (min lambda_min(f(Phi_hat)) {e['min_lambda_min_f_hat']:.3g}); the natural "
                   f"law on the same run: min lambda_min(f(Phi_hat)) {nat['min_lambda_min_f_hat']:.3g} > 0, "
-                  f"lambda(M_hat) in [{nat['inf_lambda_min_M_hat']:.3g}, {nat['sup_lambda_max_M_hat']:.3g}]; "
-                  f"after {len(seen)} runs", evidence)
+                  f"lambda(M_hat) in [{nat['inf_lambda_min_M_hat']:.3g}, {nat['sup_lambda_max_M_hat']:.3g}]; escapes "
+                  f"on {len(witnesses)} of {len(hunts)} scenes in {len(seen)} runs", evidence)
 
 
 def _replay_data(data, s):
@@ -479,8 +525,12 @@ def _replay_data(data, s):
 
 
 def _brief(data):
-    return {"recipes": data["recipes"], "laws": {k: {n: v for n, v in law.items() if n != "series"}
-                                                 for k, law in data["laws"].items()}}
+    """The run's two recipes and, per law, a flat row of what it did."""
+    keys = ("status", "balance_error", "min_lambda_min_f_hat", "inf_lambda_min_M_hat", "sup_lambda_max_M_hat",
+            "margin")
+    return {"recipes": data["recipes"],
+            "laws": {name: {**{k: law[k] for k in keys}, "witness_t": law["witness"]["t"]}
+                     for name, law in data["laws"].items()}}
 
 
 def _escape_figures(data):
@@ -496,10 +546,10 @@ def _escape_figures(data):
 @check("APP-euclidean-escape", needs={"chain"})
 def euclidean_escape(ctx):
     try:
-        keys = _scene_keys(ctx, settings_for(ctx), settings_for(ctx).hunt_scenes)
+        hunts = _scene_keys(ctx, settings_for(ctx).hunts)
     except ValueError as exc:
         return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE, str(exc))
-    return euclidean_escape_result(ctx, keys)
+    return euclidean_escape_result(ctx, hunts)
 
 
 @replayer("adaptive-escape")

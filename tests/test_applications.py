@@ -46,8 +46,8 @@ def test_the_rows_are_in_the_catalog():
 def test_estimate_bounds_hold_and_fail_without_the_qj_brackets(app_ctx):
     result = app.estimate_bounds_result(app_ctx, [KEY])
     assert result.verdict == Verdict.HOLDS, result.summary
-    natural = [c for name, c in result.evidence["cases"].items() if "natural" in name]
-    assert natural and all(c["applicable"] and c["lower_margin"] > 0 and c["upper_margin"] > 0 for c in natural)
+    natural = [row for name, row in result.evidence["runs"].items() if "natural" in name]
+    assert len(natural) == len(app.SETTINGS["ci"].ramps) and all(row["margin"] > 0 for row in natural)
     wrong = app.estimate_bounds_result(app_ctx, [KEY], gamma_override=1.0, sigma_override=1.0)
     assert wrong.verdict == Verdict.VIOLATED
     assert wrong.counterexample["data"]["bound"] == "upper"
@@ -66,17 +66,17 @@ def test_an_inconsistent_estimate_passed_as_consistent_violates_the_lower_bound(
 
 
 def test_euclidean_escape_is_found_saved_and_replays(app_ctx):
-    result = app.euclidean_escape_result(app_ctx, [KEY])
+    result = app.euclidean_escape_result(app_ctx, {KEY: 3})
     assert result.verdict == Verdict.HOLDS, result.summary
-    euclidean, natural = (result.evidence["run"]["laws"][k] for k in ("euclidean", "natural"))
+    euclidean, natural = (result.evidence["escapes"][KEY]["run"]["laws"][k] for k in ("euclidean", "natural"))
     assert euclidean["inf_lambda_min_M_hat"] < 0 < natural["inf_lambda_min_M_hat"]
     assert euclidean["min_lambda_min_f_hat"] < 0 < natural["min_lambda_min_f_hat"]
-    replayed = replay(result.evidence["witness_file"])
+    replayed = replay(result.evidence["escapes"][KEY]["witness_file"])
     assert replayed.verdict == Verdict.HOLDS, replayed.summary
 
 
 def test_a_euclidean_law_passed_as_natural_is_violated(app_ctx):
-    wrong = app.euclidean_escape_result(app_ctx, [KEY], twin=lambda r: dataclasses.replace(r, law="slotine-li"))
+    wrong = app.euclidean_escape_result(app_ctx, {KEY: 3}, twin=lambda r: dataclasses.replace(r, law="slotine-li"))
     assert wrong.verdict == Verdict.VIOLATED
     assert _saved(wrong, app_ctx).verdict == Verdict.VIOLATED
 
@@ -85,9 +85,10 @@ def test_robustness_holds_and_a_plant_without_its_rate_term_is_violated(app_ctx)
     result = app.robustness_result(app_ctx, [KEY])
     assert result.verdict == Verdict.HOLDS, result.summary
     table = result.evidence["table"]
-    plants = {row[table["columns"].index("plant")] for row in table["rows"]}
-    assert plants == {"gre", "classical"}  # Eq. (2) is the generalized equation when Psi = 0
-    assert len(table["rows"]) == len(app.SETTINGS["ci"].ramps) * 2 * len(app.SETTINGS["ci"].laws)
+    assert {row["plant"] for row in table} == {"gre", "classical"}  # Eq. (2) is the generalized one when Psi = 0
+    assert len(table) == len(app.SETTINGS["ci"].ramps) * 2 * len(app.SETTINGS["ci"].laws)
+    fastest = [row for row in table if row["load_s"] == min(app.SETTINGS["ci"].ramps)]
+    assert all(row["rate"] > 50 for row in fastest)  # a 10 ms ramp of 2 kg
 
     def no_rate(kin, g, p, qd, qdd):
         return motion.generalized_forces(kin, g, dataclasses.replace(p, theta_dot=0 * p.theta_dot), qd, qdd)
