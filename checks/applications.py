@@ -155,7 +155,6 @@ def _summary(recipe, run, batch):
         return row
     x = estimates.series(chain, run, batch)
     row.update(rms_tracking_error=float(np.sqrt(np.mean(x["tracking_error"] ** 2))),
-               max_tracking_error=float(x["tracking_error"].max()),
                final_parameter_error=float(x["parameter_error"][-1]),
                min_lambda_min_f_hat=float(x["lambda_min_f_hat"].min()),
                min_lambda_min_M_hat=float(x["lambda_min_M_hat"].min()))
@@ -179,7 +178,8 @@ def robustness_result(ctx, keys, forces=motion.generalized_forces):
     for key in keys:
         st = study(ctx, key, forces)
         recipes += st["recipes"]
-        summaries = [dict(_summary(r, run, b), scene=key) for r, run, b in zip(st["recipes"], st["runs"], st["batches"])]
+        summaries = [dict(_summary(r, run, b), scene=key)
+                     for r, run, b in zip(st["recipes"], st["runs"], st["batches"])]
         gre = {(x["law"], x["duration_s"]): x.get("rms_tracking_error") for x in summaries if x["plant"] == "gre"}
         for x in summaries:
             ref = gre.get((x["law"], x["duration_s"]))
@@ -295,8 +295,8 @@ def bound_case(chain, run, q_samples, gamma, sigma, xi=None, zeta=None):
         return out
     q = np.concatenate([run.y[:, None, :chain.n], np.broadcast_to(q_samples, (len(run.t),) + q_samples.shape)], 1)
     low, high = estimates.mass_matrix_spectrum(chain, q, theta_hat[:, None])
-    alpha1, alpha2 = xi * max(gamma, 0.0), 2 * zeta * sigma**2
-    scale = np.maximum(high.max(-1), alpha2)
+    alpha1, alpha2 = xi * max(gamma, 0.0), 2 * zeta * sigma**2  # an uncertified sigma: alpha2 = inf, unchecked
+    scale = np.maximum(high.max(-1), alpha2 if np.isfinite(alpha2) else 0.0)
     lower, upper = (low - alpha1) / scale[:, None], (alpha2 - high) / scale[:, None]
     margin = np.minimum(lower, upper)
     ti, qi = np.unravel_index(np.argmin(margin), margin.shape)
@@ -362,7 +362,9 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
         verdicts = [Verdict.INCONCLUSIVE]
     verdict = combine(verdicts)
     worst = min(applicable, key=lambda c: min(c["lower_margin"], c["upper_margin"])) if applicable else None
-    summary = (f"{len(applicable)} of {len(cases)} runs uniformly consistent (the natural law's all): "
+    natural = [c for name, c in cases.items() if ", natural," in name]
+    summary = (f"{len(applicable)} of {len(cases)} runs uniformly consistent ({sum(c['applicable'] for c in natural)} "
+               f"of the natural law's {len(natural)}): "
                + (f"smallest relative margin {min(worst['lower_margin'], worst['upper_margin']):.3g} "
                   f"(tightness alpha1 / inf lambda_min {worst['tightness_lower']:.2g}, "
                   f"sup lambda_max / alpha2 {worst['tightness_upper']:.2g})" if worst else "no run to check"))
@@ -438,12 +440,14 @@ def escape_margin(recipe, s, q_samples, forces=motion.generalized_forces, twin=n
     out = {"recipes": [recipe.to_data(), twin_recipe.to_data()], "laws": {}}
     for name, run in zip(("euclidean", "natural"), runs):
         theta_hat = estimates.estimates(run)
-        f = np.linalg.eigvalsh(pseudo_inertia(theta_hat))[..., 0].min(-1)
+        spectrum = np.linalg.eigvalsh(pseudo_inertia(theta_hat))
+        f = spectrum[..., 0].min(-1)
         low, high, at = estimates.spectrum_over(chain, run.y[:, :chain.n], theta_hat, q_samples)
         ti = int(np.argmin(low / high.max()))
         out["laws"][name] = {
             "status": run.status, "note": run.note, "balance_error": run.balance_error,
-            "min_lambda_min_f_hat": float(f.min()), "inf_lambda_min_M_hat": float(low.min()),
+            "min_lambda_min_f_hat": float(f.min()), "max_lambda_max_f_hat": float(spectrum[..., -1].max()),
+            "inf_lambda_min_M_hat": float(low.min()),
             "sup_lambda_max_M_hat": float(high.max()), "margin": float(low.min() / high.max()),
             "witness": {"t": float(run.t[ti]), "q": at[ti].tolist()},
             "series": {"t": run.t.tolist(), "lambda_min_f_hat": f.tolist(), "inf_lambda_min_M_hat": low.tolist()}}
@@ -453,8 +457,10 @@ def escape_margin(recipe, s, q_samples, forces=motion.generalized_forces, twin=n
 
 
 def _natural_fails(data):
+    """Whether the natural law's f(Phi_hat_l) or M_hat lost definiteness by more than rounding."""
     law = data["laws"]["natural"]
-    return law["min_lambda_min_f_hat"] <= 0 or law["margin"] < -data["resolution"]
+    return law["min_lambda_min_f_hat"] < -data["resolution"] * law["max_lambda_max_f_hat"] or (
+        law["margin"] < -data["resolution"])
 
 
 def euclidean_escape_result(ctx, hunts, twin=natural_twin):
@@ -513,8 +519,8 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
                 "natural_margin": quantity(nat["margin"], "margin", "the same under the natural law (> 0)")}
     return Result("APP-euclidean-escape", Verdict.HOLDS,
                   f"{key}: Slotine-Li's lambda_min(M(q, Theta_hat)) = {e['inf_lambda_min_M_hat']:.3g} at t = "
-                  f"{e['witness']['t']:.3g} s (min lambda_min(f(Phi_hat)) {e['min_lambda_min_f_hat']:.3g}); the natural "
-                  f"law on the same run: min lambda_min(f(Phi_hat)) {nat['min_lambda_min_f_hat']:.3g} > 0, "
+                  f"{e['witness']['t']:.3g} s (min lambda_min(f(Phi_hat)) {e['min_lambda_min_f_hat']:.3g}); "
+                  f"the natural law on the same run: min lambda_min(f(Phi_hat)) {nat['min_lambda_min_f_hat']:.3g} > 0, "
                   f"lambda(M_hat) in [{nat['inf_lambda_min_M_hat']:.3g}, {nat['sup_lambda_max_M_hat']:.3g}]; escapes "
                   f"on {len(witnesses)} of {len(hunts)} scenes in {len(seen)} runs", evidence)
 

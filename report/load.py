@@ -9,8 +9,8 @@ from pathlib import Path
 from inertiaproof.errors import InputError
 
 __all__ = [
-    "AUDIT", "audit", "AUDIT_SCHEMA", "data_files", "Each", "FILE", "LINK", "OPTIONAL", "read_json", "REPAIR", "results",
-    "SCHEMA", "SUMMARY", "TYPE_NAMES", "VERDICTS",
+    "AUDIT", "audit", "AUDIT_SCHEMA", "data_files", "Each", "FILE", "LINK", "OPTIONAL", "read_json", "REPAIR",
+    "results", "SCHEMA", "SUMMARY", "TYPE_NAMES", "VERDICTS",
 ]
 
 SCHEMA = "inertiaproof.results/1"

@@ -1,9 +1,9 @@
 """One adaptive run as plain data (:class:`Recipe`): what a hunt draws, a counterexample stores and a replay rebuilds.
 
-A recipe names a scene (built in, :data:`inertiaproof.scene.robots.BUILTIN`, or a scene file) and changes what the run may change:
-the gains of its ``[adaptive]`` table, the reference, the loads (a payload of its own, or every load's profile
-moved to another start and duration), the law, the plant and the horizon. Equal recipes share their scene, trajectory
-and law objects, so that a batch of runs evaluates each trajectory once.
+A recipe names a scene (built in, :data:`inertiaproof.scene.robots.BUILTIN`, or a scene file) and changes what a
+run may change: the gains of its ``[adaptive]`` table, the reference, the loads (a payload of its own, or every
+load's profile moved to another start and duration), the law, the plant and the horizon. Equal recipes share
+their scene, trajectory and law objects, so that a batch of runs evaluates each trajectory once.
 """
 
 from __future__ import annotations
