@@ -69,7 +69,7 @@ SETTINGS = {
                       hunts=(("planar-2r-payload", 3),), hunt_seconds=60.0, hunt_horizon=2.0, shrink=False,
                       ramps=(1.0, 0.1, 0.01), traverses=(1.0, 0.25), start=0.2, settle=0.5,
                       laws=("slotine-li", "natural"), samples_per_second=50, configurations=128, rtol=3e-5,
-                      max_evaluations=4_000, max_seconds=60.0),
+                      max_evaluations=20_000, max_seconds=30.0),
     "deep": AppSettings(scenes=(("planar-2r-payload", (10.0, 3.0, 1.0, 0.3, 0.1, 0.03, 0.01)),
                                 ("trolley-2r", (4.0, 2.0, 1.0, 0.5, 0.25, 0.1)),
                                 ("panda-payload-3kg", (1.0, 0.1, 0.01))),
@@ -106,19 +106,28 @@ def _resolution(n):
 # -- runs ---------------------------------------------------------------------------------------
 
 def simulate_recipes(recipes, s, forces=motion.generalized_forces):
-    """Simulate recipes of one chain and horizon together; a run whose Lyapunov balance error exceeds BALANCE x rtol
-    is simulated again at a tenth of the tolerance. Returns (runs, batches) in the recipes' order."""
+    """Simulate recipes of one chain and horizon together. When the batch stops early (one stiff run holds up all),
+    each run is simulated alone with its share of the budget; a run whose Lyapunov balance error exceeds
+    BALANCE x rtol is simulated again at a tenth of the tolerance. Returns (runs, batches) in the recipes' order."""
     horizon = recipes[0].run_horizon()
     chain = recipes[0].chain()
     kw = dict(samples=_samples(s, horizon), max_evaluations=s.max_evaluations, max_seconds=s.max_seconds, forces=forces)
     runs, batch = tracking.simulate(chain, [r.spec() for r in recipes], horizon, rtol=s.rtol, **kw)
     batches = [batch] * len(runs)
+    if not batch_finished(runs) and len(runs) > 1:
+        share = dict(kw, max_evaluations=s.max_evaluations // len(runs), max_seconds=s.max_seconds / len(runs))
+        for i, spec in enumerate([r.spec for r in runs]):
+            (runs[i],), batches[i] = tracking.simulate(chain, [spec], horizon, rtol=s.rtol, **share)
     again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol]
     if again:
         finer, finer_batch = tracking.simulate(chain, [runs[i].spec for i in again], horizon, rtol=s.rtol / 10, **kw)
         for i, run in zip(again, finer):
             runs[i], batches[i] = run, finer_batch
     return runs, batches
+
+
+def batch_finished(runs):
+    return all(r.finished for r in runs)
 
 
 def study(ctx, key, forces=motion.generalized_forces):

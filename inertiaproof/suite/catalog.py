@@ -77,8 +77,8 @@ APPLICATIONS = (
           "Euclidean-gradient adaptation (Slotine-Li) may leave the consistent set, so that M(q, Theta_hat) loses "
           "its positive lower bound; natural (log-det Bregman) adaptation cannot."),
     Entry("APP-robustness", "A", "Introduction, contribution (a testbed for robustness)",
-          "Adaptive tracking on the generalized equation with Thetadot != 0 differs from what Eq. (1) and "
-          "Pagilla's Eq. (2) predict."),
+          "Adaptive tracking with Thetadot != 0 on the generalized equation against Eq. (1) and Pagilla's Eq. (2): "
+          "tracking and parameter error against the rate of change, every run closing its Lyapunov balance."),
 )
 
 # Results the suite reports that are not statements of the paper.
