@@ -139,6 +139,12 @@ def test_adapt_rejects_a_bad_gains_file_in_one_line(gains, message, tmp_path, ca
     assert code == 2 and "\n" not in err and message in err and str(path) in err
 
 
+def test_adapt_rejects_a_negative_horizon_in_one_line(tmp_path, capsys):
+    code = cli.main(["adapt", "--scene", str(SCENES / "planar_2r_payload.toml"), "--law", "natural", "--horizon",
+                     "-1", "--out", str(tmp_path)])
+    assert code == 2 and "--horizon: must be > 0" in capsys.readouterr().err
+
+
 def test_the_adaptive_table_of_a_scene():
     text = (SCENES / "panda_payload_3kg.toml").read_text()
     scene = parse_scene(text, "panda.toml")

@@ -89,6 +89,10 @@ def _csv(path, series):
 
 
 def main(args):
+    for name in ("horizon", "rtol", "samples"):
+        value = getattr(args, name)
+        if value is not None and not value > 0:
+            raise InputError(f"--{name}: must be > 0, got {value:g}")
     scene = load_scene(args.scene)
     settings = load_gains(args.gains, scene) if args.gains else scene.adaptive
     if settings.gain(args.law) is None:
