@@ -2,7 +2,7 @@
 
 From DIR/results.json: DIR/report.html (self-contained), DIR/report.tex with
 the figures in DIR/report-figures.pdf, and DIR/report.pdf when latexmk is
-installed. From DIR/audit.json the same as DIR/audit.*. Either file, or both.
+installed. From DIR/audit.json the same as DIR/audit.*, from DIR/adapt.json as DIR/adapt.*. Any of them.
 """
 
 from __future__ import annotations
@@ -12,11 +12,11 @@ from pathlib import Path
 
 __all__ = ["build", "configure", "main", "STEMS"]
 
-STEMS = ("report", "audit")
+STEMS = ("report", "audit", "adapt")
 
 
 def configure(parser):
-    parser.add_argument("dir", metavar="DIR", help="a run's output folder (holds results.json, audit.json or both)")
+    parser.add_argument("dir", metavar="DIR", help="a run's output folder (holds results.json, audit.json, adapt.json)")
     parser.add_argument("--no-pdf", action="store_true", help="write the .html and .tex files only; skip latexmk")
 
 
@@ -50,15 +50,19 @@ def _build(out, pdf, only):
 
 
 def _documents(out, only):
-    """(stem, Document) of each source in out: results.json as "report", audit.json as "audit"."""
-    from inertiaproof.report import audit, content, load
+    """(stem, Document) of each source in out: results.json as "report", audit.json as "audit", adapt.json as
+    "adapt"."""
+    from inertiaproof.report import adapt, audit, content, load
 
     has_audit = "audit" in only and (out / load.AUDIT).is_file()
-    if "report" in only and (not has_audit or (out / "results.json").is_file()):
-        doc = load.results(out)  # names what is missing when out holds neither
+    has_adapt = "adapt" in only and (out / adapt.ADAPT).is_file()
+    if "report" in only and (not (has_audit or has_adapt) or (out / "results.json").is_file()):
+        doc = load.results(out)  # names what is missing when out holds none
         yield "report", content.build(doc, load.data_files(out, doc))
     if has_audit:
         yield "audit", audit.build(load.audit(out / load.AUDIT))
+    if has_adapt:
+        yield "adapt", adapt.build(adapt.load(out / adapt.ADAPT))
 
 
 def _render(out, stem, document, pdf):

@@ -55,7 +55,7 @@ def build(doc, data=None):
     grouped = {}
     for r in doc["checks"]:
         grouped.setdefault(r["id"], []).append(r)
-    extras = [e for e in catalog.EXTRAS if e.id in grouped]
+    extras = [e for e in catalog.APPLICATIONS + catalog.EXTRAS if e.id in grouped]
     unknown = [i for i in grouped if i not in catalog.BY_ID]
     verdicts = {i: combine(r["verdict"] for r in rs).value for i, rs in grouped.items()}
 

@@ -9,8 +9,8 @@ from pathlib import Path
 from inertiaproof.errors import InputError
 
 __all__ = [
-    "AUDIT", "audit", "AUDIT_SCHEMA", "data_files", "Each", "FILE", "LINK", "OPTIONAL", "REPAIR", "results",
-    "SCHEMA", "SUMMARY", "TYPE_NAMES", "VERDICTS",
+    "AUDIT", "audit", "AUDIT_SCHEMA", "data_files", "Each", "FILE", "LINK", "OPTIONAL", "read_json", "REPAIR",
+    "results", "SCHEMA", "SUMMARY", "TYPE_NAMES", "VERDICTS",
 ]
 
 SCHEMA = "inertiaproof.results/1"
@@ -53,7 +53,7 @@ def results(out_dir):
     if not path.is_file():
         raise InputError(f"{path}: not found (make it with 'inertiaproof run --out {out}', or audit robots with "
                          f"'inertiaproof audit URDF --report {out}')")
-    doc = _json(path)
+    doc = read_json(path)
     if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
         raise InputError(f"{path}: not an inertiaproof results file (schema {SCHEMA})")
     checks = doc.get("checks")
@@ -82,7 +82,7 @@ def results(out_dir):
 def audit(path):
     """The audit document at path (DIR/audit.json), checked well enough that the report cannot trip over it."""
     path = Path(path)
-    doc = _json(path)
+    doc = read_json(path)
     if not isinstance(doc, dict) or doc.get("schema") != AUDIT_SCHEMA:
         raise InputError(f"{path}: not an inertiaproof audit file (schema {AUDIT_SCHEMA})")
     _check(doc, {"files": Each(dict), "summary": SUMMARY}, path, "")
@@ -131,7 +131,7 @@ def _rows(path, name):
     if not path.is_file():
         return f"{name}: missing (results.json lists it)"
     try:
-        data = _json(path)
+        data = read_json(path)
     except InputError as exc:
         return str(exc).replace(str(path), name, 1)
     if isinstance(data, dict) and isinstance(data.get("rows"), list):
@@ -144,7 +144,8 @@ def _rows(path, name):
     return data if isinstance(data, dict) else f"{name}: not a list of rows"
 
 
-def _json(path):
+def read_json(path):
+    """The JSON document at path; a file that cannot be read or parsed is an InputError naming it."""
     try:
         return json.loads(Path(path).read_text(encoding="utf-8"))
     except OSError as exc:

@@ -21,7 +21,7 @@ from inertiaproof.model import solids
 from inertiaproof.model.consistency import INCONSISTENT, INVALID, physical_consistency
 from inertiaproof.model.inertia import from_urdf, rotation_rpy, urdf_inertia
 
-__all__ = ["ControlSettings", "load_scene", "parse_scene", "Scene", "SceneError"]
+__all__ = ["AdaptiveSettings", "ControlSettings", "load_gains", "load_scene", "parse_scene", "Scene", "SceneError"]
 
 
 class SceneError(InputError):
@@ -48,6 +48,21 @@ class ControlSettings:
 
 
 @dataclass(frozen=True)
+class AdaptiveSettings:
+    """Adaptive tracking of the scene's reference (inertiaproof.sim.tracking, ``inertiaproof adapt``): the sliding
+    variable s = e' + lam e (lam in 1/s), K_D = kd diag(M(home, Theta(t0))) (kd in 1/s), the adaptation gain of
+    each law by name, and the initial estimate Theta_hat(0) = estimate Theta(t0) (one factor, or one per body)."""
+
+    lam: float = 5.0
+    kd: float = 10.0
+    gamma: tuple = (("natural", 10.0), ("slotine-li", 1.0))  # (law name, gain) pairs
+    estimate: tuple = (1.0,)
+
+    def gain(self, law):
+        return dict(self.gamma).get(law)
+
+
+@dataclass(frozen=True)
 class Scene:
     name: str
     chain: Chain
@@ -56,6 +71,7 @@ class Scene:
     source: str | None = None
     warnings: tuple = field(default_factory=tuple)
     control: ControlSettings = ControlSettings()
+    adaptive: AdaptiveSettings = AdaptiveSettings()
 
     def features(self):
         """What this scene has; checks declare what they need of it."""
@@ -337,7 +353,7 @@ def parse_scene(text, source="<scene>"):
         m = re.search(r"line (\d+)", str(exc))
         raise SceneError(f"{source}:{m.group(1) if m else '?'}: not valid TOML: {exc}") from None
     r = _Reader(text, source)
-    r.keys(data, (), {"name", "description", "chain", "body", "load", "time", "control"},
+    r.keys(data, (), {"name", "description", "chain", "body", "load", "time", "control", "adaptive"},
            required=("name", "chain", "body"))
     chain_t = r.table(data, (), "chain")
     r.keys(chain_t, ("chain",), {"convention", "gravity", "joint", "name"}, required=("joint",))
@@ -362,7 +378,9 @@ def parse_scene(text, source="<scene>"):
     trajectory = ParameterTrajectory(base, loads, (t0, t1))
     _check_trajectory(r, trajectory)
     control = _control(r, r.table(data, (), "control", required=False), chain.n)
-    return Scene(str(data["name"]), chain, trajectory, str(data.get("description", "")), source, control=control)
+    adaptive = _adaptive(r, r.table(data, (), "adaptive", required=False) or {}, ("adaptive",), len(bodies))
+    return Scene(str(data["name"]), chain, trajectory, str(data.get("description", "")), source, control=control,
+                 adaptive=adaptive)
 
 
 def _control(r, table, joints):
@@ -382,6 +400,36 @@ def _control(r, table, joints):
         frequency=r.number(table, path, "frequency", defaults.frequency, nonnegative=True),
         horizon=r.number(table, path, "horizon", None, positive=True) if "horizon" in table else None,
     )
+
+
+def _adaptive(r, table, path, bodies, defaults=AdaptiveSettings()):
+    r.keys(table, path, {"lambda", "kd", "gamma", "estimate"})
+    gamma = dict(defaults.gamma)
+    for law in r.table(table, path, "gamma", required=False) or {}:
+        gamma[law] = r.number(table["gamma"], path + ("gamma",), law, positive=True)
+    estimate = defaults.estimate
+    if isinstance(table.get("estimate"), list):
+        estimate = tuple(r.vector(table, path, "estimate", bodies))
+        if not all(e > 0 for e in estimate):
+            r.error(path + ("estimate",), f"factors must be > 0, got {list(estimate)}")
+    elif "estimate" in table:
+        estimate = (r.number(table, path, "estimate", positive=True),)
+    return AdaptiveSettings(lam=r.number(table, path, "lambda", defaults.lam, positive=True),
+                            kd=r.number(table, path, "kd", defaults.kd, positive=True),
+                            gamma=tuple(sorted(gamma.items())), estimate=estimate)
+
+
+def load_gains(path, scene):
+    """The scene's :class:`AdaptiveSettings` with the keys of a gains file (those of ``[adaptive]``) replaced."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+        data = tomllib.loads(text)
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read gains file: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: not valid TOML: {exc}") from None
+    return _adaptive(_Reader(text, str(path)), data, (), scene.trajectory.bodies, scene.adaptive)
 
 
 def _check_trajectory(r, trajectory):

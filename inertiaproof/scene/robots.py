@@ -157,6 +157,7 @@ BUILTIN = {
     "planar-2r": planar_2r,
     "spatial-3r": spatial_3r,
     "panda": panda,
+    "panda-payload-3kg": lambda: panda(payload=3.0),
     "ur5": ur5,
     "translating-sphere": translating_sphere,
     "non-normal-2r": non_normal_2r,

@@ -14,7 +14,18 @@ import numpy as np
 from inertiaproof.dynamics import motion, terms
 from inertiaproof.scene.format import ControlSettings
 
-__all__ = ["Controller", "FeedforwardPD", "controller"]
+__all__ = ["Controller", "FeedforwardPD", "controller", "reference_motion"]
+
+
+def reference_motion(home, amplitude, frequency, t):
+    """(q_ref, qd_ref, qdd_ref) with q_ref(t) = home + amplitude sin(2 pi frequency t + k pi / 3) on joint k.
+
+    Batched: ``home`` (..., n), ``amplitude`` and ``frequency`` scalars or (...), times ``t`` scalar or (...)."""
+    t = np.asarray(t, dtype=float)[..., None]
+    w = 2 * np.pi * np.asarray(frequency, dtype=float)[..., None]
+    a = np.asarray(amplitude, dtype=float)[..., None]
+    arg = w * t + np.arange(np.shape(home)[-1]) * np.pi / 3
+    return home + a * np.sin(arg), a * w * np.cos(arg), -a * w * w * np.sin(arg)
 
 
 @dataclass(frozen=True)
@@ -37,12 +48,7 @@ class Controller:
     KINDS = ("pd", "computed_torque", "none")
 
     def reference(self, t):
-        t = np.asarray(t, dtype=float)[..., None]
-        phase = np.arange(self.home.size) * np.pi / 3
-        w = 2 * np.pi * self.frequency
-        arg = w * t + phase
-        a = self.amplitude
-        return self.home + a * np.sin(arg), a * w * np.cos(arg), -a * w * w * np.sin(arg)
+        return reference_motion(self.home, self.amplitude, self.frequency, t)
 
     def gain_matrices(self, chain):
         """(Kp, Kd) as matrices, frozen at the home posture: diagonal for PD, M_nom(home) diag(k) for computed

@@ -1,0 +1,586 @@
+"""Beyond the paper: the applications it names (abstract, introduction), checked with adaptive laws.
+
+- ``APP-estimate-bounds``: along adaptive runs whose estimate is uniformly physically consistent and upper bounded
+  (Definition 3 applied to Theta_hat over the run's samples: xi_hat, zeta_hat), M(q, Theta_hat(t)) obeys
+  Theorem 2's alpha1 = xi_hat inf_q sigma_min(QJ)^2 and Theorem 3's alpha2 = 2 zeta_hat sup_q sigma_max(QJ)^2 with
+  the chain's certified QJ brackets (inertiaproof.bounds.configuration), at the run's configurations and at sampled
+  ones.
+- ``APP-euclidean-escape``: a Hypothesis hunt for a Slotine-Li run (Euclidean gradient) whose M(q, Theta_hat) turns
+  indefinite, i.e. Theta_hat left the consistent set far enough to lose the lower bound; the natural law of Lee,
+  Kwon and Park on the same run must keep every f(Phi_hat_l) > 0 and M_hat positive definite.
+- ``APP-robustness``: tracking and parameter error against the loads' rate of change (payload ramps, trolley
+  traverses) on the three plants (inertiaproof.sim.tracking): where Eq. (1) and Eq. (2) mislead about the
+  controller on the generalized equation. Every run's Lyapunov balance (Prop1, Prop2 and the law's divergence)
+  must close; one that does not, also at a tenth of the tolerance, simulated something else than its plant.
+
+The runs of the robustness study are shared with APP-estimate-bounds (Context.shared).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from hypothesis import Phase
+
+from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup
+from inertiaproof.counterexamples.adaptive_runs import euclidean_runs
+from inertiaproof.dynamics import motion
+from inertiaproof.model.inertia import pseudo_inertia
+from inertiaproof.result import Result, Verdict, combine, quantity
+from inertiaproof.sim import estimates, tracking
+from inertiaproof.sim.recipe import Recipe, scene_of
+from inertiaproof.suite.hunt import hunt
+from inertiaproof.suite.registry import check, replayer
+
+__all__ = [
+    "AppSettings", "BALANCE", "bound_case", "escape_margin", "estimate_bounds", "estimate_bounds_result",
+    "euclidean_escape", "euclidean_escape_result", "natural_twin", "qj_brackets", "replay_bound", "replay_escape",
+    "robustness", "robustness_result", "settings_for", "SETTINGS", "simulate_recipes", "study",
+]
+
+EPS = np.finfo(float).eps
+BALANCE = 1000.0  # a run's Lyapunov balance error may reach BALANCE x rtol (integration error)
+
+
+@dataclass(frozen=True)
+class AppSettings:
+    scenes: tuple  # (built-in scene, durations of its loads in the robustness study) without --scene
+    hunts: tuple  # (built-in scene, Hypothesis examples) of the escape hunt without --scene
+    hunt_seconds: float  # the hunt stops simulating after this long (examples left are skipped)
+    hunt_horizon: float
+    shrink: bool  # let Hypothesis shrink an escape to a simpler run
+    ramps: tuple  # durations (s) of payload ramps of a --scene
+    traverses: tuple  # durations (s) of moving-mass traverses of a --scene
+    start: float  # when the loads start (s)
+    settle: float  # seconds simulated after the slowest load
+    laws: tuple
+    samples_per_second: float
+    configurations: int  # sampled configurations for the extremes of M(q, Theta_hat) over q
+    rtol: float
+    max_evaluations: int  # per batch of runs
+    max_seconds: float  # per batch of runs
+
+
+SETTINGS = {
+    "ci": AppSettings(scenes=(("planar-2r-payload", (1.0, 0.1, 0.01)), ("trolley-2r", (1.0, 0.25))),
+                      hunts=(("planar-2r-payload", 3),), hunt_seconds=60.0, hunt_horizon=2.0, shrink=False,
+                      ramps=(1.0, 0.1, 0.01), traverses=(1.0, 0.25), start=0.2, settle=0.5,
+                      laws=("slotine-li", "natural"), samples_per_second=50, configurations=128, rtol=3e-5,
+                      max_evaluations=20_000, max_seconds=30.0),
+    "deep": AppSettings(scenes=(("planar-2r-payload", (10.0, 3.0, 1.0, 0.3, 0.1, 0.03, 0.01)),
+                                ("trolley-2r", (4.0, 2.0, 1.0, 0.5, 0.25, 0.1)),
+                                ("panda-payload-3kg", (1.0, 0.1, 0.01))),
+                        hunts=(("planar-2r-payload", 60), ("trolley-2r", 40), ("panda-payload-3kg", 10)),
+                        hunt_seconds=900.0, hunt_horizon=3.0, shrink=True,
+                        ramps=(10.0, 3.0, 1.0, 0.3, 0.1, 0.03, 0.01), traverses=(4.0, 2.0, 1.0, 0.5, 0.25, 0.1),
+                        start=0.5, settle=1.5, laws=("slotine-li", "natural"), samples_per_second=100,
+                        configurations=1024, rtol=1e-6, max_evaluations=400_000, max_seconds=1200.0),
+}
+
+
+def settings_for(ctx):
+    return SETTINGS.get(ctx.profile.name, SETTINGS["ci"])
+
+
+def _scene_keys(ctx, default):
+    """The built-in scenes ``default`` (pairs of key and a setting), or the run's scene file with None."""
+    if ctx.scene is None:
+        return dict(default)
+    if not ctx.scene.source:
+        raise ValueError(f"scene {ctx.scene.name!r} has no file: a run of it could not be replayed")
+    return {ctx.scene.source: None}
+
+
+def _samples(s, horizon):
+    return int(np.ceil(horizon * s.samples_per_second)) + 1
+
+
+def _resolution(n):
+    """Relative rounding of eigvalsh of a symmetric n x n matrix, against its largest eigenvalue."""
+    return 64 * EPS * n
+
+
+# -- runs ---------------------------------------------------------------------------------------
+
+def simulate_recipes(recipes, s, forces=motion.generalized_forces):
+    """Simulate recipes of one chain and horizon together. When the batch stops early (one stiff run holds up all),
+    each run is simulated alone with its share of the budget; a run whose Lyapunov balance error exceeds
+    BALANCE x rtol is simulated again at a tenth of the tolerance. Returns (runs, batches) in the recipes' order."""
+    horizon = recipes[0].run_horizon()
+    chain = recipes[0].chain()
+    kw = dict(samples=_samples(s, horizon), max_evaluations=s.max_evaluations, max_seconds=s.max_seconds, forces=forces)
+    runs, batch = tracking.simulate(chain, [r.spec() for r in recipes], horizon, rtol=s.rtol, **kw)
+    batches = [batch] * len(runs)
+    if not batch_finished(runs) and len(runs) > 1:
+        share = dict(kw, max_evaluations=s.max_evaluations // len(runs), max_seconds=s.max_seconds / len(runs))
+        for i, spec in enumerate([r.spec for r in runs]):
+            (runs[i],), batches[i] = tracking.simulate(chain, [spec], horizon, rtol=s.rtol, **share)
+    again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol]
+    if again:
+        finer, finer_batch = tracking.simulate(chain, [runs[i].spec for i in again], horizon, rtol=s.rtol / 10, **kw)
+        for i, run in zip(again, finer):
+            runs[i], batches[i] = run, finer_batch
+    return runs, batches
+
+
+def batch_finished(runs):
+    return all(r.finished for r in runs)
+
+
+def study(ctx, key, forces=motion.generalized_forces):
+    """The robustness study of a scene, once per run (shared): recipes, runs and their batches, load durations."""
+    s = settings_for(ctx)
+
+    def compute():
+        moving = scene_of(key).trajectory.internal_motion
+        durations = dict(s.scenes).get(key) or (s.traverses if moving else s.ramps)
+        plants = tracking.PLANTS if moving else ("gre", "classical")  # Eq. (2) is the generalized one when Psi = 0
+        horizon = s.start + max(durations) + s.settle
+        recipes = [Recipe(key, law, plant, horizon=horizon, timing=(s.start, d))
+                   for d in durations for plant in plants for law in s.laws]
+        runs, batches = simulate_recipes(recipes, s, forces)
+        return {"recipes": recipes, "runs": runs, "batches": batches, "durations": durations, "plants": plants,
+                "moving": moving}
+
+    return compute() if forces is not motion.generalized_forces else ctx.shared(("APP study", key), compute)
+
+
+def _rate(recipe):
+    """max_l sup_t sigma_max(f(Phidot_l(t))), the rate of change as Theorem 4 measures it, on 201 times across the
+    loads' profiles (the smooth profiles peak in the middle, which is one of them)."""
+    start, duration = recipe.timing
+    _, theta_dot = recipe.spec().trajectory.theta(np.linspace(start, start + duration, 201))
+    return float(np.abs(np.linalg.eigvalsh(pseudo_inertia(theta_dot))).max())
+
+
+def _summary(recipe, run, batch):
+    chain = recipe.chain()
+    row = {"law": recipe.law, "plant": recipe.plant, "duration_s": recipe.timing[1] if recipe.timing else None,
+           "status": run.status, "balance_error": run.balance_error, "rate": _rate(recipe)}
+    if run.t is None or len(run.t) < 2:
+        return row
+    x = estimates.series(chain, run, batch)
+    row.update(rms_tracking_error=float(np.sqrt(np.mean(x["tracking_error"] ** 2))),
+               final_parameter_error=float(x["parameter_error"][-1]),
+               min_lambda_min_f_hat=float(x["lambda_min_f_hat"].min()),
+               min_lambda_min_M_hat=float(x["lambda_min_M_hat"].min()))
+    return row
+
+
+# -- APP-robustness -------------------------------------------------------------------------------
+
+TABLE = (("scene", "scene"), ("law", "law"), ("plant", "plant"), ("load_s", "duration_s"), ("rate", "rate"),
+         ("rms_e", "rms_tracking_error"), ("vs_gre", "vs_gre"), ("param_err", "final_parameter_error"),
+         ("min_lmin_f", "min_lambda_min_f_hat"), ("min_lmin_M", "min_lambda_min_M_hat"), ("balance", "balance_error"))
+LEGEND = ("load_s: duration of the payload ramp or the trolley's traverse; rate: max_l sup_t sigma_max(f(Phidot_l)); "
+          "rms_e: RMS of |q - q_d| (rad); vs_gre: rms_e / (rms_e on gre) - 1; param_err: sum_l |f(Phi_hat_l - "
+          "Phi_l)|_F / sum_l |f(Phi_l)|_F at the end; min_lmin_f: min_t,l lambda_min(f(Phi_hat_l)); min_lmin_M: "
+          "min_t lambda_min(M(q(t), Theta_hat(t))); balance: max_t |V - V(0) - W| / max_t |V|")
+
+
+def robustness_result(ctx, keys, forces=motion.generalized_forces):
+    s = settings_for(ctx)
+    rows, recipes, verdicts, unbalanced, figures, notes = [], [], [], [], {}, []
+    for key in keys:
+        st = study(ctx, key, forces)
+        recipes += st["recipes"]
+        summaries = [dict(_summary(r, run, b), scene=key)
+                     for r, run, b in zip(st["recipes"], st["runs"], st["batches"])]
+        gre = {(x["law"], x["duration_s"]): x.get("rms_tracking_error") for x in summaries if x["plant"] == "gre"}
+        for x in summaries:
+            ref = gre.get((x["law"], x["duration_s"]))
+            x["vs_gre"] = (x["rms_tracking_error"] / ref - 1) if ref and "rms_tracking_error" in x else None
+            if x["status"] != "ok":
+                verdicts.append(Verdict.INCONCLUSIVE)
+                notes.append(f"{key} {x['law']} {x['plant']} {x['duration_s']:g} s: {x['status']}")
+            elif x["balance_error"] > BALANCE * s.rtol:
+                verdicts.append(Verdict.VIOLATED)
+                unbalanced.append(x)
+        rows += summaries
+        if not st["moving"]:
+            notes.append(f"{key}: no pagilla runs: with Psi = 0 Eq. (2) with F = M(q, Thetadot) is the generalized "
+                         "equation")
+        for metric, label, log in (("rms_tracking_error", "RMS tracking error (rad)", True),
+                                   ("final_parameter_error", "parameter error at the end (relative, f-norm)", False)):
+            figures[f"{key}: {metric}"] = {"series": {
+                "title": f"{key}: {label} against the load's duration", "x_label": "duration of the load (s)",
+                "y_label": label, "x_log": True, "y_log": log,
+                "lines": {f"{law}, {plant}": [[x["duration_s"], x.get(metric, np.nan)] for x in summaries
+                                              if x["law"] == law and x["plant"] == plant]
+                          for law in s.laws for plant in st["plants"]}}}
+    table = [{name: _rounded(x.get(key)) for name, key in TABLE} for x in rows]
+    verdict = combine(verdicts) if verdicts else Verdict.HOLDS
+    misled = _misled(rows)
+    summary = ("; ".join(misled) if misled else "no run finished") + (
+        f"; {len(unbalanced)} runs do not close their Lyapunov balance" if unbalanced else "")
+    evidence = {
+        "table": table, "columns": LEGEND, "figures": figures, "notes": notes,
+        "balance_tolerance": quantity(BALANCE * s.rtol, "tolerance",
+                                      "largest Lyapunov balance error a resolved run may have (BALANCE x rtol)"),
+        "worst_balance_error": quantity(max((x["balance_error"] for x in rows if np.isfinite(x["balance_error"])),
+                                            default=np.nan), "residual",
+                                        "max_t |V - V(0) - W| / max_t |V| over the runs"),
+    }
+    counterexample = None
+    if unbalanced:
+        worst = max(unbalanced, key=lambda x: x["balance_error"])
+        recipe = recipes[rows.index(worst)]
+        counterexample = {"kind": "adaptive-balance", "data": {"recipe": recipe.to_data(), "rtol": s.rtol / 10,
+                                                               "balance_error": worst["balance_error"]}}
+    return Result("APP-robustness", verdict, summary, evidence, counterexample=counterexample)
+
+
+def _rounded(x):
+    return float(f"{x:.4g}") if isinstance(x, float) else x
+
+
+def _misled(rows):
+    """One phrase per scene and law: how far Eq. (1) and Eq. (2) put the RMS tracking error at the fastest load."""
+    out = []
+    for key in dict.fromkeys(x["scene"] for x in rows):
+        for law in dict.fromkeys(x["law"] for x in rows if x["scene"] == key):
+            mine = [x for x in rows if x["scene"] == key and x["law"] == law and x.get("vs_gre") is not None
+                    and x["plant"] != "gre"]
+            if not mine:
+                continue
+            fastest = min(x["duration_s"] for x in mine)
+            parts = [f"{x['plant']} {x['vs_gre']:+.0%}" for x in mine if x["duration_s"] == fastest]
+            out.append(f"{key}, {law}, {fastest:g} s load: RMS tracking error vs gre " + ", ".join(parts))
+    return out
+
+
+@check("APP-robustness", needs={"time_varying"})
+def robustness(ctx):
+    try:
+        keys = list(_scene_keys(ctx, settings_for(ctx).scenes))
+    except ValueError as exc:
+        return Result("APP-robustness", Verdict.INCONCLUSIVE, str(exc))
+    return robustness_result(ctx, keys)
+
+
+@replayer("adaptive-balance")
+def replay_balance(data, ctx):
+    """Simulate the saved run again at the saved tolerance and compare its Lyapunov balance with the tolerance."""
+    recipe = Recipe.from_data(data["recipe"])
+    s = dataclasses.replace(settings_for(ctx), rtol=data["rtol"])
+    (run,), _ = simulate_recipes([recipe], s)
+    verdict = Verdict.VIOLATED if run.finished and run.balance_error > BALANCE * s.rtol * 10 else (
+        Verdict.HOLDS if run.finished else Verdict.INCONCLUSIVE)
+    return Result("APP-robustness", verdict, f"Lyapunov balance error {run.balance_error:.2e} at rtol {s.rtol:g} "
+                  f"({run.status})", {"balance_error": quantity(run.balance_error, "residual")})
+
+
+# -- APP-estimate-bounds ----------------------------------------------------------------------------
+
+def qj_brackets(ctx, chain, key):
+    """(inf_q sigma_min(QJ)^2, sup_q sigma_max(QJ)) brackets of the chain (shared by the checks of a run)."""
+    def compute():
+        kw = dict(samples=ctx.profile.samples, refine_s=ctx.profile.refine_s, progress=ctx.progress)
+        return (jacobian_normality(chain, rng=ctx.rng(f"{key}:APP gamma"), **kw),
+                jacobian_sup(chain, rng=ctx.rng(f"{key}:APP sigma"), **kw))
+    return ctx.shared(("APP QJ brackets", key), compute)
+
+
+def bound_case(chain, run, q_samples, gamma, sigma, xi=None, zeta=None):
+    """Theorems 2 and 3 along one run, with Definition 3 applied to its estimate.
+
+    ``gamma`` is a certified lower bound of inf_q sigma_min(QJ)^2, ``sigma`` a certified upper bound of
+    sup_q sigma_max(QJ); xi_hat and zeta_hat are the extremes of the spectra of f(Phi_hat_l) over the run's samples
+    unless given (a test passes wrong ones). Returns plain data: applicable, alpha1, alpha2, margins (relative to
+    the largest eigenvalue of M_hat at that time, > 0 holds), resolution and the witness of the smaller margin."""
+    theta_hat = estimates.estimates(run)
+    f = np.linalg.eigvalsh(pseudo_inertia(theta_hat))
+    xi = float(f[..., 0].min()) if xi is None else xi
+    zeta = float(f[..., -1].max()) if zeta is None else zeta
+    resolution = _resolution(chain.n + 4)
+    out = {"xi_hat": xi, "zeta_hat": zeta, "samples": len(run.t), "status": run.status,
+           "applicable": bool(xi > resolution * zeta), "resolution": resolution}
+    if not out["applicable"]:
+        out["why"] = (f"Theta_hat is not uniformly consistent over the run: min lambda_min(f(Phi_hat_l)) = {xi:.3g} "
+                      f"at t = {run.t[np.unravel_index(np.argmin(f[..., 0]), f.shape[:-1])[0]]:.4g}")
+        return out
+    q = np.concatenate([run.y[:, None, :chain.n], np.broadcast_to(q_samples, (len(run.t),) + q_samples.shape)], 1)
+    low, high = estimates.mass_matrix_spectrum(chain, q, theta_hat[:, None])
+    alpha1, alpha2 = xi * max(gamma, 0.0), 2 * zeta * sigma**2  # an uncertified sigma: alpha2 = inf, unchecked
+    scale = np.maximum(high.max(-1), alpha2 if np.isfinite(alpha2) else 0.0)
+    lower, upper = (low - alpha1) / scale[:, None], (alpha2 - high) / scale[:, None]
+    margin = np.minimum(lower, upper)
+    ti, qi = np.unravel_index(np.argmin(margin), margin.shape)
+    out.update(alpha1=alpha1, alpha2=alpha2, lower_margin=float(lower.min()), upper_margin=float(upper.min()),
+               inf_lambda_min_M_hat=float(low.min()), sup_lambda_max_M_hat=float(high.max()),
+               tightness_lower=float(alpha1 / low.min()) if low.min() > 0 else np.nan,
+               tightness_upper=float(high.max() / alpha2),
+               witness={"t": float(run.t[ti]), "q": q[ti, qi].tolist(), "theta_hat": theta_hat[ti].tolist(),
+                        "bound": "lower" if lower[ti, qi] <= upper[ti, qi] else "upper"},
+               series={"t": run.t, "low": low.min(-1), "high": high.max(-1)})
+    return out
+
+
+def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, xi_override=None):
+    """APP-estimate-bounds on the GRE runs of the scenes' studies; the overrides feed wrong inputs (tests)."""
+    s = settings_for(ctx)
+    cases, verdicts, figures, brackets = {}, [], {}, {}
+    violation = None
+    for key in keys:
+        st = study(ctx, key)
+        chain = scene_of(key).chain
+        gamma_b, sigma_b = qj_brackets(ctx, chain, key)
+        gamma = gamma_b.lower if gamma_override is None else gamma_override
+        sigma = sigma_b.upper if sigma_override is None else sigma_override
+        brackets[key] = {
+            "inf_sigma_min_QJ_sq": quantity(gamma_b.lower, "lower_bound", "certified: " + gamma_b.quantity),
+            "inf_sigma_min_QJ_sq_observed": quantity(gamma_b.upper, "sampled", "attained at a witness"),
+            "sup_sigma_max_QJ": quantity(sigma_b.upper, "upper_bound", "certified: " + sigma_b.quantity),
+            "sup_sigma_max_QJ_observed": quantity(sigma_b.lower, "sampled", "attained at a witness")}
+        q_samples = np.concatenate([estimates.configurations(chain, s.configurations, ctx.rng(f"{key}:APP q")),
+                                    np.atleast_2d(gamma_b.witness), np.atleast_2d(sigma_b.witness)])
+        for recipe, run, batch in zip(st["recipes"], st["runs"], st["batches"]):
+            if recipe.plant != "gre" or run.t is None:
+                continue
+            xi = None if xi_override is None else xi_override(recipe, run, batch)
+            case = bound_case(chain, run, q_samples, gamma, sigma, xi=xi)
+            name = f"{key}, {recipe.law}, {recipe.timing[1]:g} s load"
+            series = case.pop("series", None)
+            cases[name] = case
+            if not case["applicable"]:
+                continue
+            margin = min(case["lower_margin"], case["upper_margin"])
+            if margin < -case["resolution"]:
+                verdicts.append(Verdict.VIOLATED)
+                if violation is None:
+                    violation = {"kind": "estimate-bound", "data": {
+                        "recipe": recipe.to_data(), "rtol": s.rtol, "samples": len(run.t), **case["witness"],
+                        "gamma": gamma, "sigma": sigma, "xi_hat": case["xi_hat"], "zeta_hat": case["zeta_hat"]}}
+            else:
+                verdicts.append(Verdict.HOLDS)
+            if series is not None and recipe.law == "natural" and recipe.timing[1] == min(st["durations"]):
+                figures[name] = {"series": {
+                    "title": f"{name}: the estimated mass matrix against Theorems 2 and 3", "x_label": "t (s)",
+                    "y_label": "eigenvalue", "y_log": True, "lines": {
+                        "sampled inf_q lambda_min(M(q, Theta_hat(t)))": np.c_[series["t"], series["low"]].tolist(),
+                        "alpha1 = xi_hat gamma": [[series["t"][0], case["alpha1"]], [series["t"][-1], case["alpha1"]]],
+                        "sampled sup_q lambda_max(M(q, Theta_hat(t)))": np.c_[series["t"], series["high"]].tolist(),
+                        "alpha2 = 2 zeta_hat sigma^2": [[series["t"][0], case["alpha2"]],
+                                                        [series["t"][-1], case["alpha2"]]]}}}
+    applicable = [c for c in cases.values() if c["applicable"]]
+    rows = {name: _case_row(c) for name, c in cases.items()}
+    if not verdicts:
+        verdicts = [Verdict.INCONCLUSIVE]
+    verdict = combine(verdicts)
+    worst = min(applicable, key=lambda c: min(c["lower_margin"], c["upper_margin"])) if applicable else None
+    natural = [c for name, c in cases.items() if ", natural," in name]
+    summary = (f"{len(applicable)} of {len(cases)} runs uniformly consistent ({sum(c['applicable'] for c in natural)} "
+               f"of the natural law's {len(natural)}): "
+               + (f"smallest relative margin {min(worst['lower_margin'], worst['upper_margin']):.3g} "
+                  f"(tightness alpha1 / inf lambda_min {worst['tightness_lower']:.2g}, "
+                  f"sup lambda_max / alpha2 {worst['tightness_upper']:.2g})" if worst else "no run to check"))
+    evidence = {"runs": rows, "qj_brackets": brackets, "figures": figures,
+                "smallest_margin": quantity(min((min(c["lower_margin"], c["upper_margin"]) for c in applicable),
+                                                default=np.nan), "margin",
+                                            "min over the consistent runs, times and sampled q (> 0 holds)"),
+                "resolution": quantity(_resolution(max(scene_of(k).chain.n for k in keys) + 4), "tolerance",
+                                       "rounding of the eigenvalues against the largest one"),
+                "note": "Margins are relative to the largest eigenvalue of M_hat at that time; the extremes over q "
+                        "are sampled (the run's configurations, random ones and the brackets' witnesses): a sampled "
+                        "inf is an upper estimate, so a negative margin is a true violation, a positive one is not "
+                        "a proof."}
+    return Result("APP-estimate-bounds", verdict, summary, evidence, counterexample=violation)
+
+
+def _case_row(case):
+    """One run of APP-estimate-bounds as a flat row of the evidence table."""
+    keys = ("status", "xi_hat", "zeta_hat", "alpha1", "inf_lambda_min_M_hat", "sup_lambda_max_M_hat", "alpha2")
+    row = {k: _rounded(case[k]) for k in keys if k in case}
+    if case["applicable"]:
+        row["margin"] = _rounded(min(case["lower_margin"], case["upper_margin"]))
+    else:
+        row["why"] = case["why"]
+    return row
+
+
+@check("APP-estimate-bounds", needs={"chain"})
+def estimate_bounds(ctx):
+    try:
+        keys = list(_scene_keys(ctx, settings_for(ctx).scenes))
+    except ValueError as exc:
+        return Result("APP-estimate-bounds", Verdict.INCONCLUSIVE, str(exc))
+    return estimate_bounds_result(ctx, keys)
+
+
+@replayer("estimate-bound")
+def replay_bound(data, ctx):
+    """Recompute M(q, Theta_hat) at the saved configuration and estimate against the saved constants, and the run."""
+    recipe = Recipe.from_data(data["recipe"])
+    chain = recipe.chain()
+    s = dataclasses.replace(settings_for(ctx), rtol=data["rtol"])
+    (run,), _ = simulate_recipes([recipe], s)
+    case = bound_case(chain, run, np.atleast_2d(data["q"]), data["gamma"], data["sigma"], xi=data["xi_hat"],
+                      zeta=data["zeta_hat"])
+    low, high = estimates.mass_matrix_spectrum(chain, np.asarray(data["q"]), np.asarray(data["theta_hat"]))
+    alpha1, alpha2 = data["xi_hat"] * max(data["gamma"], 0.0), 2 * data["zeta_hat"] * data["sigma"] ** 2
+    point = min(low - alpha1, alpha2 - high) / max(high, alpha2)
+    margin = min(point, case.get("lower_margin", np.inf), case.get("upper_margin", np.inf))
+    verdict = Verdict.VIOLATED if margin < -_resolution(chain.n + 4) else Verdict.HOLDS
+    return Result("APP-estimate-bounds", verdict, f"relative margin {margin:.3g} at t = {data['t']:g}",
+                  {"lambda_min": float(low), "lambda_max": float(high), "alpha1": alpha1, "alpha2": alpha2})
+
+
+# -- APP-euclidean-escape -------------------------------------------------------------------------
+
+def natural_twin(recipe):
+    """The natural law on the same run, its gain matched so that its fastest direction at Theta_hat(0) is no faster
+    than Slotine-Li's: gamma_nat = gamma / max_l lambda_max(f(Phi_hat_l(0)))^2 (the law moves f(Phi_hat) by
+    gamma_nat f(Phi_hat) G f(Phi_hat))."""
+    spec = recipe.spec()
+    top = np.linalg.eigvalsh(pseudo_inertia(spec.theta_hat0))[..., -1].max()
+    return dataclasses.replace(recipe, law="natural", gamma=float(spec.law.gain / top**2))
+
+
+def escape_margin(recipe, s, q_samples, forces=motion.generalized_forces, twin=natural_twin):
+    """Simulate a Slotine-Li recipe with its natural twin. Returns plain data: the Slotine-Li margin
+    min_t min_q lambda_min(M(q, Theta_hat(t))) / max lambda_max (< 0: indefinite), its witness, and per law the
+    smallest lambda_min(f(Phi_hat_l)) and of M_hat."""
+    twin_recipe = twin(recipe)
+    runs, batches = simulate_recipes([recipe, twin_recipe], s, forces)
+    chain = recipe.chain()
+    out = {"recipes": [recipe.to_data(), twin_recipe.to_data()], "laws": {}}
+    for name, run in zip(("euclidean", "natural"), runs):
+        theta_hat = estimates.estimates(run)
+        spectrum = np.linalg.eigvalsh(pseudo_inertia(theta_hat))
+        f = spectrum[..., 0].min(-1)
+        low, high, at = estimates.spectrum_over(chain, run.y[:, :chain.n], theta_hat, q_samples)
+        ti = int(np.argmin(low / high.max()))
+        out["laws"][name] = {
+            "status": run.status, "note": run.note, "balance_error": run.balance_error,
+            "min_lambda_min_f_hat": float(f.min()), "max_lambda_max_f_hat": float(spectrum[..., -1].max()),
+            "inf_lambda_min_M_hat": float(low.min()),
+            "sup_lambda_max_M_hat": float(high.max()), "margin": float(low.min() / high.max()),
+            "witness": {"t": float(run.t[ti]), "q": at[ti].tolist()},
+            "series": {"t": run.t.tolist(), "lambda_min_f_hat": f.tolist(), "inf_lambda_min_M_hat": low.tolist()}}
+    out["resolution"] = _resolution(chain.n + 4)
+    out["resolved"] = all(r.balance_error <= BALANCE * s.rtol for r in runs if r.finished)
+    return out
+
+
+def _natural_fails(data):
+    """Whether the natural law's f(Phi_hat_l) or M_hat lost definiteness by more than rounding."""
+    law = data["laws"]["natural"]
+    return law["min_lambda_min_f_hat"] < -data["resolution"] * law["max_lambda_max_f_hat"] or (
+        law["margin"] < -data["resolution"])
+
+
+def euclidean_escape_result(ctx, hunts, twin=natural_twin):
+    """One hunt per scene of ``hunts`` ({scene: Hypothesis examples, None: the profile's}); all stop simulating
+    after the profile's hunt_seconds. ``twin`` gives the law compared with Slotine-Li (a test passes a wrong one)."""
+    s = settings_for(ctx)
+    deadline = time.perf_counter() + s.hunt_seconds
+    phases = (Phase.explicit, Phase.reuse, Phase.generate, Phase.target) + ((Phase.shrink,) if s.shrink else ())
+    seen, failures, scenes, witnesses = {}, [], {}, {}
+    for key, examples in hunts.items():
+        q_samples = estimates.configurations(scene_of(key).chain, s.configurations, ctx.rng(f"{key}:APP escape q"))
+
+        def margin(recipe):
+            if recipe not in seen:  # Hypothesis replays a failing example once more
+                if time.perf_counter() > deadline:
+                    return np.nan
+                seen[recipe] = escape_margin(recipe, s, q_samples, twin=twin)
+                if _natural_fails(seen[recipe]):
+                    failures.append(seen[recipe])
+            data = seen[recipe]
+            return (data["laws"]["euclidean"]["margin"], data["resolution"]) if data["resolved"] else np.nan
+
+        runs_before = len(seen)
+        found = hunt(euclidean_runs((key,), s.hunt_horizon), margin, ctx, label=f"APP-euclidean-escape:{key}",
+                     max_examples=examples or max(n for _, n in s.hunts), phases=phases)
+        scenes[key] = {"runs": len(seen) - runs_before, **found.summary()}
+        if found.violation is not None:
+            witnesses[key] = seen[found.violation]
+    searched = {"scenes": scenes, "horizon_s": s.hunt_horizon, "seconds_budget": s.hunt_seconds,
+                "space": " ".join(euclidean_runs.__doc__.split(": ", 1)[1].split())}
+    if failures:
+        data = failures[0]
+        return Result("APP-euclidean-escape", Verdict.VIOLATED,
+                      f"the natural law left the consistent set: min lambda_min(f(Phi_hat)) = "
+                      f"{data['laws']['natural']['min_lambda_min_f_hat']:.3g}",
+                      {"searched": searched, "run": _brief(data)},
+                      counterexample={"kind": "adaptive-escape", "data": _replay_data(data, s)})
+    if not witnesses:
+        worst = min((v["smallest_margin"]["value"] for v in scenes.values()), default=np.nan)
+        return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE,
+                      f"no Slotine-Li run with an indefinite M(q, Theta_hat) in {len(seen)} runs on "
+                      f"{', '.join(hunts)} (smallest relative lambda_min {worst}); the natural law stayed consistent "
+                      "in all", {"searched": searched})
+    found = {}
+    for key, data in witnesses.items():
+        path = ctx.save_counterexample(Result(
+            "APP-euclidean-escape", Verdict.HOLDS, f"{key}: a Slotine-Li run whose M(q, Theta_hat) turns indefinite",
+            counterexample={"kind": "adaptive-escape", "data": _replay_data(data, s)}))
+        found[key] = {"run": _brief(data), "figures": _escape_figures(data), "witness_file": str(path),
+                      "replay": f"inertiaproof replay {path}"}
+    key, data = next(iter(witnesses.items()))
+    e, nat = data["laws"]["euclidean"], data["laws"]["natural"]
+    evidence = {"searched": searched, "escapes": found, "replay": found[key]["replay"],
+                "escape_margin": quantity(e["margin"], "margin", "min_t,q lambda_min(M(q, Theta_hat)) / "
+                                          "max lambda_max under Slotine-Li (< 0: indefinite)"),
+                "natural_margin": quantity(nat["margin"], "margin", "the same under the natural law (> 0)")}
+    return Result("APP-euclidean-escape", Verdict.HOLDS,
+                  f"{key}: Slotine-Li's lambda_min(M(q, Theta_hat)) = {e['inf_lambda_min_M_hat']:.3g} at t = "
+                  f"{e['witness']['t']:.3g} s (min lambda_min(f(Phi_hat)) {e['min_lambda_min_f_hat']:.3g}); "
+                  f"the natural law on the same run: min lambda_min(f(Phi_hat)) {nat['min_lambda_min_f_hat']:.3g} > 0, "
+                  f"lambda(M_hat) in [{nat['inf_lambda_min_M_hat']:.3g}, {nat['sup_lambda_max_M_hat']:.3g}]; escapes "
+                  f"on {len(witnesses)} of {len(hunts)} scenes in {len(seen)} runs", evidence)
+
+
+def _replay_data(data, s):
+    return {"recipes": data["recipes"], "rtol": s.rtol, "samples_per_second": s.samples_per_second,
+            "witness_q": data["laws"]["euclidean"]["witness"]["q"]}
+
+
+def _brief(data):
+    """The run's two recipes and, per law, a flat row of what it did."""
+    keys = ("status", "balance_error", "min_lambda_min_f_hat", "inf_lambda_min_M_hat", "sup_lambda_max_M_hat",
+            "margin")
+    return {"recipes": data["recipes"],
+            "laws": {name: {**{k: law[k] for k in keys}, "witness_t": law["witness"]["t"]}
+                     for name, law in data["laws"].items()}}
+
+
+def _escape_figures(data):
+    laws = data["laws"]
+    lines = lambda key: {name: np.c_[law["series"]["t"], law["series"][key]].tolist()  # noqa: E731
+                         for name, law in laws.items()}
+    return {"f": {"series": {"title": "min_l lambda_min(f(Phi_hat_l(t))): Slotine-Li (euclidean) and natural",
+                             "x_label": "t (s)", "y_label": "lambda_min", "lines": lines("lambda_min_f_hat")}},
+            "M": {"series": {"title": "sampled inf_q lambda_min(M(q, Theta_hat(t)))", "x_label": "t (s)",
+                             "y_label": "lambda_min", "lines": lines("inf_lambda_min_M_hat")}}}
+
+
+@check("APP-euclidean-escape", needs={"chain"})
+def euclidean_escape(ctx):
+    try:
+        hunts = _scene_keys(ctx, settings_for(ctx).hunts)
+    except ValueError as exc:
+        return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE, str(exc))
+    return euclidean_escape_result(ctx, hunts)
+
+
+@replayer("adaptive-escape")
+def replay_escape(data, ctx):
+    """Simulate the saved Slotine-Li run and its natural twin again: the escape must recur at the saved
+    configuration (or a sampled one) and the natural law must stay consistent."""
+    euclidean, natural = (Recipe.from_data(r) for r in data["recipes"])
+    s = dataclasses.replace(settings_for(ctx), rtol=data["rtol"], samples_per_second=data["samples_per_second"])
+    found = escape_margin(euclidean, s, np.atleast_2d(data["witness_q"]), twin=lambda _: natural)
+    e, nat = found["laws"]["euclidean"], found["laws"]["natural"]
+    if _natural_fails(found):
+        verdict = Verdict.VIOLATED
+    else:
+        verdict = Verdict.HOLDS if e["margin"] < -found["resolution"] else Verdict.INCONCLUSIVE
+    return Result("APP-euclidean-escape", verdict,
+                  f"Slotine-Li: inf lambda_min(M_hat) {e['inf_lambda_min_M_hat']:.3g}, min lambda_min(f(Phi_hat)) "
+                  f"{e['min_lambda_min_f_hat']:.3g}; natural: min lambda_min(f(Phi_hat)) "
+                  f"{nat['min_lambda_min_f_hat']:.3g}, inf lambda_min(M_hat) {nat['inf_lambda_min_M_hat']:.3g}",
+                  {"run": _brief(found)})

@@ -1,0 +1,271 @@
+"""Adaptive tracking on three plants: the controller of Slotine and Li with a plug-in adaptive law.
+
+    qd_r = qd_d - Lambda e,  s = qd - qd_r,  tau = sum_l R_l(q, qd, qd_r, qdd_r) Phi_hat_l - K_D s
+
+with e = q - q_d (RoboticRegressor for R_l, the law from inertiaproof.sim.adaptive). The plant is
+
+- ``gre``: the generalized equation (RoboticEquation) with M(q, Thetadot), H(q, Psi) and J^T Q^T Psidot;
+- ``pagilla``: Eq. (2) (SimpleGeneralizationOfTheRoboticEquation) with F = M(q, Thetadot) (DefF), no particle motion;
+- ``classical``: Eq. (1) (ClassicalRoboticEquation) with Theta(t) frozen at every instant (no rate terms).
+
+Along every run V = 1/2 s^T M(q, Theta) s + D(z, Theta) obeys, by Prop1 (skew-symmetry of Mdot - 2C - M(q, Thetadot)
+and of H), Prop2 and the law's divergence,
+
+    Vdot = -s^T K_D s - s^T X + 1/2 s^T M(q, Thetadot) s + dD/dTheta . Thetadot
+
+with X the plant's terms beyond Eq. (1) (gre: (M(q, Thetadot) + H) qd + J^T Q^T Psidot; pagilla: M(q, Thetadot) qd;
+classical: 0), assembled here from inertiaproof.dynamics.terms independently of the plant's inverse dynamics.
+A run integrates the right-hand side as W; max |V - V(0) - W| / max |V| is its Lyapunov balance error.
+
+Runs on one chain are integrated together (one state vector, batched NumPy, RK45); each keeps its own
+trajectory, law, gains, reference, initial estimate and plant, and keeps what it reached when the batch stops early.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import RK45
+
+from inertiaproof.dynamics import motion, regressors, terms
+
+from .adaptive import make_law
+from .control import controller, reference_motion
+
+__all__ = ["PLANTS", "Batch", "Gains", "Reference", "Run", "RunSpec", "scene_specs", "simulate"]
+
+PLANTS = ("gre", "pagilla", "classical")
+KEPT = {"gre": (1.0, 1.0), "pagilla": (1.0, 0.0), "classical": (0.0, 0.0)}  # (Thetadot, Psi) each plant keeps
+
+
+@dataclass(frozen=True)
+class Reference:
+    """q_d(t) = home + amplitude sin(2 pi frequency t + k pi / 3) on joint k (inertiaproof.sim.control)."""
+
+    home: np.ndarray
+    amplitude: float
+    frequency: float
+
+
+@dataclass(frozen=True)
+class Gains:
+    lam: np.ndarray  # Lambda (n,), 1/s
+    kd: np.ndarray  # K_D (n,)
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    trajectory: object  # inertiaproof.dynamics.trajectory.ParameterTrajectory
+    law: object  # inertiaproof.sim.adaptive.AdaptiveLaw
+    gains: Gains
+    reference: Reference
+    theta_hat0: np.ndarray  # (N, 10)
+    plant: str = "gre"
+
+    def __post_init__(self):
+        if self.plant not in PLANTS:
+            raise ValueError(f"plant must be one of {PLANTS}, not {self.plant!r}")
+
+
+def scene_specs(scene, laws, plants, settings=None, trajectory=None):
+    """RunSpecs of a scene for every (law, plant): its [control] reference, its [adaptive] gains (or ``settings``),
+    Theta_hat(0) = estimate Theta(t0), K_D = kd diag(M(home, Theta(t0))); ``trajectory`` replaces the scene's."""
+    s = settings or scene.adaptive
+    trajectory = trajectory or scene.trajectory
+    c = controller(scene.chain, trajectory, scene.control)
+    n = scene.chain.n
+    mass_diagonal = np.diagonal(terms.mass_matrix(scene.chain.body_jacobian(c.home), c.nominal))
+    gains = Gains(np.full(n, s.lam), s.kd * mass_diagonal)
+    reference = Reference(c.home, c.amplitude, c.frequency)
+    theta_hat0 = np.asarray(s.estimate, float)[:, None] * c.nominal
+    return [RunSpec(trajectory, make_law(law, s.gain(law)), gains, reference, theta_hat0, plant)
+            for law in laws for plant in plants]
+
+
+def _groups(items):
+    """[(item, indices)] of the distinct objects (by identity), in first-seen order."""
+    out = {}
+    for i, item in enumerate(items):
+        out.setdefault(id(item), (item, []))[1].append(i)
+    return [(item, np.array(idx)) for item, idx in out.values()]
+
+
+class Batch:
+    """The closed loops of several runs on one chain. ``forces`` is the plants' inverse dynamics (replaceable, so
+    that tests can feed a wrong equation)."""
+
+    def __init__(self, chain, specs, forces=motion.generalized_forces):
+        self.chain, self.specs, self.forces = chain, list(specs), forces
+        self.n, self.bodies = chain.n, self.specs[0].trajectory.bodies
+        self.size = 2 * self.n + 10 * self.bodies + 1  # q, qd, z, W
+        self.home = np.stack([s.reference.home for s in self.specs]).astype(float)
+        self.amplitude = np.array([s.reference.amplitude for s in self.specs], float)
+        self.frequency = np.array([s.reference.frequency for s in self.specs], float)
+        self.lam = np.stack([np.broadcast_to(s.gains.lam, (self.n,)) for s in self.specs]).astype(float)
+        self.kd = np.stack([np.broadcast_to(s.gains.kd, (self.n,)) for s in self.specs]).astype(float)
+        kept = np.array([KEPT[s.plant] for s in self.specs])
+        self.keep_rate, self.keep_psi = kept[:, 0], kept[:, 1]
+        self.trajectories = _groups([s.trajectory for s in self.specs])
+        self.laws = _groups([s.law for s in self.specs])
+        self.evaluations = 0
+
+    def split(self, y):
+        """(q, qd, z, W) of states y (..., B * size)."""
+        y = y.reshape(y.shape[:-1] + (len(self.specs), self.size))
+        n = self.n
+        return y[..., :n], y[..., n:2 * n], y[..., 2 * n:-1].reshape(y.shape[:-1] + (self.bodies, 10)), y[..., -1]
+
+    def reference(self, t):
+        return reference_motion(self.home, self.amplitude, self.frequency, t)
+
+    def parameters(self, t):
+        """Each run's own Theta, Thetadot, Psi, Psidot at times t (scalar or (..., B)), stacked over runs."""
+        t = np.asarray(t, float)
+        shape = (len(self.specs),) if t.ndim == 0 else t.shape
+        parts = [None] * 4
+        for trajectory, idx in self.trajectories:
+            p = motion.parameters(trajectory, t if t.ndim == 0 else t[..., idx])  # one time: once per trajectory
+            for k, x in enumerate((p.theta, p.theta_dot, p.psi, p.psi_dot)):
+                tail = x.shape[t.ndim:]
+                if parts[k] is None:
+                    parts[k] = np.zeros(shape + tail)
+                parts[k][(Ellipsis, idx) + (slice(None),) * len(tail)] = x if t.ndim else x[None]
+        return motion.Parameters(*parts)
+
+    def per_law(self, method, z, *args):
+        """law.method(z, *args) over each law's runs, assembled; the arguments are (..., B, N, 10)."""
+        out = None
+        for law, idx in self.laws:
+            value = getattr(law, method)(z[..., idx, :, :], *(a[..., idx, :, :] for a in args))
+            if out is None:
+                out = np.zeros(z.shape[:-3] + (len(self.specs),) + value.shape[z.ndim - 2:])
+            out[(Ellipsis, idx) + (slice(None),) * (value.ndim - z.ndim + 2)] = value
+        return out
+
+    def plant_parameters(self, p):
+        """What the plants keep: Eq. (2) drops Psi, Eq. (1) also Thetadot."""
+        return motion.Parameters(p.theta, self.keep_rate[:, None, None] * p.theta_dot,
+                                 self.keep_psi[:, None] * p.psi, self.keep_psi[:, None] * p.psi_dot)
+
+    def rhs(self, t, y):
+        self.evaluations += 1
+        q, qd, z, _ = self.split(y)
+        kin = motion.kinematics(self.chain, q)
+        q_d, qd_d, qdd_d = self.reference(t)
+        e, e_dot = q - q_d, qd - qd_d
+        qd_r, qdd_r = qd_d - self.lam * e, qdd_d - self.lam * e_dot
+        s = qd - qd_r
+        r = regressors.regressor(kin.qj, kin.dqj, kin.rotations, self.chain.gravity, qd, qd_r, qdd_r)
+        tau = regressors.apply_regressor(r, self.per_law("estimate", z)) - self.kd * s
+        p = self.parameters(t)
+        plant = self.plant_parameters(p)
+        bias = self.forces(kin, self.chain.gravity, plant, qd, np.zeros_like(qd))
+        qdd = np.linalg.solve(terms.mass_matrix(kin.qj, p.theta), (tau - bias)[..., None])[..., 0]
+        zdot = self.per_law("rate", z, np.einsum("...lkh,...k->...lh", r, s))
+        power = self.lyapunov_power(kin, p, plant, qd, s, z)
+        return np.concatenate([qd, qdd, zdot.reshape(zdot.shape[:-2] + (-1,)), power[..., None]], -1).reshape(y.shape)
+
+    def lyapunov_power(self, kin, p, plant, qd, s, z):
+        """Vdot by the identity of the module docstring."""
+        m_rate = terms.mass_matrix(kin.qj, p.theta_dot)
+        extra = (self.keep_rate[:, None] * np.einsum("...ij,...j->...i", m_rate, qd)
+                 + np.einsum("...ij,...j->...i", terms.lumped_velocity_matrix(kin.dqj, plant.psi), qd)
+                 + terms.lumped_acceleration_force(kin.qj, plant.psi_dot))
+        rate_part = 0.5 * np.einsum("...i,...ij,...j->...", s, m_rate, s)
+        divergence_part = np.sum(self.per_law("divergence_gradient", z, p.theta) * p.theta_dot, axis=(-2, -1))
+        return -np.sum(self.kd * s * s, -1) - np.sum(s * extra, -1) + rate_part + divergence_part
+
+    def lyapunov(self, t, y):
+        """V = 1/2 s^T M(q, Theta) s + D at states y (T, B * size) and times t (T,): (T, B)."""
+        q, qd, z, _ = self.split(y)
+        t = np.asarray(t, float)[:, None] * np.ones(len(self.specs))
+        q_d, qd_d, _ = self.reference(t)
+        s = qd - qd_d + self.lam * (q - q_d)
+        p = self.parameters(t)
+        m = terms.mass_matrix(motion.kinematics(self.chain, q).qj, p.theta)
+        divergence = np.zeros(t.shape)
+        for law, idx in self.laws:
+            divergence[..., idx] = law.divergence(z[..., idx, :, :], p.theta[..., idx, :, :])
+        return 0.5 * np.einsum("...i,...ij,...j->...", s, m, s) + divergence
+
+    def initial_state(self):
+        t0 = np.array([s.trajectory.span[0] for s in self.specs])
+        q0, qd0, _ = self.reference(t0)
+        z0 = np.stack([s.law.initial(s.theta_hat0) for s in self.specs]).reshape(len(self.specs), -1)
+        return np.concatenate([q0, qd0, z0, np.zeros((len(self.specs), 1))], -1).ravel()
+
+    def scale(self):
+        """Absolute tolerance per component: the reference's amplitude and its rate, each law state's size, and
+        the energy 1/2 K_D / Lambda |qd|^2 of a velocity error of the reference's rate."""
+        y0 = self.initial_state().reshape(len(self.specs), self.size)
+        q = np.maximum(self.amplitude, 0.1)[:, None] * np.ones(self.n)
+        qd = q * np.maximum(2 * np.pi * self.frequency, 1.0)[:, None]
+        z = np.abs(y0[:, 2 * self.n:-1])
+        z = np.maximum(z, 1e-3 * z.max(-1, keepdims=True))
+        energy = 0.5 * np.sum(self.kd / self.lam * qd * qd, -1)
+        return np.concatenate([q, qd, z, energy[:, None]], -1).ravel()
+
+
+@dataclass
+class Run:
+    """One run of a batch: its spec, how the batch ended, the samples it reached, its Lyapunov balance error."""
+
+    spec: RunSpec
+    index: int  # in its batch
+    status: str  # ok, budget, error, nan, step collapse
+    note: str
+    seconds: float  # of the whole batch
+    evaluations: int  # right-hand sides of the whole batch
+    t: np.ndarray = field(default=None, repr=False)
+    y: np.ndarray = field(default=None, repr=False)  # (T, size): q, qd, z, W
+    balance_error: float = np.nan
+
+    @property
+    def finished(self):
+        return self.status == "ok"
+
+
+def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=50_000, max_seconds=60.0,
+             forces=motion.generalized_forces):
+    """Integrate the runs together over [t0, t0 + horizon] (t0 of the first run's trajectory) with RK45; returns
+    (runs, batch). A batch that stops early (``budget``, ``nan``, ``step collapse``, ``error``) keeps the samples
+    it reached. The tolerance applies to the whole state (all runs): a run alone may be resolved better."""
+    batch = Batch(chain, specs, forces)
+    t0 = specs[0].trajectory.span[0]
+    t_eval = np.linspace(t0, t0 + horizon, samples)
+    y0 = batch.initial_state()
+    solver = RK45(batch.rhs, t0, y0, t0 + horizon, rtol=rtol, atol=rtol * batch.scale())
+    ys, reached = [y0], 1
+    status, note = "ok", ""
+    start = time.perf_counter()
+    with np.errstate(all="ignore"):
+        while solver.status == "running":
+            if batch.evaluations > max_evaluations or time.perf_counter() - start > max_seconds:
+                status, note = "budget", (f"stopped at t = {solver.t:.6g} after {batch.evaluations} evaluations "
+                                          f"(budget {max_evaluations} evaluations or {max_seconds:g} s)")
+                break
+            try:
+                message = solver.step()
+            except (np.linalg.LinAlgError, ValueError, FloatingPointError) as exc:
+                status, note = "error", f"{type(exc).__name__}: {exc} (at t = {solver.t:.6g})"
+                break
+            if solver.status == "failed":
+                status, note = "step collapse", f"{message} (at t = {solver.t:.6g})"
+                break
+            if not np.all(np.isfinite(solver.y)):
+                status, note = "nan", f"non-finite state at t = {solver.t:.6g}"
+                break
+            k = np.searchsorted(t_eval, solver.t, side="right")
+            if k > reached:
+                ys.extend(solver.dense_output()(t_eval[reached:k]).T)
+                reached = k
+    seconds = time.perf_counter() - start
+    t, y = t_eval[:reached], np.array(ys)
+    with np.errstate(all="ignore"):
+        v = batch.lyapunov(t, y)
+    err = np.abs(v - v[0] - batch.split(y)[3]).max(0) / np.maximum(np.abs(v).max(0), np.finfo(float).tiny)
+    per_run = y.reshape(reached, len(specs), batch.size)
+    return [Run(spec, i, status, note, seconds, batch.evaluations, t, per_run[:, i], float(err[i]))
+            for i, spec in enumerate(specs)], batch

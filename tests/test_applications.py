@@ -1,0 +1,153 @@
+"""The APP checks (checks/applications.py): each holds on the built-in scenes and is VIOLATED on a wrong input;
+``inertiaproof adapt`` on the shipped scenes with both laws and all three plants; the [adaptive] table."""
+
+import dataclasses
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from inertiaproof import cli
+from inertiaproof.checks import applications as app
+from inertiaproof.dynamics import motion
+from inertiaproof.model.inertia import pseudo_inertia
+from inertiaproof.report import adapt as adapt_report
+from inertiaproof.result import Verdict
+from inertiaproof.scene.format import SceneError, parse_scene
+from inertiaproof.suite.catalog import APPLICATIONS, BY_ID
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.outputs import Outputs
+from inertiaproof.suite.profiles import PROFILES
+from inertiaproof.suite.replay import replay
+
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
+KEY = "planar-2r-payload"
+
+
+@pytest.fixture(scope="module")
+def app_ctx(tmp_path_factory):
+    """One ci context for the module: the robustness study of the 2R payload scene is simulated once."""
+    out = tmp_path_factory.mktemp("app")
+    return Context(PROFILES["ci"], seed=0, outputs=Outputs(out, out / "found"))
+
+
+def _saved(result, ctx):
+    path = ctx.save_counterexample(result)
+    assert path is not None
+    return replay(path)
+
+
+def test_the_rows_are_in_the_catalog():
+    assert [e.id for e in APPLICATIONS] == ["APP-estimate-bounds", "APP-euclidean-escape", "APP-robustness"]
+    assert all(BY_ID[e.id] is e for e in APPLICATIONS)
+
+
+def test_estimate_bounds_hold_and_fail_without_the_qj_brackets(app_ctx):
+    result = app.estimate_bounds_result(app_ctx, [KEY])
+    assert result.verdict == Verdict.HOLDS, result.summary
+    natural = [row for name, row in result.evidence["runs"].items() if "natural" in name]
+    assert len(natural) == len(app.SETTINGS["ci"].ramps) and all(row["margin"] > 0 for row in natural)
+    wrong = app.estimate_bounds_result(app_ctx, [KEY], gamma_override=1.0, sigma_override=1.0)
+    assert wrong.verdict == Verdict.VIOLATED
+    assert wrong.counterexample["data"]["bound"] == "upper"
+    assert _saved(wrong, app_ctx).verdict == Verdict.VIOLATED
+
+
+def test_an_inconsistent_estimate_passed_as_consistent_violates_the_lower_bound(app_ctx):
+    def xi_of_the_truth(recipe, run, batch):
+        theta = recipe.spec().trajectory.theta(run.t)[0]
+        return float(np.linalg.eigvalsh(pseudo_inertia(theta))[..., 0].min())
+
+    wrong = app.estimate_bounds_result(app_ctx, [KEY], xi_override=xi_of_the_truth)
+    assert wrong.verdict == Verdict.VIOLATED
+    assert wrong.counterexample["data"]["bound"] == "lower"
+    assert wrong.counterexample["data"]["recipe"]["law"] == "slotine-li"
+
+
+def test_euclidean_escape_is_found_saved_and_replays(app_ctx):
+    result = app.euclidean_escape_result(app_ctx, {KEY: 3})
+    assert result.verdict == Verdict.HOLDS, result.summary
+    euclidean, natural = (result.evidence["escapes"][KEY]["run"]["laws"][k] for k in ("euclidean", "natural"))
+    assert euclidean["inf_lambda_min_M_hat"] < 0 < natural["inf_lambda_min_M_hat"]
+    assert euclidean["min_lambda_min_f_hat"] < 0 < natural["min_lambda_min_f_hat"]
+    replayed = replay(result.evidence["escapes"][KEY]["witness_file"])
+    assert replayed.verdict == Verdict.HOLDS, replayed.summary
+
+
+def test_a_euclidean_law_passed_as_natural_is_violated(app_ctx):
+    wrong = app.euclidean_escape_result(app_ctx, {KEY: 3}, twin=lambda r: dataclasses.replace(r, law="slotine-li"))
+    assert wrong.verdict == Verdict.VIOLATED
+    assert _saved(wrong, app_ctx).verdict == Verdict.VIOLATED
+
+
+def test_robustness_holds_and_a_plant_without_its_rate_term_is_violated(app_ctx):
+    result = app.robustness_result(app_ctx, [KEY])
+    assert result.verdict == Verdict.HOLDS, result.summary
+    table = result.evidence["table"]
+    assert {row["plant"] for row in table} == {"gre", "classical"}  # Eq. (2) is the generalized one when Psi = 0
+    assert len(table) == len(app.SETTINGS["ci"].ramps) * 2 * len(app.SETTINGS["ci"].laws)
+    fastest = [row for row in table if row["load_s"] == min(app.SETTINGS["ci"].ramps)]
+    assert all(row["rate"] > 50 for row in fastest)  # a 10 ms ramp of 2 kg
+
+    def no_rate(kin, g, p, qd, qdd):
+        return motion.generalized_forces(kin, g, dataclasses.replace(p, theta_dot=0 * p.theta_dot), qd, qdd)
+
+    wrong = app.robustness_result(app_ctx, [KEY], forces=no_rate)
+    assert wrong.verdict == Verdict.VIOLATED
+    assert wrong.counterexample["kind"] == "adaptive-balance"
+
+
+# -- inertiaproof adapt and the [adaptive] table ------------------------------------------------
+
+@pytest.mark.parametrize("scene", ["planar_2r_payload", "trolley_2r", "panda_payload_3kg"])
+@pytest.mark.parametrize("law", ["slotine-li", "natural"])
+@pytest.mark.parametrize("plant", ["gre", "pagilla", "classical"])
+def test_adapt_runs_the_shipped_scenes(scene, law, plant, tmp_path, capsys):
+    horizon = "0.1" if scene.startswith("panda") else "0.4"
+    code = cli.main(["adapt", "--scene", str(SCENES / f"{scene}.toml"), "--law", law, "--plant", plant,
+                     "--out", str(tmp_path), "--horizon", horizon, "--samples", "9", "--rtol", "1e-4",
+                     "--configurations", "4"])
+    assert code == 0, capsys.readouterr()
+    doc = json.loads((tmp_path / "adapt.json").read_text())
+    assert doc["law"] == law and doc["plant"] == plant and doc["status"] == "ok"
+    assert len(doc["series"]["t"]) == 9 and len(doc["series"]["lambda_min_f_hat"][0]) == len(doc["gains"]["kd"])
+    header = (tmp_path / "series.csv").read_text().splitlines()[0].split(",")
+    assert {"tracking_error", "parameter_error", "lambda_min_f_hat_1", "lambda_max_M_hat"} <= set(header)
+
+
+def test_adapt_report_plots_the_series(tmp_path, capsys):
+    code = cli.main(["adapt", "--scene", str(SCENES / "planar_2r_payload.toml"), "--law", "natural", "--out",
+                     str(tmp_path), "--horizon", "0.3", "--samples", "7", "--rtol", "1e-4"])
+    assert code == 0 and cli.main(["report", str(tmp_path), "--no-pdf"]) == 0
+    assert (tmp_path / "adapt.html").is_file() and not (tmp_path / "report.html").exists()
+    document = adapt_report.build(adapt_report.load(tmp_path / "adapt.json"))
+    assert len(document.figures()) == 5
+
+
+@pytest.mark.parametrize("gains, message", [
+    ("lambda = -1.0\n", "lambda: must be > 0"),
+    ("speed = 1.0\n", "speed: unknown key"),
+    ("[gamma]\nnatural = \"fast\"\n", "gamma.natural: must be a number"),
+])
+def test_adapt_rejects_a_bad_gains_file_in_one_line(gains, message, tmp_path, capsys):
+    path = tmp_path / "gains.toml"
+    path.write_text(gains)
+    code = cli.main(["adapt", "--scene", str(SCENES / "planar_2r_payload.toml"), "--law", "natural", "--gains",
+                     str(path), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "\n" not in err and message in err and str(path) in err
+
+
+def test_adapt_rejects_a_negative_horizon_in_one_line(tmp_path, capsys):
+    code = cli.main(["adapt", "--scene", str(SCENES / "planar_2r_payload.toml"), "--law", "natural", "--horizon",
+                     "-1", "--out", str(tmp_path)])
+    assert code == 2 and "--horizon: must be > 0" in capsys.readouterr().err
+
+
+def test_the_adaptive_table_of_a_scene():
+    text = (SCENES / "panda_payload_3kg.toml").read_text()
+    scene = parse_scene(text, "panda.toml")
+    assert scene.adaptive.gain("natural") == 200.0 and scene.adaptive.lam == 5.0
+    with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.estimate: must be a list of 7 numbers"):
+        parse_scene(text.replace("estimate = 1.0", "estimate = [1.0, 2.0]"), "panda.toml")
