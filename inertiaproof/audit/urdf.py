@@ -26,13 +26,11 @@ from pathlib import Path
 
 import numpy as np
 
-from inertiaproof.errors import InputError
+from inertiaproof.errors import LARGEST, InputError
 from inertiaproof.model.inertia import from_urdf, pack, urdf_inertia
 
 __all__ = ["INERTIA_ATTRIBUTES", "Inertial", "JOINT_TYPES", "LARGEST", "Link", "read_urdf", "Robot", "UrdfJoint"]
 
-# |x| <= 1e60 keeps every product of five inputs (M(q) sums m |c|^2 terms) finite in float64
-LARGEST = 1e60
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 INERTIA_ATTRIBUTES = ("ixx", "iyy", "izz", "ixy", "iyz", "ixz")
 

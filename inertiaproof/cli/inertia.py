@@ -20,7 +20,8 @@ def configure(parser):
 def main(args):
     rows = read_rows(args.file)
     good = [r for r in rows if r.error is None]
-    verdicts = physical_consistency(np.array([r.decided_on for r in good])) if good else None
+    verdicts = physical_consistency(np.array([r.decided_on for r in good]),
+                                    written=[r.written for r in good]) if good else None
     by_number = dict(zip((r.number for r in good), verdicts.rows() if good else ()))
     out = []
     for r in rows:

@@ -228,7 +228,7 @@ def _why(v, m, s, rank, slack, lam):
     """The reason of a verdict from the mass, the eigenvalues s of Sigma_CoM and the margins."""
     if v == INCONSISTENT and not m > 0:
         return f"mass <= 0 (m = {m:.6g})"
-    lam_text = f"lambda_min(f)/||f||_F = {lam:.3e}"
+    lam_text = f"lambda_min(f)/||f||_F = {lam:.3e}" if np.isfinite(lam) else "lambda_min(f) not computed"
     if v == CONSISTENT:
         return f"f > 0: strict triangle inequalities of I_CoM with slack {slack:.3e} of tr(I_CoM); {lam_text}"
     if v == DEGENERATE:
