@@ -30,6 +30,7 @@ frame, and the child link's frame is the joint frame moved by the joint.
 from __future__ import annotations
 
 import io
+import logging
 import math
 import re
 from dataclasses import dataclass, replace
@@ -157,7 +158,7 @@ def _parse_xml(data, path, warnings):
         root = etree.fromstring(data, parser=parser)
     except etree.XMLSyntaxError as exc:
         line = f" at line {exc.lineno}" if exc.lineno else ""
-        raise InputError(f"{path}: not well-formed XML{line}: {exc.msg}") from None
+        raise InputError(f"{path}: not well-formed XML{line}: {' '.join(exc.msg.split())}") from None
     except (ValueError, RecursionError) as exc:
         raise InputError(f"{path}: not usable XML: {exc}") from None
     if root.tag != "robot":
@@ -379,11 +380,15 @@ def _as_engines_read_it(root):
 def _from_yourdfpy(data, path, written, unlimited, spherical):
     import yourdfpy
 
+    logger = logging.getLogger("yourdfpy")
+    was, logger.disabled = logger.disabled, True  # its complaints would reach stderr; ours name the file
     try:
         model = yourdfpy.URDF.load(io.BytesIO(data), build_scene_graph=False, build_collision_scene_graph=False,
                                    load_meshes=False, load_collision_meshes=False).robot
     except Exception as exc:  # yourdfpy raises many kinds on elements the audit does not read
         raise InputError(f"{path}: yourdfpy cannot read it: {type(exc).__name__}: {exc}") from None
+    finally:
+        logger.disabled = was
     links = tuple(Link(link.name, _inertial(link.inertial, written.get(link.name))) for link in model.links)
     joints = tuple(
         UrdfJoint(

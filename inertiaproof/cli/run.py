@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import dataclasses
+import sys
 from pathlib import Path
 
 from inertiaproof.errors import InputError
 from inertiaproof.scene.format import load_scene
 from inertiaproof.suite import runner
+from inertiaproof.suite.outputs import checked_outputs
 from inertiaproof.suite.profiles import PROFILES
 
 __all__ = ["configure", "main"]
@@ -40,8 +42,9 @@ def main(args):
         if not 0 < args.budget < float("inf"):
             raise InputError(f"--budget must be a positive number of seconds, got {args.budget:g}")
         profile = dataclasses.replace(profile, check_s=args.budget)
+    found = checked_outputs(out, args.junit, args.counterexamples, lambda message: print(message, file=sys.stderr))
     run = runner.run_checks(profile=profile, seed=args.seed, only=args.only, scene=scene, symbolic=args.symbolic,
-                            out_dir=out, counterexample_dir=Path(args.counterexamples), progress=say)
+                            out_dir=out, counterexample_dir=found, progress=say)
     doc = runner.results_document(run, profile=args.profile, seed=args.seed, scene=args.scene)
     path = runner.write_results(out / "results.json", doc)
     print(runner.format_table(run))

@@ -156,7 +156,7 @@ class _Reader:
             if k not in table:
                 self.error(path, f"missing required key {k!r}")
 
-    def number(self, table, path, key, default=None, positive=False, nonnegative=False):
+    def number(self, table, path, key, default=None, positive=False, nonnegative=False, endless=False):
         if key not in table:
             if default is None:
                 self.error(path, f"missing required key {key!r}")
@@ -169,6 +169,8 @@ class _Reader:
         v = float(v)
         if np.isnan(v):
             self.error(path + (key,), "must be a number, got nan")
+        if not np.isfinite(v) and not (endless and v > 0):
+            self.error(path + (key,), f"must be finite, got {getattr(table[key], 'text', v)}")
         if np.isfinite(v) and abs(v) > LARGEST:
             self.error(path + (key,), f"{v:g} is out of range (|x| <= {LARGEST:g})")
         if positive and not v > 0:
@@ -372,6 +374,8 @@ def parse_scene(text, source="<scene>"):
         raise SceneError(f"{source}:{m.group(1) if m else '?'}: not valid TOML: {exc}") from None
     except RecursionError:
         raise SceneError(f"{source}: not usable TOML: nested too deeply") from None
+    except ValueError as exc:  # tomllib's int() of an integer beyond Python's 4300 digits
+        raise SceneError(f"{source}: not usable TOML: {str(exc).split(';')[0]}") from None
     r = _Reader(text, source)
     r.keys(data, (), {"name", "description", "chain", "body", "load", "time", "control"},
            required=("name", "chain", "body"))
@@ -392,7 +396,7 @@ def parse_scene(text, source="<scene>"):
     time_t = r.table(data, (), "time", required=False) or {}
     r.keys(time_t, ("time",), {"start", "end"})
     t0 = r.number(time_t, ("time",), "start", 0.0)
-    t1 = r.number(time_t, ("time",), "end", t0 + 5.0)
+    t1 = r.number(time_t, ("time",), "end", t0 + 5.0, endless=True)
     if not t1 > t0:
         r.error(("time", "end"), f"must be after time.start = {t0:g}, got {t1:g}")
     trajectory = ParameterTrajectory(base, loads, (t0, t1))

@@ -104,6 +104,8 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
     profile = PROFILES[profile] if isinstance(profile, str) else profile
     checks = load_checks()
     specs, skipped = select(checks, only=only, scene=scene, symbolic=symbolic)
+    if not specs:
+        raise InputError("nothing to run: " + "; ".join(f"{name} is left out: {why}" for name, why in skipped))
     say = progress or (lambda message: None)
     run = Run(skipped=skipped)
     memo = {}
@@ -122,8 +124,10 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
         result.scene = getattr(scene, "source", None) or getattr(scene, "name", None)
         result.artifacts = list(outputs.artifacts)
         if result.verdict == Verdict.VIOLATED and result.counterexample:
-            path = ctx.save_counterexample(result)
-            result.counterexample["file"] = str(path)
+            try:
+                result.counterexample["file"] = str(ctx.save_counterexample(result))
+            except OSError as exc:  # it still goes into results.json
+                result.counterexample["not_saved"] = f"{exc.filename or ''}: {exc.strerror or exc}"
         say(f"[{i}/{len(specs)}] {spec.name}: {result.verdict} ({result.runtime_s:.2f} s)")
         run.results.append(result)
     run.runtime_s = time.perf_counter() - start
