@@ -117,7 +117,7 @@ def test_symbolic_work_on_a_scene_only_when_asked(tmp_path, capsys):
     scene = tmp_path / "s.toml"
     scene.write_text(SCENE)
     assert cli.main(["run", "--scene", str(scene), "--only", "GRE", "--out", str(tmp_path), "--quiet"]) == 2
-    assert "nothing to run: GRE:scene is left out" in capsys.readouterr().err  # and why: --symbolic
+    assert "GRE:scene is left out: needs symbolic work (not asked for: add --symbolic)" in capsys.readouterr().err
     assert cli.main(["run", "--scene", str(scene), "--symbolic", "--only", "GRE", "--out", str(tmp_path), "--quiet"]) == 0
     doc = json.loads((tmp_path / "results.json").read_text())
     (result,) = doc["checks"]
