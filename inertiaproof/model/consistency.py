@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from fractions import Fraction
@@ -400,7 +401,7 @@ class _ExactRow:
         self.float_row = as_float
         self.row = as_float if written is None else [w if w is not None else Fraction(x) if np.isfinite(x) else None
                                                      for w, x in zip(written, floats)]
-        if any(x is None for x in self.row):
+        if self.row is None or any(x is None for x in self.row):
             self.row, self.verdict, self.rank = None, INVALID, -1
         elif written is None:
             self.verdict, self.rank = self.float_verdict, self.float_rank
@@ -425,7 +426,7 @@ class _ExactRow:
 
 def _exact_margins(row, verdict, rank, margins, first_bits=64, last_bits=8192):
     """(eigenvalues of Sigma_CoM, s1 / tr, lambda_min(f)/||f||_F) of an exact row, as floats whose signs agree with
-    its exact verdict: computed with mpmath at doubling precision until they do."""
+    its exact verdict: computed with mpmath (a context per thread) at growing precision until they do."""
     if row is None:
         return np.full(3, np.nan), np.nan, np.nan
     m, h, inertia = row[0], row[1:4], row[4:]
@@ -434,34 +435,39 @@ def _exact_margins(row, verdict, rank, margins, first_bits=64, last_bits=8192):
     sigma = [[half - i11, -i12, -i13], [-i12, half - i22, -i23], [-i13, -i23, half - i33]]
     s_com = [[sigma[r][c] - h[r] * h[c] / m for c in range(3)] for r in range(3)] if m > 0 else None
     f = [sigma[r] + [h[r]] for r in range(3)] + [list(h) + [m]]
-    bits = first_bits
+    if not hasattr(_THREAD, "mp"):
+        _THREAD.mp = mpmath.MPContext()
+    mp = _THREAD.mp
+    mp.prec = first_bits
     while True:
-        with mpmath.workprec(bits):
-            lam = None
-            if margins and any(x != 0 for row_f in f for x in row_f):
-                lam = min(mpmath.eigsy(_mp(f), eigvals_only=True)) / mpmath.mnorm(_mp(f), "f")
-            elif margins:
-                lam = mpmath.mpf(0)
-            if s_com is None:  # no mass: the verdict needs no eigenvalue of Sigma_CoM
-                return np.full(3, np.nan), np.nan, np.nan if lam is None else _signed_float(lam)
-            s = sorted(mpmath.eigsy(_mp(s_com), eigvals_only=True))
-            if verdict == DEGENERATE:
-                s[: 3 - rank] = [mpmath.mpf(0)] * (3 - rank)
-                lam = mpmath.mpf(0) if margins else None
-            sign = 1 if verdict == CONSISTENT else -1 if verdict == INCONSISTENT else 0
-            agree = sign == 0 or (mpmath.sign(s[0]) == sign and (lam is None or mpmath.sign(lam) == sign))
-            if agree or bits >= last_bits:
-                slack = s[0] / sum(s) if sum(s) != 0 else mpmath.mpf(0)
-                return (np.array([float(x) for x in s]), _signed_float(slack),
-                        np.nan if lam is None else _signed_float(lam))
-        bits *= 4
+        lam = None
+        if margins and any(x != 0 for row_f in f for x in row_f):
+            lam = min(mp.eigsy(_mp(mp, f), eigvals_only=True)) / mp.mnorm(_mp(mp, f), "f")
+        elif margins:
+            lam = mp.mpf(0)
+        if s_com is None:  # no mass: the verdict needs no eigenvalue of Sigma_CoM
+            return np.full(3, np.nan), np.nan, np.nan if lam is None else _signed_float(lam, mp)
+        s = sorted(mp.eigsy(_mp(mp, s_com), eigvals_only=True))
+        if verdict == DEGENERATE:
+            s[: 3 - rank] = [mp.mpf(0)] * (3 - rank)
+            lam = mp.mpf(0) if margins else None
+        sign = 1 if verdict == CONSISTENT else -1 if verdict == INCONSISTENT else 0
+        agree = sign == 0 or (mp.sign(s[0]) == sign and (lam is None or mp.sign(lam) == sign))
+        if agree or mp.prec >= last_bits:
+            slack = s[0] / sum(s) if sum(s) != 0 else mp.mpf(0)
+            return (np.array([float(x) for x in s]), _signed_float(slack, mp),
+                    np.nan if lam is None else _signed_float(lam, mp))
+        mp.prec *= 4
 
 
-def _mp(rows):
-    return mpmath.matrix([[mpmath.mpf(x.numerator) / x.denominator for x in row] for row in rows])
+_THREAD = threading.local()  # each thread its own mpmath context: the precision is a context's state
 
 
-def _signed_float(x):
+def _mp(mp, rows):
+    return mp.matrix([[mp.mpf(x.numerator) / x.denominator for x in row] for row in rows])
+
+
+def _signed_float(x, mp):
     """float(x), but a nonzero x too small for a float keeps its sign as the smallest subnormal."""
     value = float(x)
-    return value if value != 0 or x == 0 else math.copysign(5e-324, float(mpmath.sign(x)))
+    return value if value != 0 or x == 0 else math.copysign(5e-324, float(mp.sign(x)))
