@@ -41,7 +41,7 @@ from inertiaproof.suite.registry import replayer
 __all__ = [
     "cached", "case_result", "constants_evidence", "judge", "key_step_evidence", "kw", "parameter_stack",
     "pointwise_on_scene", "replay_bound_bracket", "replay_bracket", "run_scenes", "sampled_bracket",
-    "scene_samples", "time_and_configuration_bracket", "time_quantities",
+    "scene_samples", "shown", "time_and_configuration_bracket", "time_quantities",
 ]
 
 def cached(ctx, scene, what, fn):
@@ -168,11 +168,17 @@ def run_scenes(check_id, ctx, case, scenes, k=1.0):
     verdict = combine(verdicts)
     c = first[2]["constants"]
     bound_word = "at most" if c["paper"]["kind"] == "upper_bound" else "at least"
-    summary = (f"on {', '.join(rows)}: paper's constant {bound_word} {c['paper']['value']:.4g} (certified "
-               f"ingredients; {c['paper_observed']['value']:.4g} with observed ones), sharpest certified "
-               f"{c['certified']['value']:.4g}, worst observed {c['observed']['value']:.4g}; {first[1]}")
+    g = {key: shown(c[key]["value"]) for key in ("paper", "paper_observed", "certified", "observed")}
+    summary = (f"on {', '.join(rows)}: paper's constant {bound_word} {g['paper']} (certified "
+               f"ingredients; {g['paper_observed']} with observed ones), sharpest certified "
+               f"{g['certified']}, worst observed {g['observed']}; {first[1]}")
     evidence = {**first[2], "scenes": rows, "key_step": key_step_evidence()}
     return Result(check_id, verdict, summary, evidence, counterexample=first[3] if verdict == Verdict.VIOLATED else None)
+
+
+def shown(value):
+    """A quantity's value in a summary: a number to 4 digits; "inf" and "nan" (JSON-ready) as themselves."""
+    return value if isinstance(value, str) else f"{value:.4g}"
 
 
 def key_step_evidence():

@@ -21,6 +21,7 @@ from inertiaproof.checks.bound_verdicts import (
     pointwise_on_scene,
     run_scenes,
     sampled_bracket,
+    shown,
     time_quantities,
 )
 from inertiaproof.checks.pointwise import with_hunt
@@ -143,8 +144,8 @@ def cor1_result(ctx, scenes, k_lower=1.0, k_upper=1.0):
     high = run_scenes("Thm3", ctx, upper_bound_case, scenes, k_upper)
     rows, verdicts = {}, [low.verdict, high.verdict]
     for name in low.evidence["scenes"]:
-        a1 = low.evidence["scenes"][name]["constants"]["certified"]["value"]
-        a2 = high.evidence["scenes"][name]["constants"]["certified"]["value"]
+        a1 = float(low.evidence["scenes"][name]["constants"]["certified"]["value"])  # "inf", "nan" as floats again
+        a2 = float(high.evidence["scenes"][name]["constants"]["certified"]["value"])
         ok = 0 < a1 <= a2 < np.inf
         rows[name] = {"alpha1_certified": quantity(a1, "certified_constant", "Theorem 2, sharpest certified"),
                       "alpha2_certified": quantity(a2, "certified_constant", "Theorem 3, sharpest certified"),
@@ -152,7 +153,7 @@ def cor1_result(ctx, scenes, k_lower=1.0, k_upper=1.0):
         verdicts.append(Verdict.HOLDS if ok else Verdict.INCONCLUSIVE)
     verdict = combine(verdicts)
     return Result("Cor1", verdict, "certified 0 < alpha1 <= alpha2 < inf on " + "; ".join(
-        f"{n} ({r['alpha1_certified']['value']:.4g} <= {r['alpha2_certified']['value']:.4g})" for n, r in rows.items()),
+        f"{n} ({shown(r['alpha1_certified']['value'])} <= {shown(r['alpha2_certified']['value'])})" for n, r in rows.items()),
         {"scenes": rows, "Thm2": low.evidence, "Thm3": high.evidence},
         counterexample=low.counterexample or high.counterexample)
 

@@ -203,7 +203,7 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
     for ref, scene in scenes:
         control = controller(scene.chain, scene.trajectory, scene.control)
         cs = capture.study(scene.chain, scene.trajectory, control, counts, steps, forces, scene.horizon(), max_steps,
-                           max_count, progress=ctx.progress)
+                           max_count, progress=ctx.progress, budget=ctx.budget)
         verdicts.append(cs.verdict)
         _, order_start, _, _ = capture.convergence_verdict(cs.fine, cs.at_start, cs.floor) if cs.at_start else (
             None, None, None, None)
@@ -286,7 +286,7 @@ def stability_result(scenes, ctx, forces=motion.generalized_forces, settings=Non
     wp_rows, stab_rows, verdicts, evidence, counterexample = [], [], [], {"scenes": {}}, None
     for ref, scene, horizon in scenes:
         chosen = base if horizon is None else dataclasses.replace(base, horizon=horizon)
-        st = study.study(scene, chosen, forces, progress=ctx.progress)
+        st = study.study(scene, chosen, forces, progress=ctx.progress, budget=ctx.budget)
         verdict, coarse, fine, why = st.balance_verdict()
         verdicts.append(verdict)
         wp_rows += st.work_precision_rows()

@@ -278,6 +278,9 @@ def theorem1_necessity(ctx):
 def replay_pseudo_inertia(data, ctx):
     """Realise the saved f again and verify the moments by quadrature."""
     f = numbers(data.get("f"), "counterexample data: field 'f'", (4, 4))
+    if not np.array_equal(f, f.T) or definiteness(_exact_matrix(f)) != "pd":
+        raise InputError("counterexample data: field 'f' is not symmetric positive definite (decided exactly): "
+                         "Thm1-nec assumes f > 0, so there is nothing to replay")
     value, record = realisation(f)
     holds = value >= 0
     return Result("Thm1-nec", Verdict.HOLDS if holds else Verdict.VIOLATED,

@@ -1,6 +1,14 @@
 """Errors that reach the user as one line naming the problem (exit status 2)."""
 
-__all__ = ["InputError", "numbers"]
+import codecs
+
+__all__ = ["InputError", "LARGEST", "numbers", "read_text"]
+
+# |x| <= 1e60 keeps every product of five inputs (M(q) sums m |c|^2 terms) finite in float64
+LARGEST = 1e60
+
+_BOMS = ((codecs.BOM_UTF32_LE, "utf-32"), (codecs.BOM_UTF32_BE, "utf-32"), (codecs.BOM_UTF8, "utf-8-sig"),
+         (codecs.BOM_UTF16_LE, "utf-16"), (codecs.BOM_UTF16_BE, "utf-16"))
 
 
 class InputError(ValueError):
@@ -20,3 +28,24 @@ def numbers(value, where, shape=None):
     if not np.all(np.isfinite(a)):
         raise InputError(f"{where}: not finite: {a.tolist()}")
     return a
+
+
+def read_text(path, what="file"):
+    """The text of a file: UTF-8, or UTF-8/16/32 with a byte-order mark (which is not part of the text); any other
+    bytes are an InputError naming the file and the place."""
+    from pathlib import Path
+
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read {what}: {exc.strerror or exc}") from None
+    encoding = next((name for bom, name in _BOMS if data.startswith(bom)), "utf-8")
+    try:
+        text = data.decode(encoding)
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise InputError(f"{path}:{line}: not {encoding.upper().removesuffix('-SIG')} text: byte "
+                         f"0x{data[exc.start]:02x} at column {column} (save the {what} as UTF-8)") from None
+    return text

@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 
 from inertiaproof.errors import InputError
+from inertiaproof.suite.environment import command
 from inertiaproof.suite.profiles import PROFILES
 
 __all__ = [
@@ -116,8 +117,8 @@ def run_gate(profile_name, lockfile=LOCKFILE, progress=None):
     if hash_seed_is_fixed():
         return evaluate(PROFILES[profile_name], lockfile, progress)[0]
     env = dict(os.environ, PYTHONHASHSEED="0")
-    child = subprocess.run([sys.executable, "-m", "inertiaproof", "gate", "--profile", profile_name, "--lockfile",
-                            str(lockfile), "--json"], capture_output=True, text=True, env=env)
+    child = subprocess.run(command("gate", "--profile", profile_name, "--lockfile", str(lockfile), "--json"),
+                           capture_output=True, text=True, env=env)
     try:
         return json.loads(child.stdout)
     except json.JSONDecodeError:
@@ -179,7 +180,7 @@ def main(args):
             print("gate: re-running under PYTHONHASHSEED=0 (SymPy's printed forms depend on the hash seed)",
                   file=sys.stderr)
         env = dict(os.environ, PYTHONHASHSEED="0")
-        return subprocess.run([sys.executable, "-m", "inertiaproof", "gate", *_argv(args)], env=env).returncode
+        return subprocess.run(command("gate", *_argv(args)), env=env).returncode
     say = (lambda m: None) if args.quiet or args.json else (lambda m: print(f"gate: {m}", file=sys.stderr, flush=True))
     report, found = evaluate(PROFILES[args.profile], args.lockfile, say)
     if args.update:

@@ -32,9 +32,15 @@ def inertia_signature(matrix):
     return positive, zero, negative
 
 
+def _exact(x):
+    """A Fraction as itself (a decimal as written), anything else as its float's exact value."""
+    return x if isinstance(x, Fraction) else Fraction(float(x))
+
+
 def verdict_of_phi(phi):
-    """'consistent', 'degenerate' or 'inconsistent' of Phi (paper order), exactly on its float values."""
-    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = (Fraction(float(x)) for x in phi)
+    """'consistent', 'degenerate' or 'inconsistent' of Phi (paper order), exactly on its values (floats, or
+    Fractions for decimals as written)."""
+    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = (_exact(x) for x in phi)
     half = (i11 + i22 + i33) / 2
     f = [[half - i11, -i12, -i13, h1], [-i12, half - i22, -i23, h2], [-i13, -i23, half - i33, h3], [h1, h2, h3, m]]
     positive, zero, negative = inertia_signature(f)
@@ -47,10 +53,9 @@ def verdict_of_phi(phi):
 
 def verdict_about_com(mass, ixx, iyy, izz, ixy, iyz, ixz):
     """The same for a URDF inertia about the CoM: m > 0 and Sigma_c = tr(I_c)/2 I3 - I_c."""
-    m = Fraction(float(mass))
-    i = [[Fraction(float(ixx)), Fraction(float(ixy)), Fraction(float(ixz))],
-         [Fraction(float(ixy)), Fraction(float(iyy)), Fraction(float(iyz))],
-         [Fraction(float(ixz)), Fraction(float(iyz)), Fraction(float(izz))]]
+    m = _exact(mass)
+    i = [[_exact(ixx), _exact(ixy), _exact(ixz)], [_exact(ixy), _exact(iyy), _exact(iyz)],
+         [_exact(ixz), _exact(iyz), _exact(izz)]]
     half = (i[0][0] + i[1][1] + i[2][2]) / 2
     sigma = [[(half if r == c else 0) - i[r][c] for c in range(3)] for r in range(3)]
     positive, zero, negative = inertia_signature(sigma)

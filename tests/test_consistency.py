@@ -202,3 +202,71 @@ def test_lambda_min_is_accurate_on_graded_clustered_and_singular_f():
     exact = np.linalg.eigvalsh(f)[:, 0]
     ours = physical_consistency(phi).lambda_min_rel * norm
     assert np.all(np.abs(ours - exact) <= np.maximum(1e-6 * np.abs(exact), 64 * np.finfo(float).eps * norm))
+
+
+def test_every_finite_magnitude_against_the_oracle():
+    """Rows whose mass, first moment and inertia lie up to 600 decades apart: the verdict is the exact one."""
+    rng = np.random.default_rng(RNG_SEED + 7)
+    rows = []
+    for _ in range(150):
+        m = 10.0 ** rng.uniform(-300, 300)
+        length = 10.0 ** rng.uniform(-150, 150)
+        shape = rng.uniform(0.1, 1.0, size=3)
+        principal = np.array([shape[1] + shape[2], shape[0] + shape[2], shape[0] + shape[1]]) * rng.choice([1, 1, 1.3])
+        with np.errstate(all="ignore"):  # rows that leave the floats are dropped below
+            h = m * length * rng.normal(size=3) * rng.choice([0.0, 1e-3, 1.0])
+            inertia = m * length**2 * principal + (h * h).sum() / m * rng.choice([0.0, 1.0])
+        rows.append([m, *h, *inertia, 0.0, 0.0, 0.0])
+    phi = np.array(rows)
+    phi = phi[np.isfinite(phi).all(axis=1)]
+    c = physical_consistency(phi)
+    expected = [verdict_of_phi(row) for row in phi]
+    assert len(phi) > 100 and list(c.labels) == expected
+
+
+@pytest.mark.parametrize("phi,label", [
+    ([1e-308, 0, 0, 0, 1e308, 1e308, 1e308, 0, 0, 0], "consistent"),
+    ([1.1e183, 0, 0, 0, 1e-200, 1e-200, 3e-200, 0, 0, 0], "inconsistent"),
+    ([1e-300, 1e-160, 0, 0, 1e-300, 1e-300, 1e-300, 0, 0, 0], "inconsistent"),
+    ([5e-324, 0, 0, 0, 1.7e308, 1.7e308, 1.7e308, 0, 0, 0], "consistent"),
+])
+def test_extreme_rows_of_the_issue(phi, label):
+    c = physical_consistency(np.array([phi]))
+    assert c.labels[0] == label == verdict_of_phi(phi)
+    if label == "consistent":
+        assert c.lambda_min_rel[0] > 0 and c.triangle_slack[0] > 0
+    else:
+        assert " by -" not in c.reason(0) and c.lambda_min_rel[0] < 0
+
+
+PLATE_TEXT = ["1", "0", "0", "0", "0.1", "0.2", "0.3", "0", "0", "0"]
+
+
+@pytest.mark.parametrize("inertia,float_label", [(("0.1", "0.2", "0.3"), "consistent"),
+                                                 (("0.1", "0.7", "0.8"), "inconsistent")])
+def test_decimals_are_decided_as_written_and_float64_is_named(inertia, float_label):
+    text = ["1", "0", "0", "0", *inertia, "0", "0", "0"]
+    phi = np.array([float(x) for x in text])
+    assert physical_consistency(phi[None]).labels[0] == float_label == verdict_of_phi(phi)
+    c = physical_consistency(phi[None], written=[text])
+    assert c.labels[0] == "degenerate" and c.degenerate_rank[0] == 2 and c.float_verdict[0] == LABELS.index(float_label)
+    reason = c.reason(0)
+    assert reason.startswith("as written: degenerate") and "planar mass" in reason
+    assert f"as float64: {float_label}" in reason and "engines that read doubles" in reason
+    assert " by -" not in reason
+    assert next(c.rows())["float64_verdict"] == float_label
+
+
+def test_a_rotated_rod_as_written_is_a_line_mass():
+    """A rod along (3, 4, 0)/5: I_CoM = I3 - u u^T, exactly representable as decimals, not as floats."""
+    text = ["2", "0", "0", "0", "1.28", "0.72", "2", "-0.96", "0", "0"]
+    c = physical_consistency(np.array([[float(x) for x in text]]), written=[text])
+    assert c.labels[0] == "degenerate" and c.degenerate_rank[0] == 1 and "line mass" in c.reason(0)
+
+
+def test_written_numbers_never_change_a_certain_float_verdict():
+    rng = np.random.default_rng(RNG_SEED + 8)
+    phi = np.round(rng.normal(size=(300, 10)), 3)
+    text = [[repr(float(x)) for x in row] for row in phi]
+    a, b = physical_consistency(phi), physical_consistency(phi, written=text)
+    assert np.array_equal(a.verdict, b.verdict) and np.array_equal(a.verdict, b.float_verdict)

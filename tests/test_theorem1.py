@@ -76,8 +76,8 @@ def test_non_positive_definite_f_is_not_realised_and_replays(ctx, capsys):
     assert result.verdict == Verdict.VIOLATED
     assert result.counterexample["data"]["positive_definite"] is False
     path = ctx.save_counterexample(result)
-    assert main(["replay", str(path)]) == 1
-    assert "not realised" in capsys.readouterr().out
+    assert main(["replay", str(path)]) == 2  # Thm1-nec assumes f > 0: an indefinite f is bad input, not a violation
+    assert "Thm1-nec assumes f > 0" in capsys.readouterr().err
 
 
 def test_realisation_reproduces_a_nearly_singular_f():

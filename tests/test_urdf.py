@@ -33,7 +33,10 @@ BAD_FILES = {
     "joint type": (robot(link("a"), link("b"), joint("j", "a", "b", kind="hinge")), r"joint 'j': type 'hinge' is not one of"),
     "no limit": (robot(link("a"), link("b"), joint("j", "a", "b").replace('<limit lower="-1.5" upper="1.5" effort="1" velocity="1"/>', "")),
                  r"joint 'j': a revolute joint needs <limit>"),
-    "reversed limit": (robot(link("a"), link("b"), joint("j", "a", "b", lower=1, upper=-1)), r"joint 'j': <limit> has lower 1.0 > upper -1.0"),
+    "unexpanded xacro": (robot(link("a"), link("b"), joint("j", "a", "b", xyz="$(arg x) 0 0")),
+                         r"joint 'j': <origin> attribute xyz=\"\$\(arg x\) 0 0\" is an unexpanded xacro expression"),
+    "commas": (robot(link("a"), link("b"), joint("j", "a", "b", xyz="0.07, 0, -0.69")),
+               r"joint 'j': <origin> attribute xyz=\"0.07, 0, -0.69\" is not a number"),
     "zero axis": (robot(link("a"), link("b"), joint("j", "a", "b", axis="0 0 0")), r"joint 'j': <axis xyz=\"0 0 0\"> is the zero vector"),
     "two parents": (robot(link("a"), link("b"), link("c"), joint("j1", "a", "c"), joint("j2", "b", "c")),
                     r"link 'c' is the child of two joints, 'j1' and 'j2'"),
@@ -52,6 +55,64 @@ def test_malformed_urdf_is_one_line_naming_the_element(tmp_path, case):
     with pytest.raises(InputError, match=message) as info:
         read_urdf(path)
     assert "\n" not in str(info.value) and str(path) in str(info.value)
+
+
+ARM = two_link_arm()
+TOLERATED = {  # what pybullet (and urdfdom) read: (text, warning, check of the robot read)
+    "xml version 0.0": (ARM.replace('<?xml version="1.0"?>', '<?xml version="0.0" ?>'),
+                        'the XML declaration says version "0.0"', None),
+    "blank lines first": ("\n\n" + ARM, "blank lines before the XML declaration", None),
+    "NUL at the end": (ARM + "\x00", "NUL bytes after the end", None),
+    "xacro leftover": (ARM.replace('<robot name="test">', '<robot name="test" xmlns:xacro="http://ros.org/wiki/xacro">'
+                                   '<xacro:property name="w" value="1"/>'), "leftover <xacro:property>", None),
+    "optenv": (ARM.replace('rpy="0.5 0 0.2"', 'rpy="$(optenv ARM_RPY 0.5 0 0.2)"'), "(the default of $(optenv)",
+               lambda r: np.allclose(r.joints[1].origin[:3, :3], rotation_rpy([0.5, 0, 0.2]))),
+    "four numbers": (ARM.replace('rpy="0.5 0 0.2"', 'rpy="0.5 0 0.2 0"'), "has 4 numbers; the first 3 are read",
+                     lambda r: np.allclose(r.joints[1].origin[:3, :3], rotation_rpy([0.5, 0, 0.2]))),
+    "two axes": (ARM.replace('<axis xyz="0 1 0"/>', '<axis xyz="0 1 0"/><axis xyz="1 0 0"/>'),
+                 "has 2 <axis> elements; the first is read", lambda r: np.allclose(r.joints[1].axis, [0, 1, 0])),
+    "reversed limits": (ARM.replace('lower="-1.5" upper="1.5"', 'lower="1" upper="-1"', 1),
+                        "lower 1 > upper -1, which Bullet reads as no limit", lambda r: r.joints[0].limits is None),
+    "spherical joint": (ARM.replace('type="revolute"', 'type="spherical"', 1).replace(
+        '<limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>', "</joint>", 1), "is spherical",
+        lambda r: r.joints[0].type == "spherical"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(TOLERATED))
+def test_what_engines_read_is_read_with_a_warning(tmp_path, case):
+    text, warning, check = TOLERATED[case]
+    path = tmp_path / "r.urdf"
+    path.write_bytes(text.encode())
+    r = read_urdf(path)
+    assert any(warning in w for w in r.warnings), r.warnings
+    assert [link.name for link in r.links] == ["base", "l1", "l2"] and (check is None or check(r))
+
+
+def test_engine_specific_geometry_is_not_read(tmp_path):
+    text = two_link_arm().replace('<link name="base">', '<link name="base"><collision><geometry><plane normal="0 0 1"/>'
+                                  '</geometry></collision><visual><geometry><cdf filename="x.cdf"/></geometry></visual>')
+    assert read_urdf(write(tmp_path, text)).warnings == ()
+
+
+def only_file(path):
+    from inertiaproof.audit.api import audit_urdf
+
+    (doc,) = audit_urdf(path, bounds="none").document["files"].values()
+    return doc
+
+
+def test_spherical_joints_are_left_out_of_the_audit(tmp_path):
+    text = TOLERATED["spherical joint"][0]
+    doc = only_file(write(tmp_path, text))
+    assert doc["left_out_joints"][0]["type"] == "spherical" and any("spherical" in w for w in doc["warnings"])
+
+
+def test_inertia_is_judged_on_its_decimals_as_written(tmp_path):
+    plate = robot(link("a", inertial(mass="1", ixx="0.1", iyy="0.7", izz="0.8")))
+    entry = only_file(write(tmp_path, plate))["links"]["a"]
+    assert entry["verdict"] == "degenerate" and entry["float64_verdict"] == "inconsistent"
+    assert "as float64: inconsistent" in entry["reason"]
 
 
 def test_unreadable_path_is_an_input_error(tmp_path):

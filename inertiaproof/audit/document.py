@@ -106,7 +106,8 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
     inertia = np.array([np.zeros((3, 3)) if w is None else w.inertia for w in written])
     offset = np.array([np.zeros(3) if w is None else w.rotation.T @ w.com for w in written])
     phi = np.array([np.zeros(10) if w is None else w.phi_at_com for w in written])
-    verdicts = physical_consistency(phi)
+    verdicts = physical_consistency(phi, written=[(None,) * 10 if w is None or w.written is None
+                                                  else w.phi_at_com_written for w in written])
     rows = list(verdicts.rows())
     signs, tested = diagnose(mass, inertia, offset, verdicts.verdict)
     massless = ~phi.any(axis=1)
@@ -161,6 +162,7 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
         "status": "ok",
         "robot": robot.name,
         "format": robot.format,
+        "warnings": list(robot.warnings),
         "serial_arm": arm,
         "consistent": not not_consistent,
         "not_consistent": not_consistent,
@@ -316,6 +318,8 @@ def _audit_one(path, options):
         return audit_robot(read_robot(path), **options)
     except InputError as exc:
         return {"status": "error", "error": str(exc)}
+    except MemoryError:
+        return {"status": "error", "error": f"{path}: out of memory: the audit needs more than its memory budget"}
 
 
 def exit_status(files):

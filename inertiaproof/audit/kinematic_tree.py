@@ -4,9 +4,9 @@
   prismatic) together with every link fixed to it; its Phi is the sum of its
   links' Phi expressed in the child link's frame (eq:Phi is linear in the
   density, MassDistributionToInertialParam).
-- A *base* is a root (the URDF root, or the child of a floating or planar
-  joint or of an MJCF ball joint, which the audit reports and leaves out)
-  with the links fixed to it;
+- A *base* is a root (the URDF root, or the child of a floating, planar or
+  spherical joint or of an MJCF ball joint, which the audit reports and leaves
+  out) with the links fixed to it;
   it does not move in any chain.
 - A *chain* is the path of movable joints from a base to a leaf body, as a
   :class:`~inertiaproof.chain.Chain` whose body l is the l-th body on the
@@ -30,7 +30,7 @@ from inertiaproof.model.inertia import skew, spatial_inertia, spatial_inertia_in
 __all__ = ["Group", "kinematic_tree", "KinematicTree", "LEFT_OUT", "MOVABLE", "phi_in_frame", "SerialChain"]
 
 MOVABLE = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
-LEFT_OUT = ("floating", "planar", "ball")
+LEFT_OUT = ("floating", "planar", "spherical", "ball")
 
 
 def phi_in_frame(phi, pose):

@@ -48,7 +48,7 @@ def main(argv=None):
     try:
         return args.func(args)
     except InputError as exc:
-        print(f"inertiaproof: error: {exc}", file=sys.stderr)
+        print(f"inertiaproof: error: {' '.join(str(exc).splitlines())}", file=sys.stderr)
         return 2
     except OSError as exc:  # reading or writing a file the user named
         where = f"{exc.filename}: " if exc.filename else ""

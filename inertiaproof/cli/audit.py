@@ -23,6 +23,7 @@ from inertiaproof.audit.document import BOUNDS_MODES, audit_paths, document
 from inertiaproof.audit.repair import DEFAULT_SLACK
 from inertiaproof.audit.rewrite import repaired_copies, unified_diff
 from inertiaproof.audit.text import format_audit
+from inertiaproof.budget import Budget, enforced
 from inertiaproof.errors import InputError
 from inertiaproof.suite.environment import versions
 from inertiaproof.suite.profiles import PROFILES
@@ -54,19 +55,24 @@ def configure(parser):
 
 
 def main(args):
+    if args.seed < 0:
+        raise InputError(f"--seed must be a nonnegative integer, got {args.seed}")
     if not 0 < args.repair_slack < 1:
         raise InputError(f"--repair-slack must lie in (0, 1), got {args.repair_slack}")
     profile = PROFILES[args.profile]
     start = time.perf_counter()
     options = dict(samples=profile.audit_samples, refine_s=profile.audit_refine_s, bounds=args.bounds,
                    floating_base=args.floating_base, slack=args.repair_slack, seed=args.seed)
-    with np.errstate(all="ignore"):  # values up to the reader's range overflow inside margins; verdicts fall back to LAPACK
+    memory = Budget(memory_bytes=profile.memory_mb * 2**20)
+    with np.errstate(all="ignore"), enforced(memory, grace=0.0):  # overflow inside margins falls back to LAPACK
         files = audit_paths(args.paths, **options)
     doc = document(files, profile=args.profile, seed=args.seed, bounds=args.bounds, floating_base=args.floating_base,
                    slack=args.repair_slack, runtime_s=time.perf_counter() - start, versions=versions("yourdfpy", "mujoco"))
-    for f in files.values():
+    for path, f in files.items():
         if f["status"] == "error":
             print(f"inertiaproof: error: {f['error']}", file=sys.stderr)
+        for warning in f.get("warnings", ()):
+            print(f"inertiaproof: warning: {path}: {warning}", file=sys.stderr)
     if args.sarif:
         _write(Path(args.sarif), json.dumps(sarif_log(doc, version=versions()["inertiaproof"]), indent=1))
     if args.json:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 
 import numpy as np
 
@@ -20,7 +21,8 @@ def configure(parser):
 def main(args):
     rows = read_rows(args.file)
     good = [r for r in rows if r.error is None]
-    verdicts = physical_consistency(np.array([r.decided_on for r in good])) if good else None
+    verdicts = physical_consistency(np.array([r.decided_on for r in good]),
+                                    written=[r.written for r in good]) if good else None
     by_number = dict(zip((r.number for r in good), verdicts.rows() if good else ()))
     out = []
     for r in rows:
@@ -34,6 +36,9 @@ def main(args):
         print(f"{'row':>4}  {'name':<{width}}  {'verdict':<12}  reason")
         for e in out:
             print(f"{e['row']:>4}  {e['name']:<{width}}  {e['verdict']:<12}  {e['reason']}")
-    if any(r.error for r in rows):
+    bad = [r for r in rows if r.error]
+    if bad:
+        more = f" (and {len(bad) - 1} more rows)" if len(bad) > 1 else ""
+        print(f"inertiaproof: error: {args.file}: row {bad[0].number}: {bad[0].error}{more}", file=sys.stderr)
         return 2
     return 0 if all(v == LABELS[CONSISTENT] for v in verdicts.labels) else 1

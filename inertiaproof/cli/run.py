@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
+import sys
 from pathlib import Path
 
+from inertiaproof.errors import InputError
 from inertiaproof.scene.format import load_scene
 from inertiaproof.suite import runner
+from inertiaproof.suite.outputs import checked_outputs
 from inertiaproof.suite.profiles import PROFILES
 
 __all__ = ["configure", "main"]
@@ -17,6 +21,8 @@ def configure(parser):
     parser.add_argument("--scene", metavar="FILE", help="check one scene (TOML): only the checks it needs")
     parser.add_argument("--symbolic", action="store_true", help="with --scene: also derive its equations symbolically")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--budget", type=float, metavar="SECONDS",
+                        help="seconds one check may run (default: the profile's, 45 in ci); then it ends INCONCLUSIVE")
     parser.add_argument("--out", default="out", metavar="DIR", help="where results.json and data files go (default: out)")
     parser.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
     parser.add_argument("--report", action="store_true", help="also write the HTML/LaTeX report into --out")
@@ -31,8 +37,14 @@ def main(args):
     say = runner.progress_printer() if not args.quiet else None
     if scene is not None and say:
         say(f"scene {scene.source}: {scene.description or scene.name}; it has: {', '.join(sorted(scene.features()))}")
-    run = runner.run_checks(profile=args.profile, seed=args.seed, only=args.only, scene=scene, symbolic=args.symbolic,
-                            out_dir=out, counterexample_dir=Path(args.counterexamples), progress=say)
+    profile = PROFILES[args.profile]
+    if args.budget is not None:
+        if not 0 < args.budget < float("inf"):
+            raise InputError(f"--budget must be a positive number of seconds, got {args.budget:g}")
+        profile = dataclasses.replace(profile, check_s=args.budget)
+    found = checked_outputs(out, args.junit, args.counterexamples, lambda message: print(message, file=sys.stderr))
+    run = runner.run_checks(profile=profile, seed=args.seed, only=args.only, scene=scene, symbolic=args.symbolic,
+                            out_dir=out, counterexample_dir=found, progress=say)
     doc = runner.results_document(run, profile=args.profile, seed=args.seed, scene=args.scene)
     path = runner.write_results(out / "results.json", doc)
     print(runner.format_table(run))

@@ -12,16 +12,28 @@ The decision uses the Schur complement (fPosDef_IFF_PosMassPosDefSigmaCoM):
 f > 0 iff m > 0 and Sigma_CoM > 0, and the eigenvalues s1 <= s2 <= s3 of
 Sigma_CoM are half the slacks of the triangle inequalities of I_CoM
 (SigmaCoMPosDef_IFF_StricTriangleCoM). They come from a closed form over
-whole columns; where |s1| is below the rounding resolution of the inputs the
-row is decided again exactly, in rational arithmetic on the float values.
+whole columns, on each row scaled exactly by powers of two to unit mass and
+unit size (Phi -> (2^-a m, 2^-(a+b) h, 2^-(a+2b) I) turns f into
+2^-a D f D with D = diag(2^-b, 2^-b, 2^-b, 1): the same signs at every finite
+magnitude). Where |s1| is below the rounding resolution of the inputs, or
+the scaled row left the range of floats, the row is decided again exactly in
+rational arithmetic: on the numbers as written when they are given
+(``written``: the decimal text a file holds, ``0.1`` meaning 1/10), else on
+the float values. Where the written numbers and their float64 values fall in
+different classes the reason says both: an engine that reads doubles sees
+the float64 class.
 """
 
 from __future__ import annotations
 
+import math
 import os
+import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from fractions import Fraction
 
+import mpmath
 import numpy as np
 
 from . import exact
@@ -167,14 +179,16 @@ def _pseudo_inertia_lambda_min(m, h, s):
 class Consistency:
     """Verdicts and margins for a batch of rows (all arrays share the batch shape)."""
 
-    verdict: np.ndarray  # int codes, see LABELS
+    verdict: np.ndarray  # int codes, see LABELS; on the numbers as written where they were given
     mass: np.ndarray
     sigma_com_eigenvalues: np.ndarray  # (..., 3) ascending; half the triangle slacks
     triangle_slack: np.ndarray  # s1 / tr(Sigma_CoM) = 2 s1 / tr(I_CoM); > 0 iff strict triangle inequalities
     lambda_min_rel: np.ndarray  # lambda_min(f) / ||f||_F
-    decided_exactly: np.ndarray  # bool: the float margin was below resolution
+    decided_exactly: np.ndarray  # bool: the float margin was below resolution (or out of range)
     degenerate_rank: np.ndarray  # rank of Sigma_CoM where degenerate, else -1
     invalid_field: np.ndarray  # index into PHI_FIELDS of the first non-finite entry, else -1
+    float_verdict: np.ndarray = None  # int codes of the float64 values (differs from verdict only as written)
+    float64_note: np.ndarray = None  # object: where the float64 class differs, what it is, else None
 
     @property
     def labels(self):
@@ -183,41 +197,51 @@ class Consistency:
     def reason(self, i):
         """A one-line reason for row ``i`` (a flat index)."""
         v = self.verdict.flat[i]
+        note = None if self.float64_note is None else self.float64_note.flat[i]
         if v == INVALID:
             return f"non-finite value in field {PHI_FIELDS[self.invalid_field.flat[i]]}"
-        m = self.mass.flat[i]
+        exact = " (margin below float resolution: decided exactly on the given values)" \
+            if self.decided_exactly.flat[i] else ""
         s = self.sigma_com_eigenvalues.reshape(-1, 3)[i]
-        note = " (margin below float resolution: decided exactly on the given values)" if self.decided_exactly.flat[i] else ""
-        if v == INCONSISTENT and m <= 0:
-            return f"mass <= 0 (m = {m:.6g}){note}"
-        lam = f"lambda_min(f)/||f||_F = {self.lambda_min_rel.flat[i]:.3e}"
-        tr_icom = 2.0 * s.sum()
-        if v == CONSISTENT:
-            return f"f > 0: strict triangle inequalities of I_CoM with slack {self.triangle_slack.flat[i]:.3e} of tr(I_CoM); {lam}{note}"
-        if v == DEGENERATE:
-            kind = DEGENERATE_KIND[self.degenerate_rank.flat[i]]
-            return f"f >= 0 and singular: only a {kind} realises it (a triangle inequality of I_CoM holds with equality); {lam}{note}"
-        j = tr_icom / 2.0 - s  # principal moments of I_CoM, descending with s ascending
-        excess = -2.0 * s[0]
-        if tr_icom > 0:
-            amount = f"by {excess:.6g} ({excess / tr_icom:.3e} of tr(I_CoM))"
-        else:
-            amount = f"by {excess:.6g} (tr(I_CoM) = {tr_icom:.3g} <= 0)"
-        return (
-            f"triangle inequality of I_CoM fails: largest principal moment {j[0]:.6g} exceeds "
-            f"the sum of the others {j[1] + j[2]:.6g} {amount}; {lam}{note}"
-        )
+        why = _why(v, self.mass.flat[i], s, self.degenerate_rank.flat[i], self.triangle_slack.flat[i],
+                   self.lambda_min_rel.flat[i])
+        if note is None:
+            return why + exact
+        return (f"as written: {LABELS[v]}: {why} (decided exactly on the decimals); as float64: {note}, which "
+                f"engines that read doubles will see")
 
     def rows(self):
         """One dict per row, for tables and JSON."""
         for i in range(self.verdict.size):
-            yield {
+            row = {
                 "verdict": LABELS[self.verdict.flat[i]],
                 "reason": self.reason(i),
                 "triangle_slack_rel": _finite_or_none(self.triangle_slack.flat[i]),
                 "lambda_min_rel": _finite_or_none(self.lambda_min_rel.flat[i]),
                 "decided_exactly": bool(self.decided_exactly.flat[i]),
             }
+            if self.float_verdict is not None and self.float_verdict.flat[i] != self.verdict.flat[i]:
+                row["float64_verdict"] = LABELS[self.float_verdict.flat[i]]
+            yield row
+
+
+def _why(v, m, s, rank, slack, lam):
+    """The reason of a verdict from the mass, the eigenvalues s of Sigma_CoM and the margins."""
+    if v == INCONSISTENT and not m > 0:
+        return f"mass <= 0 (m = {m:.6g})"
+    lam_text = f"lambda_min(f)/||f||_F = {lam:.3e}" if np.isfinite(lam) else "lambda_min(f) not computed"
+    if v == CONSISTENT:
+        return f"f > 0: strict triangle inequalities of I_CoM with slack {slack:.3e} of tr(I_CoM); {lam_text}"
+    if v == DEGENERATE:
+        return (f"f >= 0 and singular: only a {DEGENERATE_KIND[rank]} realises it (a triangle inequality of I_CoM "
+                f"holds with equality); {lam_text}")
+    tr_icom = 2.0 * s.sum()
+    j = tr_icom / 2.0 - s  # principal moments of I_CoM, descending with s ascending
+    excess = -2.0 * s[0]
+    amount = f"by {excess:.6g} ({-slack:.3e} of tr(I_CoM))" if tr_icom > 0 else \
+        f"by {excess:.6g} (tr(I_CoM) = {tr_icom:.3g} <= 0)"
+    return (f"triangle inequality of I_CoM fails: largest principal moment {j[0]:.6g} exceeds the sum of the "
+            f"others {j[1] + j[2]:.6g} {amount}; {lam_text}")
 
 
 def _finite_or_none(x):
@@ -225,16 +249,17 @@ def _finite_or_none(x):
 
 
 def decide_exactly(phi_row):
-    """(verdict code, rank of Sigma_CoM or -1) of one row, exact on its float values.
+    """(verdict code, rank of Sigma_CoM or -1) of one row, exactly: entries are floats (their exact values) or
+    Fractions (a decimal as written, see exact.written_fraction).
 
-    With D the common power-of-two denominator, M = D m, H = D h, K = D I are
-    integers and 2 D^2 (m Sigma - h h^T) = M (tr(K) I3 - 2K) - 2 H H^T, whose
-    definiteness is that of Sigma_CoM when m > 0.
+    With D the common denominator, M = D m, H = D h, K = D I are integers and
+    2 D^2 (m Sigma - h h^T) = M (tr(K) I3 - 2K) - 2 H H^T, whose definiteness
+    is that of Sigma_CoM when m > 0.
     """
-    ratios = [float(x).as_integer_ratio() for x in phi_row]
+    ratios = [Fraction(x).as_integer_ratio() for x in phi_row]
     if ratios[0][0] <= 0:
         return INCONSISTENT, -1
-    den = max(d for _, d in ratios)
+    den = math.lcm(*(d for _, d in ratios))
     mass, h1, h2, h3, i11, i22, i33, i12, i23, i13 = (n * (den // d) for n, d in ratios)
     k = [[i11, i12, i13], [i12, i22, i23], [i13, i23, i33]]
     h = (h1, h2, h3)
@@ -248,68 +273,201 @@ def decide_exactly(phi_row):
     return INCONSISTENT, -1
 
 
-def physical_consistency(phi, *, margins=True):
+def physical_consistency(phi, *, margins=True, written=None):
     """Classify inertial parameters ``phi`` of shape (..., 10); see the module docstring.
 
-    ``margins=False`` skips lambda_min(f)/||f||_F (the one margin that needs an
-    iterative solve per row); the verdict does not depend on it. Large batches
-    are split over the machine's cores (NumPy releases the GIL in its loops).
+    ``written`` (optional, shape (..., 10), entries str or None): the numbers as a file writes them; where given,
+    a row whose float decision is not certain is decided exactly on them. ``margins=False`` skips
+    lambda_min(f)/||f||_F (the one margin that needs an iterative solve per row); the verdict does not depend on
+    it. Large batches are split over the machine's cores (NumPy releases the GIL in its loops).
     """
     phi = np.asarray(phi, dtype=float)
     if phi.shape[-1:] != (10,):
         raise ValueError(f"inertial parameters need 10 entries per row, got shape {phi.shape}")
     shape = phi.shape[:-1]
     flat = phi.reshape(-1, 10)
+    text = None
+    if written is not None:
+        text = np.asarray(written, dtype=object).reshape(-1, 10)
+        if text.shape != flat.shape:
+            raise ValueError(f"written numbers need the shape of phi {phi.shape}, got {np.shape(written)}")
     workers = min(os.cpu_count() or 1, 8)
     if workers > 1 and len(flat) >= CHUNK:
+        parts = np.array_split(np.arange(len(flat)), workers)
         with ThreadPoolExecutor(workers) as pool:
-            parts = list(pool.map(lambda rows: _classify(rows, margins), np.array_split(flat, workers)))
+            parts = list(pool.map(lambda rows: _classify(flat[rows], margins, None if text is None else text[rows]),
+                                  parts))
     else:
-        parts = [_classify(flat, margins)]
+        parts = [_classify(flat, margins, text)]
     return Consistency(*(np.concatenate(arrays).reshape(shape + arrays[0].shape[1:]) for arrays in zip(*parts)))
 
 
-def _classify(flat, margins):
+def _unit_exponents(cols, positive):
+    """Per row (a, b) with Phi -> (2^-a m, 2^-(a+b) h, 2^-(a+2b) I) of unit mass and unit size (every scaled
+    entry and h_i^2 / m at most about 1); rows without positive mass get b = 0 and a from their largest entry."""
+    m, h, inertia = cols[0], np.abs(cols[1:4]).max(axis=0), np.abs(cols[4:]).max(axis=0)
+    a = np.where(positive, np.frexp(m)[1], np.frexp(np.abs(cols).max(axis=0))[1])
+    e_h, e_i = np.frexp(h)[1].astype(float), np.frexp(inertia)[1].astype(float)
+    size = np.maximum(np.where(inertia > 0, e_i - a, -np.inf), np.where(h > 0, 2 * (e_h - a), -np.inf))
+    b = np.where(positive & np.isfinite(size), np.ceil(np.where(np.isfinite(size), size, 0) / 2), 0).astype(int)
+    return a, b
+
+
+def _classify(flat, margins, written):
     """The fields of :class:`Consistency` for rows (K, 10), in field order."""
     finite = np.isfinite(flat)
     invalid = ~finite.all(axis=1)
     invalid_field = np.where(invalid, np.argmin(finite, axis=1), -1)
     cols = np.where(finite, flat, 0.0).T.copy()
     mass = cols[0].copy()
-    exponent = _power_of_two_scale(cols)  # f(2^-k Phi) = 2^-k f(Phi): verdicts and relative margins unchanged
-    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = np.ldexp(cols, -exponent)
+    positive = (mass > 0) & ~invalid
+    a, b = _unit_exponents(cols, positive)
+    m = np.ldexp(cols[0], -a)
+    h1, h2, h3 = np.ldexp(cols[1:4], -(a + b))
+    i11, i22, i33, i12, i23, i13 = np.ldexp(cols[4:], -(a + 2 * b))
 
     half_tr = 0.5 * (i11 + i22 + i33)
-    positive = m > 0
     inv_m = np.where(positive, 1.0 / np.where(positive, m, 1.0), 0.0)
     s11, s22, s33 = half_tr - i11 - h1 * h1 * inv_m, half_tr - i22 - h2 * h2 * inv_m, half_tr - i33 - h3 * h3 * inv_m
     s12, s23, s13 = -i12 - h1 * h2 * inv_m, -i23 - h2 * h3 * inv_m, -i13 - h1 * h3 * inv_m
-    eig = _sym3_eigenvalues(s11, s22, s33, s12, s23, s13)
-    trace = eig.sum(axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
+        eig = _sym3_eigenvalues(s11, s22, s33, s12, s23, s13)
+        trace = eig.sum(axis=1)
         slack = np.where(positive, eig[:, 0] / trace, np.nan)
-
     scale = (
         np.abs(half_tr - i11) + np.abs(half_tr - i22) + np.abs(half_tr - i33)
         + 2.0 * (np.abs(i12) + np.abs(i23) + np.abs(i13))
         + (h1 * h1 + h2 * h2 + h3 * h3) * inv_m
     )
-    unresolved = positive & ~invalid & (np.abs(eig[:, 0]) <= RESOLUTION * EPS * scale)
-
+    unresolved = positive & ~(np.abs(eig[:, 0]) > RESOLUTION * EPS * scale)  # NaN (out of range) included
     verdict = np.where(positive & (eig[:, 0] > 0), CONSISTENT, INCONSISTENT).astype(np.int8)
-    rank = np.full(verdict.shape, -1, dtype=np.int8)
-    for i in np.flatnonzero(unresolved):
-        verdict[i], rank[i] = decide_exactly(flat[i])
     verdict[invalid] = INVALID
+    rank = np.full(verdict.shape, -1, dtype=np.int8)
+    with np.errstate(over="ignore"):
+        eig = np.ldexp(eig, (a + 2 * b)[:, None])
 
     if margins:
-        sigma = (half_tr - i11, half_tr - i22, half_tr - i33, -i12, -i23, -i13)
-        lo, norm = _pseudo_inertia_lambda_min(m, (h1, h2, h3), sigma)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        k = np.frexp(np.abs(cols).max(axis=0))[1]  # f(2^-k Phi) = 2^-k f(Phi): the relative margin unchanged
+        um, uh1, uh2, uh3, u11, u22, u33, u12, u23, u13 = np.ldexp(cols, -k)
+        uhalf = 0.5 * (u11 + u22 + u33)
+        with np.errstate(all="ignore"):
+            lo, norm = _pseudo_inertia_lambda_min(um, (uh1, uh2, uh3), (uhalf - u11, uhalf - u22, uhalf - u33,
+                                                                          -u12, -u23, -u13))
             lam = np.where(norm > 0, lo / norm, 0.0)
     else:
         lam = np.full(verdict.shape, np.nan)
     lam[invalid] = np.nan
     slack[invalid] = np.nan
+    float_verdict = verdict.copy()
+    notes = np.full(verdict.shape, None, dtype=object)
 
-    return (verdict, mass, np.ldexp(eig, exponent[:, None]), slack, lam, unresolved, rank, invalid_field)
+    given = [None] * len(flat) if written is None else [_fractions(row) for row in written]
+    redo = unresolved | np.array([q is not None and _float_may_differ(q, flat[i], verdict[i])
+                                  for i, q in enumerate(given)], dtype=bool)
+    if margins:  # a margin too small for its float to carry the verdict's sign (m = 1e-308, I = 1e308)
+        expected = np.where(verdict == CONSISTENT, 1.0, np.where(positive, -1.0, np.nan))
+        for i in np.flatnonzero(~redo & (np.sign(lam) != expected) & np.isfinite(expected)):
+            lam[i] = _exact_margins([Fraction(x) for x in flat[i]], verdict[i], -1, True)[2]
+    for i in np.flatnonzero(redo):
+        decision = _ExactRow(flat[i], given[i], margins)
+        verdict[i], rank[i], float_verdict[i] = decision.verdict, decision.rank, decision.float_verdict
+        eig[i], slack[i], lam[i] = decision.eigenvalues, decision.slack, decision.lambda_min_rel
+        notes[i] = decision.float64_note()
+        invalid_field[i] = -1 if verdict[i] != INVALID else invalid_field[i]
+    return (verdict, mass, eig, slack, lam, redo, rank, invalid_field, float_verdict, notes)
+
+
+def _fractions(row):
+    """The row as written: a tuple of Fractions (None for an entry with no usable text), or None if nothing is."""
+    values = tuple(exact.written_fraction(x) for x in row)
+    return None if all(v is None for v in values) else values
+
+
+def _float_may_differ(written, floats, float_verdict):
+    """Whether a row resolved in floats may still be in another class as written: its float values left the range
+    (overflow to inf, or a mass that underflowed to 0)."""
+    return float_verdict == INVALID or (floats[0] <= 0 and written[0] is not None and written[0] > 0)
+
+
+class _ExactRow:
+    """One row decided exactly, with its margins computed at the precision its verdict needs."""
+
+    def __init__(self, floats, written, margins):
+        as_float = [Fraction(x) for x in floats] if np.isfinite(floats).all() else None
+        if as_float is None:
+            self.float_verdict, self.float_rank = INVALID, -1
+        else:
+            self.float_verdict, self.float_rank = decide_exactly(as_float)
+        self.float_row = as_float
+        self.row = as_float if written is None else [w if w is not None else Fraction(x) if np.isfinite(x) else None
+                                                     for w, x in zip(written, floats)]
+        if self.row is None or any(x is None for x in self.row):
+            self.row, self.verdict, self.rank = None, INVALID, -1
+        elif written is None:
+            self.verdict, self.rank = self.float_verdict, self.float_rank
+        else:
+            self.verdict, self.rank = decide_exactly(self.row)
+        self.eigenvalues, self.slack, self.lambda_min_rel = _exact_margins(self.row, self.verdict, self.rank, margins)
+
+    def float64_note(self):
+        if self.float_verdict == self.verdict:
+            return None
+        if self.float_verdict == INVALID:
+            return "a number overflows to inf (invalid)"
+        if self.float_verdict == DEGENERATE:
+            return f"degenerate, a {DEGENERATE_KIND[self.float_rank]}"
+        if self.float_verdict == CONSISTENT:
+            return "consistent (strictly, by rounding)"
+        if not self.float_row[0] > 0:
+            return "inconsistent: the mass rounds to 0"
+        slack = _exact_margins(self.float_row, INCONSISTENT, -1, False)[1]
+        return f"inconsistent by {-slack:.2g} of tr(I_CoM)"
+
+
+def _exact_margins(row, verdict, rank, margins, first_bits=64, last_bits=8192):
+    """(eigenvalues of Sigma_CoM, s1 / tr, lambda_min(f)/||f||_F) of an exact row, as floats whose signs agree with
+    its exact verdict: computed with mpmath (a context per thread) at growing precision until they do."""
+    if row is None:
+        return np.full(3, np.nan), np.nan, np.nan
+    m, h, inertia = row[0], row[1:4], row[4:]
+    i11, i22, i33, i12, i23, i13 = inertia
+    half = (i11 + i22 + i33) / 2
+    sigma = [[half - i11, -i12, -i13], [-i12, half - i22, -i23], [-i13, -i23, half - i33]]
+    s_com = [[sigma[r][c] - h[r] * h[c] / m for c in range(3)] for r in range(3)] if m > 0 else None
+    f = [sigma[r] + [h[r]] for r in range(3)] + [list(h) + [m]]
+    if not hasattr(_THREAD, "mp"):
+        _THREAD.mp = mpmath.MPContext()
+    mp = _THREAD.mp
+    mp.prec = first_bits
+    while True:
+        lam = None
+        if margins and any(x != 0 for row_f in f for x in row_f):
+            lam = min(mp.eigsy(_mp(mp, f), eigvals_only=True)) / mp.mnorm(_mp(mp, f), "f")
+        elif margins:
+            lam = mp.mpf(0)
+        if s_com is None:  # no mass: the verdict needs no eigenvalue of Sigma_CoM
+            return np.full(3, np.nan), np.nan, np.nan if lam is None else _signed_float(lam, mp)
+        s = sorted(mp.eigsy(_mp(mp, s_com), eigvals_only=True))
+        if verdict == DEGENERATE:
+            s[: 3 - rank] = [mp.mpf(0)] * (3 - rank)
+            lam = mp.mpf(0) if margins else None
+        sign = 1 if verdict == CONSISTENT else -1 if verdict == INCONSISTENT else 0
+        agree = sign == 0 or (mp.sign(s[0]) == sign and (lam is None or mp.sign(lam) == sign))
+        if agree or mp.prec >= last_bits:
+            slack = s[0] / sum(s) if sum(s) != 0 else mp.mpf(0)
+            return (np.array([float(x) for x in s]), _signed_float(slack, mp),
+                    np.nan if lam is None else _signed_float(lam, mp))
+        mp.prec *= 4
+
+
+_THREAD = threading.local()  # each thread its own mpmath context: the precision is a context's state
+
+
+def _mp(mp, rows):
+    return mp.matrix([[mp.mpf(x.numerator) / x.denominator for x in row] for row in rows])
+
+
+def _signed_float(x, mp):
+    """float(x), but a nonzero x too small for a float keeps its sign as the smallest subnormal."""
+    value = float(x)
+    return value if value != 0 or x == 0 else math.copysign(5e-324, float(mp.sign(x)))

@@ -1,19 +1,40 @@
-"""Exact decisions on float inputs in rational arithmetic.
+"""Exact decisions in rational arithmetic, on float inputs or on decimals as written.
 
 A float is a dyadic rational, so a matrix of floats scales to an integer
 matrix by a power of two; signs of minors are then decided exactly with
-Python integers (Bareiss fraction-free elimination).
+Python integers (Bareiss fraction-free elimination). A decimal as written in
+a file (``0.1``) is the rational it denotes (1/10), not its nearest float:
+:func:`written_fraction` reads it.
 """
 
 from __future__ import annotations
 
 import math
+import re
 from fractions import Fraction
 from itertools import combinations
 
 import numpy as np
 
-__all__ = ["definiteness", "determinant", "integer_matrix", "principal_minors", "to_fractions"]
+__all__ = [
+    "definiteness", "determinant", "integer_matrix", "principal_minors", "to_fractions", "written_fraction",
+    "WRITTEN_DIGITS", "WRITTEN_EXPONENT",
+]
+
+DECIMAL = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+))(?:[eE]([+-]?\d+))?\s*")
+WRITTEN_DIGITS = 1000  # longer decimals (and exponents beyond) are taken as their float: no number of a
+WRITTEN_EXPONENT = 1000  # file needs more, and 10^(10^9) would not fit in memory
+
+
+def written_fraction(text):
+    """The rational a decimal denotes (``"0.1"`` -> 1/10), or None for text that is no plain decimal of moderate
+    size (then the float is all there is)."""
+    if not isinstance(text, str) or len(text) > WRITTEN_DIGITS + 10:
+        return None
+    match = DECIMAL.fullmatch(text)
+    if not match or (match.group(2) and abs(int(match.group(2))) > WRITTEN_EXPONENT):
+        return None
+    return Fraction(text.strip())
 
 
 def to_fractions(a):

@@ -16,16 +16,34 @@ import numpy as np
 from inertiaproof.dynamics.chain import COORDINATE_MAPS, Chain, Coordinate, Joint, origin
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Profile, Scaling
 from inertiaproof.dynamics.trajectory import Path as LoadPath
-from inertiaproof.errors import InputError
+from inertiaproof.errors import LARGEST, InputError, read_text
 from inertiaproof.model import solids
-from inertiaproof.model.consistency import INCONSISTENT, INVALID, physical_consistency
-from inertiaproof.model.inertia import from_urdf, rotation_rpy, urdf_inertia
+from inertiaproof.model.consistency import EPS, INCONSISTENT, INVALID, RESOLUTION, physical_consistency
+from inertiaproof.model.inertia import from_urdf, pack, rotation_rpy, urdf_inertia
 
 __all__ = ["AdaptiveSettings", "ControlSettings", "load_gains", "load_scene", "parse_scene", "Scene", "SceneError"]
 
 
 class SceneError(InputError):
     """A scene file that cannot be used; the message names file, line and field."""
+
+
+class _Written(float):
+    """A TOML float that remembers how the file writes it (bodies are judged on the decimals, not their floats)."""
+
+    __slots__ = ("text",)
+
+    def __new__(cls, text):
+        value = super().__new__(cls, text)
+        value.text = text
+        return value
+
+
+def _text(value):
+    """The decimal a file writes for a number read from it (an integer as itself), or None."""
+    if isinstance(value, bool):
+        return None
+    return getattr(value, "text", None) or (str(value) if isinstance(value, int) else None)
 
 
 @dataclass(frozen=True)
@@ -154,7 +172,7 @@ class _Reader:
             if k not in table:
                 self.error(path, f"missing required key {k!r}")
 
-    def number(self, table, path, key, default=None, positive=False, nonnegative=False):
+    def number(self, table, path, key, default=None, positive=False, nonnegative=False, endless=False):
         if key not in table:
             if default is None:
                 self.error(path, f"missing required key {key!r}")
@@ -167,6 +185,10 @@ class _Reader:
         v = float(v)
         if np.isnan(v):
             self.error(path + (key,), "must be a number, got nan")
+        if not np.isfinite(v) and not (endless and v > 0):
+            self.error(path + (key,), f"must be finite, got {getattr(table[key], 'text', v)}")
+        if np.isfinite(v) and abs(v) > LARGEST:
+            self.error(path + (key,), f"{v:g} is out of range (|x| <= {LARGEST:g})")
         if positive and not v > 0:
             self.error(path + (key,), f"must be > 0, got {v:g}")
         if nonnegative and not v >= 0:
@@ -185,6 +207,8 @@ class _Reader:
         a = np.asarray(v, dtype=float)
         if not np.all(np.isfinite(a)):
             self.error(path + (key,), f"must be finite, got {v!r}")
+        if np.any(np.abs(a) > LARGEST):
+            self.error(path + (key,), f"out of range (|x| <= {LARGEST:g}), got {v!r}")
         return a
 
     def choice(self, table, path, key, options, default=None):
@@ -218,20 +242,26 @@ class _Reader:
 
 # -- the parts of a scene ------------------------------------------------------
 
+_URDF_ORDER = ("ixx", "iyy", "izz", "ixy", "iyz", "ixz")
+
+
 def _inertia_matrix(r, table, path, key):
-    """3x3 inertia from [ixx, iyy, izz, ixy, iyz, ixz], a 3x3 list, or a table of those names."""
+    """(3x3 inertia, its six entries as written in URDF order or None) from [ixx, iyy, izz, ixy, iyz, ixz], a 3x3
+    list, or a table of those names."""
     v = table[key]
     if isinstance(v, dict):
-        r.keys(v, path + (key,), {"ixx", "iyy", "izz", "ixy", "iyz", "ixz"}, required=("ixx", "iyy", "izz"))
-        vals = [r.number(v, path + (key,), k, default=0.0) for k in ("ixx", "iyy", "izz", "ixy", "iyz", "ixz")]
-        return urdf_inertia(*vals)
+        r.keys(v, path + (key,), set(_URDF_ORDER), required=("ixx", "iyy", "izz"))
+        vals = [r.number(v, path + (key,), k, default=0.0) for k in _URDF_ORDER]
+        return urdf_inertia(*vals), tuple(_text(v[k]) if k in v else "0" for k in _URDF_ORDER)
     if isinstance(v, list) and len(v) == 3 and all(isinstance(row, list) for row in v):
         rows = [r.vector({"row": row}, path + (key,), "row", 3) for row in v]
         a = np.array(rows)
         if not np.allclose(a, a.T, rtol=0, atol=1e-12 * max(1.0, np.abs(a).max())):
             r.error(path + (key,), f"inertia matrix is not symmetric: {v!r}")
-        return 0.5 * (a + a.T)
-    return urdf_inertia(*r.vector(table, path, key, 6))
+        written = None if not np.array_equal(a, a.T) else tuple(
+            _text(v[i][j]) for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)))
+        return 0.5 * (a + a.T), written
+    return urdf_inertia(*r.vector(table, path, key, 6)), tuple(_text(x) for x in v)
 
 
 def _body_phi(r, table, path, extra_keys=()):
@@ -245,6 +275,7 @@ def _body_phi(r, table, path, extra_keys=()):
         phi = r.vector(table, path, "phi", 10)
         if not phi[0] > 0:
             r.error(path + ("phi",), f"mass (first entry) must be > 0, got {phi[0]:g}")
+        judged, written = phi, tuple(_text(x) for x in table["phi"])
     elif "solid" in table:
         s = r.table(table, path, "solid")
         sp = path + ("solid",)
@@ -260,13 +291,17 @@ def _body_phi(r, table, path, extra_keys=()):
                                r.vector(s, sp, "position", 3, (0, 0, 0)))
         except ValueError as exc:
             r.error(sp + ("dims",), str(exc))
+        judged, written = phi, None
     else:
         mass = r.number(table, path, "mass", positive=True)
         com = r.vector(table, path, "com", 3, (0, 0, 0))
-        inertia = _inertia_matrix(r, table, path, "inertia")
+        inertia, inertia_text = _inertia_matrix(r, table, path, "inertia")
         rpy = r.vector(table, path, "rpy", 3, (0, 0, 0))
         phi = from_urdf(mass, com, inertia, rotation_rpy(rpy))
-    verdict = physical_consistency(phi)
+        # judged about the CoM as written: consistency does not depend on the frame, and moving it rounds
+        judged = pack(mass, np.zeros(3), inertia)
+        written = None if inertia_text is None else (_text(table["mass"]), "0", "0", "0", *inertia_text)
+    verdict = physical_consistency(judged, written=written)
     if verdict.verdict in (INCONSISTENT, INVALID):
         r.error(path + (given[0],), f"not a physical body: {verdict.reason(0)}")
     return phi
@@ -325,9 +360,10 @@ def _load(r, table, path, bodies):
         return Payload(body, phi, _profile(r, table, path))
     r.keys(table, path, {"kind", "body", "mass", "inertia", "path", "profile"}, required=("mass", "path"))
     mass = r.number(table, path, "mass", positive=True)
-    inertia = _inertia_matrix(r, table, path, "inertia") if "inertia" in table else np.zeros((3, 3))
+    inertia, written = _inertia_matrix(r, table, path, "inertia") if "inertia" in table else (np.zeros((3, 3)), None)
     if "inertia" in table:
-        check = physical_consistency(from_urdf(mass, np.zeros(3), inertia))
+        check = physical_consistency(from_urdf(mass, np.zeros(3), inertia), written=None if written is None else (
+            _text(table["mass"]), "0", "0", "0", *written))
         if check.verdict in (INCONSISTENT, INVALID):
             r.error(path + ("inertia",), f"not a physical body: {check.reason(0)}")
     p = r.table(table, path, "path")
@@ -348,10 +384,14 @@ def _load(r, table, path, bodies):
 def parse_scene(text, source="<scene>"):
     """A :class:`Scene` from TOML text; raises :class:`SceneError`."""
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(text, parse_float=_Written)
     except tomllib.TOMLDecodeError as exc:
         m = re.search(r"line (\d+)", str(exc))
         raise SceneError(f"{source}:{m.group(1) if m else '?'}: not valid TOML: {exc}") from None
+    except RecursionError:
+        raise SceneError(f"{source}: not usable TOML: nested too deeply") from None
+    except ValueError as exc:  # tomllib's int() of an integer beyond Python's 4300 digits
+        raise SceneError(f"{source}: not usable TOML: {str(exc).split(';')[0]}") from None
     r = _Reader(text, source)
     r.keys(data, (), {"name", "description", "chain", "body", "load", "time", "control", "adaptive"},
            required=("name", "chain", "body"))
@@ -372,7 +412,7 @@ def parse_scene(text, source="<scene>"):
     time_t = r.table(data, (), "time", required=False) or {}
     r.keys(time_t, ("time",), {"start", "end"})
     t0 = r.number(time_t, ("time",), "start", 0.0)
-    t1 = r.number(time_t, ("time",), "end", t0 + 5.0)
+    t1 = r.number(time_t, ("time",), "end", t0 + 5.0, endless=True)
     if not t1 > t0:
         r.error(("time", "end"), f"must be after time.start = {t0:g}, got {t1:g}")
     trajectory = ParameterTrajectory(base, loads, (t0, t1))
@@ -433,10 +473,12 @@ def load_gains(path, scene):
 
 
 def _check_trajectory(r, trajectory):
-    """Every body must stay consistent (or degenerate) over the scene's time span."""
+    """Every body must stay consistent (or degenerate) over the scene's time span; the parameters are computed in
+    floats, so a body on the boundary (a plate, as written) may lie a rounding error outside it."""
     theta, _ = trajectory.theta(trajectory.times(201))
     verdicts = physical_consistency(theta, margins=False)
-    bad = np.argwhere(np.isin(verdicts.verdict, (INCONSISTENT, INVALID)))
+    rounding = (verdicts.mass > 0) & (verdicts.triangle_slack >= -RESOLUTION * EPS)
+    bad = np.argwhere((verdicts.verdict == INVALID) | (verdicts.verdict == INCONSISTENT) & ~rounding)
     if bad.size:
         ti, body = bad[0]
         r.error(("load",), f"body {body + 1} becomes non-physical at t = {trajectory.times(201)[ti]:g}: "
@@ -446,7 +488,7 @@ def _check_trajectory(r, trajectory):
 def load_scene(path):
     path = Path(path)
     try:
-        text = path.read_text()
-    except OSError as exc:
-        raise SceneError(f"{path}: cannot read scene file: {exc.strerror}") from None
+        text = read_text(path, "scene file")
+    except InputError as exc:
+        raise SceneError(str(exc)) from None
     return parse_scene(text, str(path))

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from inertiaproof.budget import UNLIMITED
 from inertiaproof.dynamics import motion
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
 from inertiaproof.result import Verdict
@@ -288,7 +289,7 @@ class CaptureStudy:
 
 
 def study(chain, trajectory, control, counts, steps, forces=motion.generalized_forces, horizon=2.0, max_steps=2048,
-          max_count=256, progress=lambda message: None):
+          max_count=256, progress=lambda message: None, budget=UNLIMITED):
     """Captures of pieces at rest (and carried) against (RoboticEquation). The RK4 steps double until the
     integration floor lies FLOOR_BELOW under the smallest error; K doubles while the order is unsettled or between
     the bands of convergence and levelling off."""
@@ -307,6 +308,9 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
     while True:
         need = steps_for(window, rate, counts, steps)
         fine = counts[-3:]
+        if budget.expired:
+            return unanswered(need, f"the time budget ({budget.describe()}) ran out before K = {counts[-1]} pieces "
+                                    f"with {need} RK4 steps" + (" (refining)" if history else ""))
         if need > max_steps:
             return unanswered(need, f"too stiff for the fixed-step study: the fastest closed-loop mode ({rate:.3g} "
                                     f"rad/s) needs {need} RK4 steps over the window, more than {max_steps}")

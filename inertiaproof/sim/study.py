@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from inertiaproof.budget import UNLIMITED
 from inertiaproof.dynamics import motion
 from inertiaproof.result import Verdict
 
@@ -116,14 +117,15 @@ def classify(run):
     return run
 
 
-def study(scene, settings=StudySettings(), forces=motion.generalized_forces, progress=lambda message: None):
-    """Reference run, then every method at every tolerance; see :class:`Study`."""
+def study(scene, settings=StudySettings(), forces=motion.generalized_forces, progress=lambda message: None,
+          budget=UNLIMITED):
+    """Reference run, then every method at every tolerance; see :class:`Study`. Runs end as ``budget`` when the
+    ``budget``'s time is up (those not started are ``not run``)."""
     system = simulate.System(scene.chain, scene.trajectory,
                              controller(scene.chain, scene.trajectory, scene.control), forces)
     horizon = settings.horizon or scene.horizon()
     n = scene.chain.n
-    budget = dict(samples=settings.samples, max_evaluations=settings.max_evaluations * 3,
-                  max_seconds=settings.max_seconds * 3)
+    reference_budget = dict(samples=settings.samples, max_evaluations=settings.max_evaluations * 3)
     t0 = scene.trajectory.span[0]
     rate = simulate.fastest_rate(scene.chain, scene.trajectory, system.control, (t0, t0 + horizon))
     method = settings.reference_method if rate * horizon <= STIFF else "Radau"
@@ -138,23 +140,27 @@ def study(scene, settings=StudySettings(), forces=motion.generalized_forces, pro
         return out
     progress(f"reference: {method} at rtol {settings.reference_rtol:g} over {horizon:g} s "
              f"(fastest closed-loop mode {rate:.3g} rad/s)")
-    out.reference = classify(simulate.simulate(system, horizon, method, settings.reference_rtol, **budget))
-    if not out.reference.finished and method != "Radau":
+    out.reference = classify(simulate.simulate(system, horizon, method, settings.reference_rtol, **reference_budget,
+                                               max_seconds=budget.capped(settings.max_seconds * 3)))
+    if not out.reference.finished and method != "Radau" and not budget.expired:
         progress(f"reference {method} {out.reference.status}; trying Radau")
-        out.reference = classify(simulate.simulate(system, horizon, "Radau", settings.reference_rtol, **budget))
+        out.reference = classify(simulate.simulate(system, horizon, "Radau", settings.reference_rtol,
+                                                   **reference_budget,
+                                                   max_seconds=budget.capped(settings.max_seconds * 3)))
     reference = out.reference
     for method in settings.methods:
         failed = None
         for rtol in sorted(settings.tolerances, reverse=True):
-            if failed is not None and settings.give_up:
-                out.runs.append((simulate.Run(method, rtol, "not run", 0.0, 0, 0,
-                                              f"{failed.status} at the looser rtol {failed.rtol:g}"), None))
+            if failed is not None and settings.give_up or budget.expired:
+                why = (f"the time budget ({budget.describe()}) is spent" if budget.expired else
+                       f"{failed.status} at the looser rtol {failed.rtol:g}")
+                out.runs.append((simulate.Run(method, rtol, "not run", 0.0, 0, 0, why), None))
                 continue
             runs = []
             while len(runs) < max(1, settings.repeats) and (not runs or runs[0].seconds < REPEAT_BELOW):
                 runs.append(classify(simulate.simulate(system, horizon, method, rtol, samples=settings.samples,
                                                        max_evaluations=settings.max_evaluations,
-                                                       max_seconds=settings.max_seconds)))
+                                                       max_seconds=budget.capped(settings.max_seconds))))
             run = sorted(runs, key=lambda r: r.seconds)[len(runs) // 2]
             if not run.finished:
                 failed = run

@@ -8,6 +8,8 @@ from typing import Callable
 
 import numpy as np
 
+from inertiaproof.budget import UNLIMITED, Budget
+
 from .outputs import Outputs
 from .profiles import Profile
 
@@ -22,6 +24,7 @@ class Context:
     outputs: Outputs = field(default_factory=Outputs)
     progress: Callable[[str], None] = lambda message: None
     memo: dict = field(default_factory=dict)  # shared by the checks of one run (see :meth:`shared`)
+    budget: Budget = UNLIMITED  # this check's time and memory (the runner's, from the profile)
 
     def rng(self, salt):
         """A generator seeded by the run's seed and a salt (the check's name): independent streams, same every run."""

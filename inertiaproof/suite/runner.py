@@ -30,6 +30,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from inertiaproof.budget import Budget, OutOfBudget, enforced
 from inertiaproof.errors import InputError
 from inertiaproof.result import Result, Verdict
 
@@ -96,36 +97,63 @@ def select(checks, *, only=None, scene=None, symbolic=False):
 
 def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, out_dir=None,
                counterexample_dir=Path("counterexamples/found"), progress=None):
-    """Run the selected checks and return a :class:`Run`."""
+    """Run the selected checks and return a :class:`Run`.
+
+    ``profile`` is a name of PROFILES or a :class:`Profile`; each check runs within its budget (the profile's
+    ``check_s`` and ``memory_mb``, inside the run's ``run_s``) and ends INCONCLUSIVE when it runs out."""
+    profile = PROFILES[profile] if isinstance(profile, str) else profile
     checks = load_checks()
     specs, skipped = select(checks, only=only, scene=scene, symbolic=symbolic)
+    if not specs:
+        raise InputError("nothing to run: " + "; ".join(f"{name} is left out: {why}" for name, why in skipped))
     say = progress or (lambda message: None)
     run = Run(skipped=skipped)
     memo = {}
     start = time.perf_counter()
+    run_ends = time.monotonic() + profile.run_s
     for i, spec in enumerate(specs, 1):
         outputs = Outputs(out_dir, Path(counterexample_dir))
-        ctx = Context(PROFILES[profile], seed=seed, scene=scene, outputs=outputs, memo=memo,
+        budget = Budget.of(profile.check_s, profile.memory_mb * 2**20, until=run_ends)
+        ctx = Context(profile, seed=seed, scene=scene, outputs=outputs, memo=memo, budget=budget,
                       progress=lambda message, name=spec.name: say(f"      {name}: {message}"))
         say(f"[{i}/{len(specs)}] {spec.name} ...")
         t0 = time.perf_counter()
-        try:
-            result = spec.fn(ctx)
-        except Exception as exc:  # a crashed check is reported, never silently passed
-            result = Result(spec.id, Verdict.INCONCLUSIVE, f"the check crashed: {type(exc).__name__}: {exc}",
-                            evidence={"traceback": traceback.format_exc()})
-            result.evidence["crashed"] = True
+        result = _run_one(spec, ctx, profile)
         result.runtime_s = time.perf_counter() - t0
-        result.check, result.seed, result.profile = spec.name, seed, profile
+        result.check, result.seed, result.profile = spec.name, seed, profile.name
         result.scene = getattr(scene, "source", None) or getattr(scene, "name", None)
         result.artifacts = list(outputs.artifacts)
         if result.verdict == Verdict.VIOLATED and result.counterexample:
-            path = ctx.save_counterexample(result)
-            result.counterexample["file"] = str(path)
+            try:
+                result.counterexample["file"] = str(ctx.save_counterexample(result))
+            except OSError as exc:  # it still goes into results.json
+                result.counterexample["not_saved"] = f"{exc.filename or ''}: {exc.strerror or exc}"
         say(f"[{i}/{len(specs)}] {spec.name}: {result.verdict} ({result.runtime_s:.2f} s)")
         run.results.append(result)
     run.runtime_s = time.perf_counter() - start
     return run
+
+
+def _run_one(spec, ctx, profile):
+    """The check's Result; INCONCLUSIVE (why: the budget, or the crash with its traceback) when it ends otherwise."""
+    budget = ctx.budget
+    limits = f"the {profile.name} profile allows {profile.check_s:g} s per check and {profile.run_s:g} s per run"
+    if budget.expired:
+        return Result(spec.id, Verdict.INCONCLUSIVE, f"not run: the run's time was spent before it ({limits})",
+                      evidence={"budget": "time"})
+    try:
+        with enforced(budget, grace=min(10.0, 0.25 * profile.check_s)):
+            return spec.fn(ctx)
+    except OutOfBudget:
+        return Result(spec.id, Verdict.INCONCLUSIVE, f"stopped without an answer: out of time ({limits})",
+                      evidence={"budget": "time"})
+    except MemoryError as exc:
+        return Result(spec.id, Verdict.INCONCLUSIVE, f"out of memory: the check needed more than the {profile.name} "
+                      f"profile's {profile.memory_mb} MiB ({exc or 'an allocation failed'})",
+                      evidence={"budget": "memory", "traceback": traceback.format_exc()})
+    except Exception as exc:  # a crashed check is reported, never silently passed
+        return Result(spec.id, Verdict.INCONCLUSIVE, f"the check crashed: {type(exc).__name__}: {exc}",
+                      evidence={"traceback": traceback.format_exc(), "crashed": True})
 
 
 def results_document(run, *, profile, seed, scene):
