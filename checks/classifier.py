@@ -13,9 +13,9 @@ dyadic rational, so its exact value is the row as written):
     m > 0, f(Phi) >= 0 singular     degenerate, Sigma_CoM of rank rank(f) - 1 (Thm1-boundary)
     otherwise                       inconsistent
 
-decided by symmetric elimination with the largest diagonal pivot (f >= 0 iff
-every pivot is >= 0 and a zero pivot has a zero row); nothing of
-physical_consistency or inertiaproof.model.exact is used. Any disagreement, in
+decided by LDL^T with symmetric pivoting in rational arithmetic
+(:func:`~inertiaproof.model.positive_map.exact_psd`); nothing of
+physical_consistency, its Schur complement or its exact fallback is used. Any disagreement, in
 the label or in the rank of a degenerate row, is VIOLATED with the row as a
 replayable counterexample. Wrong classifiers (one that accepts rows
 inconsistent by 1e-6 relative, one that takes the boundary as consistent, one
@@ -32,32 +32,15 @@ from inertiaproof.counterexamples.classifier import DELTAS, MAGNITUDE_BITS, boun
 
 from inertiaproof.model.consistency import CONSISTENT, DEGENERATE, INCONSISTENT, LABELS, physical_consistency
 from inertiaproof.model.inertia import pseudo_inertia
+from inertiaproof.model.positive_map import exact_psd
 from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.suite.hunt import hunt
 from inertiaproof.suite.registry import check, replayer
 
 __all__ = [
     "CLASSIFIER_CONTROLS", "classifier_result", "disagreements", "exact_classification", "exact_classifications",
-    "psd_rank",
     "replay_classifier_row",
 ]
-
-
-def psd_rank(a):
-    """rank(a) if the symmetric exact matrix a is positive semidefinite, else None."""
-    a = [list(row) for row in a]
-    rank = 0
-    while a:
-        diagonal = [a[i][i] for i in range(len(a))]
-        if min(diagonal) < 0:
-            return None
-        p = max(range(len(a)), key=lambda i: diagonal[i])
-        if diagonal[p] == 0:
-            return rank if all(x == 0 for row in a for x in row) else None
-        pivot, row = a[p][p], a[p]
-        a = [[a[i][j] - a[i][p] * row[j] / pivot for j in range(len(a)) if j != p] for i in range(len(a)) if i != p]
-        rank += 1
-    return rank
 
 
 def exact_classification(row):
@@ -69,8 +52,8 @@ def exact_classification(row):
     half_trace = (i11 + i22 + i33) / 2
     h = (h1, h2, h3)
     f = [[(half_trace if i == j else 0) - inertia[i][j] for j in range(3)] + [h[i]] for i in range(3)] + [[*h, m]]
-    rank = psd_rank(f)
-    if rank is None:
+    psd, rank, _ = exact_psd(f)
+    if not psd:
         return INCONSISTENT, -1
     return (CONSISTENT, -1) if rank == 4 else (DEGENERATE, rank - 1)
 
@@ -169,7 +152,7 @@ def classifier_result(ctx, classify=physical_consistency):
     missed = [label for label, caught in controls.items() if not caught]
     evidence = {
         "method": "physical_consistency (public API, float64 rows) against an exact decision of f(Phi) >= 0 and its "
-                  "rank by symmetric elimination in rational arithmetic on the floats' exact values",
+                  "rank by LDL^T with symmetric pivoting in rational arithmetic on the floats' exact values",
         "sweep": {"rows": quantity(len(rows), "count", "every decade of delta 1e-15..1e-3 on both sides, every "
                                    "degenerate kind and its ulp moves, non-positive masses, at 2^k, |k| <= "
                                    f"{MAGNITUDE_BITS} (1e-150..1e150)"),

@@ -8,7 +8,6 @@ from hypothesis import given
 from inertiaproof.checks.classifier import (
     classifier_result,
     exact_classification,
-    psd_rank,
     replay_classifier_row,
 )
 from inertiaproof.checks.equivalences import exact_pseudo_inertia
@@ -18,15 +17,6 @@ from inertiaproof.model import consistency
 from inertiaproof.model.consistency import CONSISTENT, DEGENERATE, INCONSISTENT
 from inertiaproof.model.exact import definiteness, integer_matrix
 from inertiaproof.result import Verdict
-
-
-def test_psd_rank_of_known_matrices():
-    assert psd_rank([[2, 1], [1, 2]]) == 2
-    assert psd_rank([[1, 1], [1, 1]]) == 1
-    assert psd_rank([[0, 0], [0, 0]]) == 0
-    assert psd_rank([[1, 2], [2, 1]]) is None
-    assert psd_rank([[0, 1], [1, 0]]) is None
-    assert psd_rank([[Fraction(1, 3), 0], [0, -Fraction(1, 10**40)]]) is None
 
 
 @pytest.mark.parametrize("kind", sorted(KINDS))
