@@ -56,7 +56,7 @@ def _documents(out, only):
     has_audit = "audit" in only and (out / load.AUDIT).is_file()
     if "report" in only and (not has_audit or (out / "results.json").is_file()):
         doc = load.results(out)  # names what is missing when out holds neither
-        yield "report", content.build(doc, load.data_files(out, doc))
+        yield "report", content.build(doc, load.data_files(out, doc), load.mutation(out))
     if has_audit:
         yield "audit", audit.build(load.audit(out / load.AUDIT))
 
