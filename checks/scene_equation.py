@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 from inertiaproof.checks.generalized_equation import THREE_ROUTES, particle_route
 from inertiaproof.symbolic.claims import CLAIMS
 from inertiaproof.symbolic.derivations import derivation
@@ -31,8 +29,7 @@ def decide_on_scene(claim_id, ctx):
     if claim_id != "GRE":
         return claim_result(CLAIMS[claim_id], [outcome])
     particles, evidence = particle_route(ctx, [particle_key(key.name)])
-    return claim_result(replace(CLAIMS["GRE"], statement=THREE_ROUTES.statement), [outcome, *particles],
-                        extra={"particle_route": evidence})
+    return claim_result(THREE_ROUTES, [outcome, *particles], extra={"particle_route": evidence})
 
 
 for _claim in ("GRE", "GRE-F", "Prop1", "Prop2"):

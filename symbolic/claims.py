@@ -25,8 +25,8 @@ from inertiaproof.symbolic.robotics_equation import RoboticEquation, coriolis, l
 
 __all__ = [
     "Claim", "CLAIMS", "entries", "GRE_CONTROLS", "GRE_F_CONTROLS", "gre_f_residual", "gre_residual", "originals",
-    "PARTICLE_CONTROLS", "PARTICLE_GRE", "particle_gre_residual", "PROP1_CONTROLS", "prop1_residual", "PROP2_CONTROLS", "prop2_residual", "RegressorTest", "swapped_coriolis",
-    "zeros_like",
+    "PARTICLE_CONTROLS", "PARTICLE_GRE", "particle_gre_residual", "PROP1_CONTROLS", "prop1_residual",
+    "PROP2_CONTROLS", "prop2_residual", "RegressorTest", "swapped_coriolis", "zeros_like",
 ]
 
 

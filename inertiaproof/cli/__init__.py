@@ -40,7 +40,7 @@ def parser():
     sub = p.add_subparsers(dest="command", required=True)
     for name, (module, help_text) in COMMANDS.items():
         command = importlib.import_module(module)
-        sp = sub.add_parser(name, help=help_text, epilog=EXIT_STATUS[name])
+        sp = sub.add_parser(name, help=help_text, epilog=EXIT_STATUS.get(name))
         command.configure(sp)
         sp.set_defaults(func=command.main)
     return p
