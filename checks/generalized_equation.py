@@ -17,7 +17,8 @@ from inertiaproof.suite.registry import check, replayer
 
 __all__ = [
     "chain_cross_checks", "generalized_robotics_equation", "ORACLE_TOLERANCE", "parameter_rate_matrix",
-    "particle_route", "replay_particle_claim", "replay_symbolic_claim", "THREE_ROUTES", "time_per_n",
+    "particle_route", "replay_coordinate_polynomial", "replay_particle_claim", "replay_symbolic_claim",
+    "THREE_ROUTES", "time_per_n",
 ]
 
 ORACLE_TOLERANCE = 1e-9  # relative; the twin's transforms are within 1e-12 of the chain's
@@ -105,11 +106,21 @@ def generalized_robotics_equation(ctx):
               "x_log": False, "y_log": True,
               "lines": {"derive": [[d.key.n, round(d.seconds.get("euler_lagrange", 0) + d.seconds.get("paper_form", 0), 4)]
                                    for d in ds if d.key.kind == "abstract"]}}
+    maps = oracle.coordinate_polynomial_errors()
     result = claim_result(THREE_ROUTES, decided + particles, extra={
         "particle_route": particle_evidence,
+        "coordinate_polynomials": {name: {"derivative_exact": same, "value_error": quantity(error, "residual",
+                                          "max relative |symbolic g - chain's g| at rational points")}
+                                   for name, (same, error) in maps.items()},
         "time_per_n": time_per_n(ds, decided), "series": series, "numeric_cross_check": cross,
         "numeric_tolerance": quantity(ORACLE_TOLERANCE, "tolerance", "relative, for the float cross-check"),
     })
+    wrong = [name for name, (same, error) in maps.items() if not same or error > ORACLE_TOLERANCE]
+    if wrong and result.verdict != Verdict.VIOLATED:
+        result.verdict = Verdict.VIOLATED
+        result.summary = (f"the symbolic coordinate map(s) {', '.join(wrong)} are not the chain's, or their rate "
+                          f"factor g' is not the derivative of g: every symbolic route shares that chain rule")
+        result.counterexample = {"kind": "coordinate-polynomial", "data": {"maps": wrong}}
     if result.verdict == Verdict.HOLDS and worst > ORACLE_TOLERANCE:
         result.verdict = Verdict.INCONCLUSIVE
         result.summary = (f"the symbolic identity holds, but the symbolic chain disagrees with the numeric model by "
@@ -154,3 +165,12 @@ def replay_particle_claim(data, ctx):
                       counterexample={"kind": "particle-claim", "data": data})
     return Result("GRE", Verdict.HOLDS, f"{PARTICLE_GRE.statement}: the saved point no longer fails on {key.label}",
                   {"value": "0"})
+
+
+@replayer("coordinate-polynomial")
+def replay_coordinate_polynomial(data, ctx):
+    maps = oracle.coordinate_polynomial_errors()
+    wrong = [name for name in data["maps"] if name in maps and (not maps[name][0] or maps[name][1] > ORACLE_TOLERANCE)]
+    return Result("GRE", Verdict.VIOLATED if wrong else Verdict.HOLDS,
+                  f"symbolic coordinate maps not the chain's or with a wrong rate factor: {', '.join(wrong) or 'none'}",
+                  {"maps": wrong})

@@ -95,3 +95,14 @@ def test_the_replayer_holds_on_the_correct_code(fresh, ctx):
             "value": "1"}
     assert p.calc.evaluate(residual[0], fixed_point(p.calc, 0)) == 0
     assert replay_particle_claim(data, ctx).verdict == Verdict.HOLDS
+
+
+def test_a_wrong_symbolic_rate_factor_turns_gre_violated(ctx, monkeypatch):
+    """The cubic map is derived symbolically only on a scene's chain; its twin's g' is checked against g in every run."""
+    from inertiaproof.checks.generalized_equation import replay_coordinate_polynomial
+    from inertiaproof.symbolic import jets
+
+    monkeypatch.setitem(jets.COORDINATE_POLYNOMIALS, "cubic", ((0, 0, 0, 1), (0, 0, 2)))
+    result = generalized_robotics_equation(ctx)
+    assert result.verdict == Verdict.VIOLATED and "cubic" in result.summary
+    assert replay_coordinate_polynomial(result.counterexample["data"], ctx).verdict == Verdict.VIOLATED
