@@ -35,13 +35,16 @@ from inertiaproof.bounds.constants import lower_constants, upper_constants
 from inertiaproof.bounds.domain import search_box
 from inertiaproof.bounds.time import BODY_FUNCTIONS, lumped_velocity_bounds, parameter_vertices, time_extreme
 from inertiaproof.dynamics import composite, terms
-from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
+from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Path, Profile
+from inertiaproof.model import solids
+from inertiaproof.model.inertia import inertia_com, pseudo_inertia, spatial_inertia
 from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.scene import robots
 from inertiaproof.suite.registry import check, replayer
 
 __all__ = [
-    "bound_ingredients", "configuration_findings", "constants_findings", "ingredients_result", "replay_ingredient",
+    "bound_ingredients", "configuration_findings", "constants_findings", "flat_rider", "ingredients_result",
+    "replay_ingredient",
     "time_findings", "TOLERANCE", "vertex_findings",
 ]
 
@@ -55,7 +58,7 @@ def _beyond(values, bound, sense):
     excess = bound - worst if sense == "min" else worst - bound
     if not np.isfinite(excess):  # an infinite bound holds everything, an infinite value beyond a finite bound does not
         return -1.0 if np.isinf(bound) or np.isnan(excess) else 1.0
-    return excess / max(abs(worst), abs(bound), 1e-300)
+    return float(excess / max(abs(worst), abs(bound), 1e-300))
 
 
 def _singular_values(chain, q):
@@ -181,13 +184,23 @@ def vertex_findings(rng):
     return out
 
 
+def flat_rider():
+    """A light body carrying a wide thin plate across it: lambda_max(Z) of the plate is near twice lambda_max(f),
+    the case the key step's factor 2 (Z <= 2 zeta I6) is for."""
+    base = solids.solid("box", 0.1, (0.1, 0.1, 0.1))[None]
+    plate = inertia_com(solids.solid("box", 1.0, (6.0, 6.0, 0.01)))
+    path = Path("line", Profile("smoothstep", 0.5, 1.0), start=(0.0, 0.0, 0.0), end=(0.1, 0.0, 0.0))
+    return ParameterTrajectory(base, (MovingMass(0, 1.0, plate, path),), (0.0, 2.0))
+
+
 def ingredients_result(ctx, scenes=None, trajectories=None):
     scenes = scenes if scenes is not None else (bound_scenes(ctx) if ctx.scene is not None else
                                                 [*bound_scenes(ctx), robots.non_normal_2r()])
     trajectories = trajectories if trajectories is not None else (
-        {} if ctx.scene is not None else {s.name: s.trajectory for s in (robots.trolley_2r(loop=True, mass=2.0),
-                                                                          robots.passenger_platform(),
-                                                                          robots.translating_sphere(-0.5))})
+        {} if ctx.scene is not None else {**{s.name: s.trajectory for s in (robots.trolley_2r(loop=True, mass=2.0),
+                                                                             robots.passenger_platform(),
+                                                                             robots.translating_sphere(-0.5))},
+                                          "flat rider": flat_rider()})
     rows = {}
     for scene in scenes:
         verts = parameter_vertices(scene.trajectory)
