@@ -44,12 +44,11 @@ from inertiaproof.suite.registry import check, replayer
 
 __all__ = [
     "bound_ingredients", "configuration_findings", "constants_findings", "flat_rider", "ingredients_result",
-    "replay_ingredient",
-    "time_findings", "TOLERANCE", "vertex_findings",
+    "replay_ingredient", "time_extremes", "time_findings", "TOLERANCE", "vertex_findings",
 ]
 
 TOLERANCE = 1e-9  # relative to the size of the quantity compared
-TIME_GRID = 4001
+TIME_GRID = 1001  # times over a span, its ends included (time_extreme itself samples 2001)
 
 
 def _beyond(values, bound, sense):
@@ -125,17 +124,22 @@ def _mismatch(a, b):
     return float(np.max(np.abs(a[finite] - b[finite])) / max(float(np.max(np.abs(b[finite]))), 1e-300))
 
 
-def time_findings(trajectory):
-    """{finding: relative excess} of the time extremes and lumped velocity bounds on a fine time grid."""
+def time_findings(trajectory, extremes):
+    """{finding: relative excess} of the time extremes (``extremes``: {name: time_extreme}) and the lumped velocity
+    bounds on a fine time grid."""
     t = trajectory.times(TIME_GRID, horizon=50.0)
     theta, theta_dot = trajectory.theta(t)
+    spectra = {}
     out = {}
     for name, (build, kind, rate) in BODY_FUNCTIONS.items():
-        found = time_extreme(trajectory, name)
         matrix = pseudo_inertia if build is pseudo_inertia else spatial_inertia
-        w = np.linalg.eigvalsh(matrix(theta_dot if rate else theta))
+        key = (matrix, rate)
+        if key not in spectra:
+            spectra[key] = np.linalg.eigvalsh(matrix(theta_dot if rate else theta))
+        w = spectra[key]
         values = w[..., 0] if kind == "lmin" else (w[..., -1] if kind == "lmax" else np.abs(w).max(-1))
         finite = np.isfinite(values)
+        found = extremes[name]
         if np.isfinite(found["certified"]) and finite.any():
             out[f"{name}: grid within the certified side"] = _beyond(values[finite], found["certified"], found["sense"])
     if trajectory.internal_motion:
@@ -147,10 +151,14 @@ def time_findings(trajectory):
     return out
 
 
-def constants_findings(trajectory, brackets):
+def time_extremes(trajectory):
+    """{name: bounds.time.time_extreme} for every body function."""
+    return {name: time_extreme(trajectory, name) for name in BODY_FUNCTIONS}
+
+
+def constants_findings(extremes, brackets):
     """{finding: relative excess} of Theorems 2 and 3's constants against the paper's formulas and the samples."""
-    xi, zmin = time_extreme(trajectory, "lmin_f"), time_extreme(trajectory, "lmin_Z")
-    zeta, zmax = time_extreme(trajectory, "lmax_f"), time_extreme(trajectory, "lmax_Z")
+    xi, zmin, zeta, zmax = (extremes[name] for name in ("lmin_f", "lmin_Z", "lmax_f", "lmax_Z"))
     gamma, sigma, low, high = (brackets[k] for k in ("gamma", "sigma", "low", "high"))
     lower = lower_constants(xi["certified"], zmin["certified"], gamma, low, xi_observed=xi["observed"])
     upper = upper_constants(zeta["certified"], zmax["certified"], sigma, high, zeta_observed=zeta["observed"])
@@ -207,12 +215,13 @@ def ingredients_result(ctx, scenes=None, trajectories=None):
         if verts is None:
             trajectories = {**trajectories, scene.name: scene.trajectory}
             continue
+        extremes = time_extremes(scene.trajectory)
         findings, brackets = configuration_findings(ctx, scene, verts[0])
-        findings.update(time_findings(scene.trajectory))
-        findings.update(constants_findings(scene.trajectory, brackets))
+        findings.update(time_findings(scene.trajectory, extremes))
+        findings.update(constants_findings(extremes, brackets))
         rows[scene.name] = findings
     for name, trajectory in trajectories.items():
-        rows[name] = time_findings(trajectory)
+        rows[name] = time_findings(trajectory, time_extremes(trajectory))
     rows["vertex bound"] = vertex_findings(ctx.rng("Cor1:ingredients:vertex"))
     failures = [(where, what, excess) for where, found in rows.items() for what, excess in found.items()
                 if excess > TOLERANCE]

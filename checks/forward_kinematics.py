@@ -200,7 +200,7 @@ def _hunt_every_map(ctx, check_id):
     for kind, word in (("R", "revolute"), ("P", "prismatic")):
         for name in COORDINATE_MAPS:
             found = hunt(chains_with_configurations(kind, (name,)), margin, ctx,
-                         label=f"forward kinematics {word} {name}", max_examples=max(ctx.profile.examples // 12, 4),
+                         label=f"forward kinematics {word} {name}", max_examples=max(ctx.profile.examples // 20, 3),
                          phases=NO_SHRINK)
             out[f"{word} joints, {name} map"] = found
     return out
