@@ -129,7 +129,7 @@ def _counts(about, exact):
 
 def classifier_result(ctx, classify=physical_consistency):
     """The sweep and the hunt against the exact decision; the controls on the sweep."""
-    rows, about = sweep(ctx.rng("Thm1-boundary:classifier"), repeats=2 if ctx.profile.derandomize else 20)
+    rows, about = sweep(ctx.rng("Thm1-boundary:classifier"), repeats=max(2, ctx.profile.examples // 30))
     exact = exact_classifications(rows)
     bad, _, answers = disagreements(rows, classify, exact)
     decided_exactly = int(np.sum(physical_consistency(rows).decided_exactly))
