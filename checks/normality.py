@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 from inertiaproof.checks.bound_verdicts import cached, kw
+from inertiaproof.checks.forward_kinematics import kinematics_result, with_kinematics
 
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
 from inertiaproof.bounds.domain import search_box
@@ -71,7 +72,8 @@ def def2_result(ctx, scenes, theta_for_identity=None):
 
 @check("Def2", needs={"chain"})
 def def2(ctx):
-    return def2_result(ctx, normality_scenes(ctx))
+    scenes = normality_scenes(ctx)
+    return with_kinematics(def2_result(ctx, scenes), kinematics_result(ctx, "Def2", {s.name: s.chain for s in scenes}))
 
 
 def cx_normal_result(scene, theta=None):
@@ -107,7 +109,8 @@ def cx_normal_result(scene, theta=None):
 
 @check("CX-normal", needs=())
 def cx_normal(ctx):
-    return cx_normal_result(robots.non_normal_2r())
+    scene = robots.non_normal_2r()
+    return with_kinematics(cx_normal_result(scene), kinematics_result(ctx, "CX-normal", {scene.name: scene.chain}))
 
 
 @check("Lem1", needs=())

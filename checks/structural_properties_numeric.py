@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
+from inertiaproof.checks.forward_kinematics import kinematics_result, with_kinematics
 from inertiaproof.checks.pointwise import HUNT_SHARE, NO_SHRINK
 from inertiaproof.counterexamples.motions import joint_motion, motions
 
@@ -386,7 +387,8 @@ def replay_structural_point(data, ctx):
 
 @check("Prop1", needs={"chain"}, variant="numeric")
 def prop1(ctx):
-    return prop1_result(ctx)
+    chains = {s.name: s.chain for s in ([ctx.scene] if ctx.scene is not None else prop1_scenes())}
+    return with_kinematics(prop1_result(ctx), kinematics_result(ctx, "Prop1", chains))
 
 
 @check("Prop2", needs={"chain"}, variant="numeric")

@@ -32,7 +32,7 @@ from inertiaproof.report.model import (
 from inertiaproof.result import KINDS, combine
 from inertiaproof.suite import catalog
 
-__all__ = ["build", "NOT_RUN", "PAPER", "TITLE"]
+__all__ = ["build", "MUTATION_TONES", "NOT_RUN", "PAPER", "TITLE"]
 
 NOT_RUN = "NOT RUN"
 TITLE = "inertiaproof report"
@@ -49,8 +49,9 @@ class _Run:
     bounds_figure: object = None  # the constants overview, when there is one
 
 
-def build(doc, data=None):
-    """The Document of a results document and its data files ({artifact: rows or problem})."""
+def build(doc, data=None, mutation=None):
+    """The Document of a results document and its data files ({artifact: rows or problem}); ``mutation`` is
+    (path, table or problem) of bench/mutation.py, shown as an appendix."""
     run = _Run(doc, data or {}, _keys(doc["checks"]), evidence.Figures())
     grouped = {}
     for r in doc["checks"]:
@@ -72,7 +73,43 @@ def build(doc, data=None):
     if beyond:
         sections.append(Section("sec-beyond", (Text("Beyond the paper"),), children=tuple(beyond)))
     sections.append(_legend())
+    if mutation:
+        sections.append(_mutation_appendix(*mutation))
     return Document(TITLE, PAPER, tuple(sections))
+
+
+MUTATION_TONES = {"killed": "HOLDS", "survived": "VIOLATED", "inconclusive": "INCONCLUSIVE", "stale": "NOT RUN"}
+
+
+def _mutation_appendix(path, table):
+    """Appendix: bench/mutation.py's kill table (which checks killed each mutant of the core)."""
+    if isinstance(table, str):
+        return Section("mutation", (Text("Appendix: mutation testing"),), (Paragraph((Text(table, "em"),)),))
+    s, base = table.get("summary") or {}, table.get("baseline") or {}
+    lead = Paragraph((
+        Text("Each mutant is a small wrong edit of the core (a sign, a factor, a dropped term, a loosened tolerance) "
+             "applied to a temporary copy of the package; "), code("inertiaproof gate --update"),
+        Text(" runs first, so the lockfile cannot be what kills it, then "), code("inertiaproof run --profile ci"),
+        Text(". A mutant is killed when the run exits 1 (something VIOLATED or a check crashed). "),
+        Text(f"{s.get('killed', '?')} of {s.get('mutants', '?')} killed, {s.get('survived', '?')} survived, "
+             f"{s.get('inconclusive', '?')} only inconclusive, {s.get('stale', '?')} stale (pattern no longer in the "
+             f"code); {s.get('equivalent', 0)} declared equivalent.", "strong"),
+        Text(f" Baseline run: exit {base.get('exit', '?')} in {fmt.seconds(base.get('seconds'))}. From "),
+        code(str(path)), Text(", written by "), code(str(table.get("command", "python bench/mutation.py"))), Text("."),
+    ))
+    rows = []
+    for m in table["mutants"]:
+        status = str(m.get("status", "?"))
+        who = ", ".join(map(str, m.get("killed_by") or m.get("inconclusive") or [])) or str(m.get("why", ""))
+        if m.get("equivalent"):
+            who = (who + "; " if who else "") + f"equivalent: {m['equivalent']}"
+        rows.append((cell(code(str(m.get("id", "?")))), cell(str(m.get("area", ""))), cell(str(m.get("what", ""))),
+                     cell(Badge(status, MUTATION_TONES.get(status, "NOT RUN"))), cell(who)))
+    columns = (Column("mutant", 0.2), Column("area", 0.09), Column("the bug", 0.3), Column("status", 0.11),
+               Column("killed by (or why not)", 0.3))
+    return Section("mutation", (Text("Appendix: mutation testing"),),
+                   (lead, evidence.table(columns, rows, "Mutants of the core and the checks that kill them",
+                                         limit=None)))
 
 
 def _summary(run, grouped, verdicts, beyond):

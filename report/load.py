@@ -9,14 +9,18 @@ from pathlib import Path
 from inertiaproof.errors import InputError
 
 __all__ = [
-    "AUDIT", "audit", "AUDIT_SCHEMA", "data_files", "Each", "FILE", "LINK", "OPTIONAL", "read_json", "REPAIR",
-    "results", "SCHEMA", "SUMMARY", "TYPE_NAMES", "VERDICTS",
+    "AUDIT", "audit", "AUDIT_SCHEMA", "CHECKOUT_MUTATION", "data_files", "Each", "FILE", "LINK", "MUTATION",
+    "mutation", "MUTATION_SCHEMA", "OPTIONAL", "read_json", "REPAIR", "results", "SCHEMA", "SUMMARY", "TYPE_NAMES",
+    "VERDICTS",
 ]
 
 SCHEMA = "inertiaproof.results/1"
 VERDICTS = ("HOLDS", "VIOLATED", "INCONCLUSIVE")
 AUDIT = "audit.json"
 AUDIT_SCHEMA = "inertiaproof.audit/1"
+MUTATION = "mutation.json"
+MUTATION_SCHEMA = "inertiaproof.mutation/1"
+CHECKOUT_MUTATION = Path(__file__).resolve().parent.parent / "bench" / "results" / MUTATION  # bench/mutation.py's
 OPTIONAL = type(None)
 
 
@@ -125,6 +129,23 @@ def data_files(out_dir, doc):
     out = Path(out_dir)
     names = sorted({a for r in doc["checks"] for a in r.get("artifacts") or [] if isinstance(a, str)})
     return {name: _rows(out / name, name) for name in names}
+
+
+def mutation(out_dir, fallback=CHECKOUT_MUTATION):
+    """(path, the mutation table of bench/mutation.py) from DIR/mutation.json, else from ``fallback`` (a source
+    checkout's bench/results/mutation.json); (path, a one-line problem) for a file that is not one; None without."""
+    for path in (Path(out_dir) / MUTATION, Path(fallback)):
+        if not path.is_file():
+            continue
+        try:
+            data = _json(path)
+        except InputError as exc:
+            return path, str(exc)
+        if not (isinstance(data, dict) and data.get("schema") == MUTATION_SCHEMA and isinstance(data.get("mutants"), list)
+                and all(isinstance(m, dict) for m in data["mutants"])):
+            return path, f"{path}: not a mutation table (schema {MUTATION_SCHEMA})"
+        return path, data
+    return None
 
 
 def _rows(path, name):

@@ -25,8 +25,8 @@ from inertiaproof.symbolic.robotics_equation import RoboticEquation, coriolis, l
 
 __all__ = [
     "Claim", "CLAIMS", "entries", "GRE_CONTROLS", "GRE_F_CONTROLS", "gre_f_residual", "gre_residual", "originals",
-    "PROP1_CONTROLS", "prop1_residual", "PROP2_CONTROLS", "prop2_residual", "RegressorTest", "swapped_coriolis",
-    "zeros_like",
+    "PARTICLE_CONTROLS", "PARTICLE_GRE", "particle_gre_residual", "PROP1_CONTROLS", "prop1_residual",
+    "PROP2_CONTROLS", "prop2_residual", "RegressorTest", "swapped_coriolis", "zeros_like",
 ]
 
 
@@ -161,6 +161,35 @@ PROP2_CONTROLS = {
 }
 
 
+def originals(d):
+    """The correct objects the controls' keyword arguments replace."""
+    return {"eq": d.equation, "f": d.F, "m_rates": d.equation.M_rates, "n_matrix": d.N, "h": d.equation.H,
+            "regressors": d.regressors, "rates": d.calc.theta_dot}
+
+
+# -- GRE from particles (inertiaproof.symbolic.particles) -----------------------------------
+
+def particle_gre_residual(p, euler_lagrange=None, paper=None):
+    """What vanishes iff GRE describes the particles: (LagrangeFormalism) of the particles minus the paper's form at
+    their moments; the same minus Newton-Meshchersky with added mass at rest; and, on pure loading, the difference
+    to mass arriving with its body's velocity minus M(q, Thetadot) qd."""
+    el = p.euler_lagrange if euler_lagrange is None else euler_lagrange
+    paper = p.paper if paper is None else paper
+    return (tuple(a - b for a, b in zip(el, paper)) + tuple(a - b for a, b in zip(el, p.newton_at_rest))
+            + tuple(a - b for a, b in zip(p.loading_difference, p.loading_term)))
+
+
+def _paper_control(name):
+    return lambda p: {"paper": p.paper_form(GRE_CONTROLS[name](p.chain_derivation)["eq"])}
+
+
+PARTICLE_CONTROLS = {
+    **{f"paper's form: {name}": _paper_control(name) for name in GRE_CONTROLS},
+    "added mass arriving with its body's velocity (the at-rest assumption dropped)":
+        lambda p: {"euler_lagrange": p.newton_with_the_body},
+}
+
+
 @dataclass(frozen=True)
 class Claim:
     id: str
@@ -168,6 +197,15 @@ class Claim:
     residual: Callable
     controls: dict
     subject: Callable  # the derived objects the claim is about (their size goes into the evidence)
+    originals: Callable = originals  # the correct objects the controls replace
+    kind: str = "symbolic-claim"  # the counterexample kind its replayer reads
+
+
+PARTICLE_GRE = Claim("GRE", "Lagrange's equations of mass-carrying particles equal (RoboticEquation) at their Theta, "
+                            "Thetadot, Psi, Psidot", particle_gre_residual, PARTICLE_CONTROLS,
+                     lambda p: p.euler_lagrange,
+                     originals=lambda p: {"paper": p.paper, "euler_lagrange": p.euler_lagrange},
+                     kind="particle-claim")
 
 
 CLAIMS = {
@@ -181,12 +219,6 @@ CLAIMS = {
                             "regressors free of inertial parameters", prop2_residual, PROP2_CONTROLS,
                    lambda d: d.regressors),
 }
-
-
-def originals(d):
-    """The correct objects the controls' keyword arguments replace."""
-    return {"eq": d.equation, "f": d.F, "m_rates": d.equation.M_rates, "n_matrix": d.N, "h": d.equation.H,
-            "regressors": d.regressors, "rates": d.calc.theta_dot}
 
 
 def entries(residual):

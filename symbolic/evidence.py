@@ -15,7 +15,7 @@ import dataclasses
 import time
 from dataclasses import dataclass, field
 
-from inertiaproof.symbolic.claims import entries, originals
+from inertiaproof.symbolic.claims import entries
 from inertiaproof.symbolic.identity import Decision, decide_exact, decide_randomised, fixed_point, leaves, point_json
 
 from inertiaproof.result import Result, Verdict, quantity
@@ -37,6 +37,7 @@ class ClaimOutcome:
     controls: dict = field(default_factory=dict)  # name -> "detected" | "vacuous" | "missed"
     seconds: dict = field(default_factory=dict)
     cached: bool = False
+    kind: str = "symbolic-claim"  # of its counterexample
 
     @property
     def holds(self):
@@ -86,9 +87,9 @@ def run_claim(claim, d, *, rng=None, randomised_points=2, controls=True):
         randomised = decide_randomised(lambda at: entries(claim.residual(at))[0], d, rng, randomised_points)
     outcome = ClaimOutcome(d.key.label, dataclasses.asdict(d.key), exact, randomised, impure,
                            sum(calc.size(x) for x in leaves(claim.subject(d))), seconds=dict(d.seconds),
-                           cached=d.cached)
+                           cached=d.cached, kind=claim.kind)
     if controls:
-        correct, probe = originals(d), Probe(calc)
+        correct, probe = claim.originals(d), Probe(calc)
         for name, variant in claim.controls.items():
             kwargs = variant(d)
             if not any(probe.differs(v, correct[k]) for k, v in kwargs.items()):
@@ -163,7 +164,7 @@ def claim_result(claim, outcomes, *, extra=None, method_note=""):
         what = f"entry {w['entry']} is {w['value']} at a rational point, not 0" if w else \
             f"{len(o.impure)} regressor entries depend on inertial parameters"
         return Result(claim.id, Verdict.VIOLATED, f"{claim.statement}: fails on {o.label}: {what}", evidence,
-                      counterexample={"kind": "symbolic-claim", "data": data})
+                      counterexample={"kind": o.kind, "data": data})
     blind = [n for n, c in controls.items() if not c["detected"]]
     disagree = [o.label for o in outcomes if not o.consistent]
     if disagree:

@@ -10,9 +10,14 @@ term of (RoboticEquation) are polynomials over Q in the jet coordinates
     Psi_r, Psidot_r, nu, nudot        (lumped internal velocity (KineticEnergy) and its rate)
     v_k, a_k                          (free vectors of the regressors (RoboticRegressor))
 
+or, for the particle route (:mod:`~inertiaproof.symbolic.particles`), in place of
+Theta, Psi and nu the particles of every body: their masses and rates m_li,
+mdot_li and body-frame positions x_li, xdot_li, xddot_li.
+
 The time derivative along the motion is the derivation
 
-    D_t = sum_k qd_k d/dq_k + qdd_k d/dqd_k + sum_h Thetadot_h d/dTheta_h + sum_r Psidot_r d/dPsi_r + nudot d/dnu,
+    D_t = sum_k qd_k d/dq_k + qdd_k d/dqd_k + sum_h Thetadot_h d/dTheta_h + sum_r Psidot_r d/dPsi_r + nudot d/dnu
+          (+ sum_i mdot_i d/dm_i + xdot_i d/dx_i + xddot_i d/dxdot_i),
 
 with d/dq_k c_k = -g_k'(q_k) s_k and d/dq_k s_k = g_k'(q_k) c_k. Functions of q are
 the quotient by the ideal I = (c_k^2 + s_k^2 - 1); every derivation above maps I
@@ -53,7 +58,7 @@ class Generator:
     name: str
 
 
-def _generators(kinds, coordinates, bodies, with_free_vectors):
+def _generators(kinds, coordinates, bodies, with_free_vectors, particles):
     out = []
     for k, (kind, coord) in enumerate(zip(kinds, coordinates), 1):
         if kind == "revolute":
@@ -66,6 +71,14 @@ def _generators(kinds, coordinates, bodies, with_free_vectors):
     if with_free_vectors:
         out += [Generator("v", (k,), f"v{k}") for k in range(1, n + 1)]
         out += [Generator("a", (k,), f"a{k}") for k in range(1, n + 1)]
+    if particles:
+        for role, prefix in (("mass", "m"), ("mass_dot", "Dm")):
+            out += [Generator(role, (l, i), f"{prefix}{l}_{i}") for l in range(1, bodies + 1)
+                    for i in range(1, particles + 1)]
+        for role, prefix in (("x", "x"), ("x_dot", "Dx"), ("x_ddot", "DDx")):
+            out += [Generator(role, (l, i, a), f"{prefix}{a}_{l}_{i}") for l in range(1, bodies + 1)
+                    for i in range(1, particles + 1) for a in range(1, 4)]
+        return tuple(out)
     for role, prefix in (("theta", ""), ("theta_dot", "D")):
         out += [Generator(role, (l, i), f"{prefix}{field}_{l}") for l in range(1, bodies + 1)
                 for i, field in enumerate(PHI_FIELDS)]
@@ -78,10 +91,11 @@ def _generators(kinds, coordinates, bodies, with_free_vectors):
 class JetSpace:
     """The polynomial ring of jet coordinates of one chain, with its derivations and normal form.
 
-    Implements the calculus protocol of :mod:`inertiaproof.symbolic.calculus`.
+    Implements the calculus protocol of :mod:`inertiaproof.symbolic.calculus`. With ``particles`` > 0
+    every body carries that many point masses instead of the generators Theta, Psi and nu.
     """
 
-    def __init__(self, kinds, coordinates=None, *, with_free_vectors=True):
+    def __init__(self, kinds, coordinates=None, *, with_free_vectors=True, particles=0):
         self.kinds = tuple(kinds)
         self.coordinates = tuple(coordinates or ("identity",) * len(self.kinds))
         for c in self.coordinates:
@@ -90,7 +104,8 @@ class JetSpace:
                                  f"{', '.join(COORDINATE_POLYNOMIALS)})")
         self.n = len(self.kinds)
         self.bodies = self.n
-        self.generators = _generators(self.kinds, self.coordinates, self.bodies, with_free_vectors)
+        self.particles = particles
+        self.generators = _generators(self.kinds, self.coordinates, self.bodies, with_free_vectors, particles)
         self.ring = PolyRing([g.name for g in self.generators], QQ)
         self.gens = self.ring.gens
         self.zero, self.one = self.ring.zero, self.ring.one
@@ -122,21 +137,30 @@ class JetSpace:
     def body_psi(self, l, role="psi"):
         return tuple(self.gen(role, l, i) for i in range(6))
 
+    def _stacked(self, role):
+        return tuple(self.gens[i] for i, g in enumerate(self.generators) if g.role == role)
+
     @cached_property
     def theta(self):
-        return tuple(g for l in range(1, self.bodies + 1) for g in self.body_parameters(l))
+        return self._stacked("theta")
 
     @cached_property
     def theta_dot(self):
-        return tuple(g for l in range(1, self.bodies + 1) for g in self.body_parameters(l, "theta_dot"))
+        return self._stacked("theta_dot")
 
     @cached_property
     def psi(self):
-        return tuple(g for l in range(1, self.bodies + 1) for g in self.body_psi(l))
+        return self._stacked("psi")
 
     @cached_property
     def psi_dot(self):
-        return tuple(g for l in range(1, self.bodies + 1) for g in self.body_psi(l, "psi_dot"))
+        return self._stacked("psi_dot")
+
+    def particle(self, l, i):
+        """(m, mdot, x, xdot, xddot) of particle i of body l: two generators and three 3-vectors."""
+        vector = lambda role: tuple(self.gen(role, l, i, a) for a in range(1, 4))  # noqa: E731
+        return (self.gen("mass", l, i), self.gen("mass_dot", l, i), vector("x"), vector("x_dot"),
+                vector("x_ddot"))
 
     def joint_variable(self, k):
         """(cos x_k, sin x_k) for a revolute joint, x_k for a prismatic one, as ring elements."""
@@ -184,7 +208,8 @@ class JetSpace:
         images = {}
         for k in range(1, self.n + 1):
             images.update(self._coordinate_images(k, with_velocity=True))
-        rates = {"qd": "qdd", "theta": "theta_dot", "psi": "psi_dot", "nu": "nu_dot"}
+        rates = {"qd": "qdd", "theta": "theta_dot", "psi": "psi_dot", "nu": "nu_dot", "mass": "mass_dot",
+                 "x": "x_dot", "x_dot": "x_ddot"}
         for i, g in enumerate(self.generators):
             if g.role in rates:
                 images[i] = [(1, {self._position[(rates[g.role], g.index)]: 1})]

@@ -8,12 +8,38 @@ At a rational point the symbolic QJ and the symbolic left side of
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
+from inertiaproof.symbolic.jets import COORDINATE_POLYNOMIALS
 from inertiaproof.symbolic.robotics_equation import left_side
 
 from inertiaproof.dynamics import terms
+from inertiaproof.dynamics.chain import COORDINATE_MAPS
 
-__all__ = ["body_jacobian_error", "generalized_forces_error", "numeric_motion"]
+__all__ = ["body_jacobian_error", "coordinate_polynomial_errors", "generalized_forces_error", "numeric_motion"]
+
+COORDINATE_POINTS = (Fraction(-3, 2), Fraction(-1, 3), Fraction(0), Fraction(2, 7), Fraction(5, 4))
+
+
+def _trimmed(coefficients):
+    out = list(coefficients)
+    while out and out[-1] == 0:
+        out.pop()
+    return tuple(out)
+
+
+def coordinate_polynomial_errors():
+    """{map: (g' is exactly the derivative of g, max relative |g(q) - chain's g(q)| at a few rationals)} for the
+    symbolic twins of the coordinate maps (the chain rule factor d/dq_k of the jet calculus is g')."""
+    out = {}
+    for name, (value, derivative) in COORDINATE_POLYNOMIALS.items():
+        same = _trimmed(derivative) == _trimmed(tuple(k * c for k, c in enumerate(value))[1:])
+        numeric = COORDINATE_MAPS[name][0]
+        error = max(abs(float(sum(c * x**k for k, c in enumerate(value))) - numeric(float(x)))
+                    / max(1.0, abs(numeric(float(x)))) for x in COORDINATE_POINTS)
+        out[name] = (same, error)
+    return out
 
 
 def numeric_motion(jets, point):

@@ -1,8 +1,10 @@
 """The ``inertiaproof`` command: one module per command, each with ``configure(parser)`` and ``main(args) -> int``.
 
-Exit status: 0 nothing VIOLATED (or all rows consistent), 1 something
-VIOLATED (or a check crashed, or a row is not consistent), 2 bad usage or
-bad input, with a one-line message naming the problem.
+Exit status (:mod:`.status`, shown by every command's ``--help``): 0 every
+check HOLDS (or every row consistent), 1 something VIOLATED (or a check
+crashed, or a row is not consistent), 2 bad usage or bad input, with a
+one-line message naming the problem, 3 something INCONCLUSIVE and nothing
+VIOLATED.
 
 The commands of the top-level folders (``gate`` in ``symbolic``, ``report`` in
 ``report``) have the same shape. This package is the only part of the core that
@@ -16,6 +18,8 @@ import importlib
 import sys
 
 from inertiaproof.errors import InputError
+
+from .status import EXIT_STATUS
 
 __all__ = ["COMMANDS", "main", "parser"]
 
@@ -33,11 +37,11 @@ COMMANDS = {  # name: (module, help)
 
 def parser():
     p = argparse.ArgumentParser(prog="inertiaproof", description="Proof-check 'On robotic manipulators with "
-                                "time-dependent inertial parameters' (Kaufmann & Reger).")
+                                "time-dependent inertial parameters' (Kaufmann & Reger).", epilog=EXIT_STATUS["run"])
     sub = p.add_subparsers(dest="command", required=True)
     for name, (module, help_text) in COMMANDS.items():
         command = importlib.import_module(module)
-        sp = sub.add_parser(name, help=help_text)
+        sp = sub.add_parser(name, help=help_text, epilog=EXIT_STATUS.get(name))
         command.configure(sp)
         sp.set_defaults(func=command.main)
     return p

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import json
 
-from inertiaproof.result import Verdict
 from inertiaproof.suite.replay import replay
+
+from .status import exit_status
 
 __all__ = ["configure", "main"]
 
@@ -20,4 +21,4 @@ def main(args):
     print(f"{result.id}: {result.verdict}: {result.summary}")
     if args.json:
         print(json.dumps(result.to_json(), indent=1))
-    return 1 if result.verdict == Verdict.VIOLATED else 0
+    return exit_status([result])

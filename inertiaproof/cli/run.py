@@ -12,6 +12,8 @@ from inertiaproof.suite import runner
 from inertiaproof.suite.outputs import checked_outputs
 from inertiaproof.suite.profiles import PROFILES
 
+from .status import exit_status
+
 __all__ = ["configure", "main"]
 
 
@@ -56,5 +58,4 @@ def main(args):
 
         for written in build(out, only=("report",)):
             print(f"report: {written}")
-    crashed = any(r.evidence.get("crashed") for r in run.results)
-    return 1 if run.violated or crashed else 0
+    return exit_status(run.results)
