@@ -138,7 +138,7 @@ def mutation(out_dir, fallback=CHECKOUT_MUTATION):
         if not path.is_file():
             continue
         try:
-            data = _json(path)
+            data = read_json(path)
         except InputError as exc:
             return path, str(exc)
         if not (isinstance(data, dict) and data.get("schema") == MUTATION_SCHEMA and isinstance(data.get("mutants"), list)
