@@ -245,16 +245,17 @@ MUTANTS = (
            "    if kind == \"psd\":\n        return DEGENERATE, rank", "    if kind == \"psd\":\n        return CONSISTENT, -1",
            "a singular f >= 0 (point, line, plane) called consistent", SECTION2),
     Mutant("classifier-zero-mass", "classifier", "inertiaproof/model/consistency.py",
-           "positive = m > 0", "positive = m >= 0", "a massless row allowed through", SECTION2,
-           "with m = 0 the Schur complement divides by zero: h h^T / m is inf or nan, every comparison with it is "
-           "false, so the verdict stays inconsistent and the reason 'mass <= 0'; only the unprinted "
-           "sigma_com_eigenvalues of such a row turn nan"),
+           "positive = (mass > 0) & ~invalid", "positive = (mass >= 0) & ~invalid", "a massless row allowed through",
+           SECTION2,
+           "with m = 0 the Schur complement divides by zero: h h^T / m is inf or nan, so Sigma_CoM's eigenvalues "
+           "are nan, the row counts as unresolved and is decided exactly, where m <= 0 is inconsistent with the "
+           "reason 'mass <= 0'"),
     Mutant("classifier-second-eigenvalue", "classifier", "inertiaproof/model/consistency.py",
            "verdict = np.where(positive & (eig[:, 0] > 0), CONSISTENT, INCONSISTENT)",
            "verdict = np.where(positive & (eig[:, 1] > 0), CONSISTENT, INCONSISTENT)",
            "the sign of the middle eigenvalue of Sigma_CoM decides", SECTION2),
     Mutant("classifier-narrow-band", "classifier", "inertiaproof/model/consistency.py",
-           "(np.abs(eig[:, 0]) <= RESOLUTION * EPS * scale)", "(np.abs(eig[:, 0]) <= EPS * EPS * scale)",
+           "~(np.abs(eig[:, 0]) > RESOLUTION * EPS * scale)", "~(np.abs(eig[:, 0]) > EPS * EPS * scale)",
            "the exact fallback only within eps^2 of the boundary", SECTION2),
     Mutant("classifier-schur", "classifier", "inertiaproof/model/consistency.py",
            "s11, s22, s33 = half_tr - i11 - h1 * h1 * inv_m,", "s11, s22, s33 = half_tr - i11 - h1 * h1 * inv_m / 2,",
