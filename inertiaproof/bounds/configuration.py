@@ -129,7 +129,8 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
             rho = (r[:, free] * factors[free]).sum(1)
             rem = 0.5 * rho**2
             if scale is None:  # self-referential: the sup itself bounds the remainder (box holding the maximiser)
-                return np.where(rem < 1, np.maximum(v, 0) / np.maximum(1 - rem, 1e-300), np.inf)
+                with np.errstate(over="ignore"):  # rem just below 1: the quotient overflows to inf, a valid bound
+                    return np.where(rem < 1, np.maximum(v, 0) / np.maximum(1 - rem, 1e-300), np.inf)
             return v + scale * rem if kind_here in CONVEX else v - scale * rem
         return box_bound
 
