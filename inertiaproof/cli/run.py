@@ -9,6 +9,7 @@ from pathlib import Path
 from inertiaproof.errors import InputError
 from inertiaproof.scene.format import load_scene
 from inertiaproof.suite import runner
+from inertiaproof.suite.execution import executor_for
 from inertiaproof.suite.outputs import checked_outputs
 from inertiaproof.suite.profiles import PROFILES
 
@@ -31,6 +32,13 @@ def configure(parser):
     parser.add_argument("--counterexamples", default="counterexamples/found", metavar="DIR",
                         help="where counterexamples are saved (default: counterexamples/found)")
     parser.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="workers for splittable work (hunt shards): 1 runs everything in this process without Dask; "
+                             "N > 1 starts a Dask LocalCluster (needs inertiaproof[distributed]); default: 1 in ci, the "
+                             "number of cores in deep. The answers do not depend on N (apart from timings)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="run the splittable work on an existing Dask cluster (e.g. tcp://host:8786 of 'dask "
+                             "scheduler') instead of a local one")
 
 
 def main(args):
@@ -45,8 +53,9 @@ def main(args):
             raise InputError(f"--budget must be a positive number of seconds, got {args.budget:g}")
         profile = dataclasses.replace(profile, check_s=args.budget)
     found = checked_outputs(out, args.junit, args.counterexamples, lambda message: print(message, file=sys.stderr))
-    run = runner.run_checks(profile=profile, seed=args.seed, only=args.only, scene=scene, symbolic=args.symbolic,
-                            out_dir=out, counterexample_dir=found, progress=say)
+    with executor_for(args.workers, args.scheduler, profile=args.profile, say=say) as executor:
+        run = runner.run_checks(profile=profile, seed=args.seed, only=args.only, scene=scene, symbolic=args.symbolic,
+                                out_dir=out, counterexample_dir=found, progress=say, executor=executor)
     doc = runner.results_document(run, profile=args.profile, seed=args.seed, scene=args.scene)
     path = runner.write_results(out / "results.json", doc)
     print(runner.format_table(run))

@@ -10,6 +10,7 @@ import numpy as np
 
 from inertiaproof.budget import UNLIMITED, Budget
 
+from .execution import Executor
 from .outputs import Outputs
 from .profiles import Profile
 
@@ -25,6 +26,7 @@ class Context:
     progress: Callable[[str], None] = lambda message: None
     memo: dict = field(default_factory=dict)  # shared by the checks of one run (see :meth:`shared`)
     budget: Budget = UNLIMITED  # this check's time and memory (the runner's, from the profile)
+    executor: Executor = field(default_factory=Executor)  # where splittable work runs (inertiaproof.suite.execution)
 
     def rng(self, salt):
         """A generator seeded by the run's seed and a salt (the check's name): independent streams, same every run."""

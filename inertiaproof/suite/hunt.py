@@ -12,7 +12,9 @@ deterministic for a given seed; the ci profile keeps no example database.
 
 from __future__ import annotations
 
+import functools
 import hashlib
+import types
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -21,7 +23,7 @@ from inertiaproof.result import quantity
 
 from .paths import cache_dir
 
-__all__ = ["Hunt", "hunt", "hunt_settings"]
+__all__ = ["Hunt", "hunt", "hunt_settings", "is_pure", "merge", "Shard", "shard_seed", "shard_sizes"]
 
 
 class _Violation(Exception):
@@ -69,11 +71,117 @@ def hunt_settings(profile, **overrides):
     return settings(**kwargs)
 
 
-def hunt(strategy, margin, ctx, *, label, tolerance=0.0, **settings_overrides):
-    """Search ``strategy`` for an example with margin < -tolerance; returns a :class:`Hunt`."""
+def shard_sizes(examples, per_shard):
+    """How many examples each shard of a hunt of ``examples`` draws: ceil(examples / per_shard) shards as equal as
+    possible. It depends on the profile only, never on the number of workers."""
+    examples = max(int(examples), 1)
+    count = max(1, -(-examples // max(int(per_shard), 1)))
+    return [examples // count + (i < examples % count) for i in range(count)]
+
+
+def shard_seed(run_seed, label, index, count):
+    """The Hypothesis seed of shard ``index`` of ``count``: from the run's seed and the hunt's label (a hunt of one
+    shard keeps the seed hunts always had)."""
+    text = f"{run_seed}:{label}" if count == 1 else f"{run_seed}:{label}:{index}/{count}"
+    return int.from_bytes(hashlib.sha256(text.encode()).digest()[:8], "little")
+
+
+@dataclass(frozen=True)
+class Shard:
+    label: str
+    index: int
+    count: int
+    examples: int
+    seed: int
+
+
+def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, **settings_overrides):
+    """Search ``strategy`` for an example with margin < -tolerance; returns a :class:`Hunt`.
+
+    The hunt is split into shards of at most ``ctx.profile.shard_examples`` examples, each with its own seed
+    (:func:`shard_seed`); they run on ``ctx.executor`` (on workers when the margin is pure, see :func:`is_pure`,
+    else in this process) and are merged in shard order, so the answer is the same for any number of workers.
+    A shard stops at its first violation; the shards after the first violating one are not needed. A violating
+    shard's example is appended to ``OUT/data/arrived-counterexamples.jsonl`` as soon as it arrives."""
+    from .execution import Executor
+
+    examples = settings_overrides.pop("max_examples", ctx.profile.examples)
+    sizes = shard_sizes(examples, getattr(ctx.profile, "shard_examples", examples))
+    shards = [Shard(label, i, len(sizes), n, shard_seed(ctx.seed, label, i, len(sizes))) for i, n in enumerate(sizes)]
+    executor = getattr(ctx, "executor", None) or Executor()
+    if not (is_pure(margin) if pure is None else pure):
+        executor = Executor()  # its margin writes into the check's own objects: run where they live
+    task = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides)
+    outputs = getattr(ctx, "outputs", None)
+
+    def arrived(i, state):
+        if state.violation is not None and outputs is not None and hasattr(outputs, "journal"):
+            outputs.journal({"hunt": label, "shard": i, "of": len(shards), "seed": shards[i].seed,
+                             "margin": state.violation_margin, "example": state.violation})
+
+    states = executor.map(task, shards, kind="hunt", label=label, on_result=arrived,
+                          stop=lambda i, state: state.violation is not None)
+    return merge([s for s in states if s is not None], label)
+
+
+def merge(states, label):
+    """The hunt made of its shards, in shard order (up to the first violating one)."""
+    out = Hunt(label)
+    for s in states:
+        out.examples += s.examples
+        out.margins.extend(s.margins)
+        out.resolutions.extend(s.resolutions)
+        if s.worst_margin < out.worst_margin:
+            out.worst_margin, out.worst_example = s.worst_margin, s.worst_example
+        if s.violation is not None:
+            out.violation, out.violation_margin = s.violation, s.violation_margin
+            break
+    return out
+
+
+def is_pure(margin):
+    """Whether ``margin`` may run in another process: it keeps no mutable object of its caller (list, dict, set or
+    an instance in its closure or defaults, searched through the functions it closes over)."""
+    seen = set()
+
+    def pure(fn):
+        if id(fn) in seen:
+            return True
+        seen.add(id(fn))
+        if isinstance(fn, functools.partial):
+            return pure(fn.func) and all(_immutable(a, pure) for a in (*fn.args, *fn.keywords.values()))
+        cells = [c.cell_contents for c in (getattr(fn, "__closure__", None) or ()) if _filled(c)]
+        defaults = list(getattr(fn, "__defaults__", None) or ())
+        return all(_immutable(v, pure) for v in cells + defaults)
+
+    return pure(margin)
+
+
+def _filled(cell):
+    try:
+        cell.cell_contents
+    except ValueError:
+        return False
+    return True
+
+
+def _immutable(value, pure):
+    if value is None or isinstance(value, (bool, int, float, complex, str, bytes, type, types.ModuleType)):
+        return True
+    if isinstance(value, (tuple, frozenset)):
+        return all(_immutable(v, pure) for v in value)
+    if isinstance(value, (types.FunctionType, functools.partial)):
+        return pure(value)
+    if isinstance(value, (types.BuiltinFunctionType, np.ufunc, np.generic)):
+        return True
+    return False  # lists, dicts, sets, arrays, instances: possibly written by the margin
+
+
+def _run_shard(strategy, margin, profile, tolerance, settings_overrides, shard):
+    """One shard of a hunt (a task: it carries its own seed and runs in any process)."""
     from hypothesis import assume, given, seed, target
 
-    state = Hunt(label)
+    state = Hunt(shard.label)
 
     def prop(example):
         value = margin(example)
@@ -85,15 +193,17 @@ def hunt(strategy, margin, ctx, *, label, tolerance=0.0, **settings_overrides):
             state.resolutions.append(resolution)
         if value < state.worst_margin:
             state.worst_margin, state.worst_example = value, example
-        target(-value, label=label)
+        target(-value, label=shard.label)
         if value < -max(tolerance, resolution or 0.0):
             state.violation, state.violation_margin = example, value
             raise _Violation(value)
 
-    digest = hashlib.sha256(f"{ctx.seed}:{label}".encode()).digest()
-    test = seed(int.from_bytes(digest[:8], "little"))(
-        hunt_settings(ctx.profile, derandomize=False, **settings_overrides)(given(strategy)(prop))
+    test = seed(shard.seed)(
+        hunt_settings(profile, derandomize=False, max_examples=shard.examples, **settings_overrides)(given(strategy)(prop))
     )
+    # the example database (deep profile) keeps each shard's examples under its own key, not one shared by all hunts
+    test._hypothesis_internal_database_key = hashlib.sha256(
+        f"{shard.label}:{shard.index}/{shard.count}".encode()).digest()
     try:
         test()
     except _Violation:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,6 +33,19 @@ class Outputs:
         rel = str(path.relative_to(self.out_dir))
         self.artifacts.append(rel)
         return rel
+
+    def journal(self, record):
+        """Append one line (JSON; objects by their repr) to ``OUT/data/arrived-counterexamples.jsonl`` at once, flushed
+        to disk: a violation found by a task is on disk before the run goes on. Nothing without an output folder."""
+        if self.out_dir is None:
+            return None
+        path = Path(self.out_dir) / "data" / "arrived-counterexamples.jsonl"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with path.open("a") as f:
+            f.write(json.dumps(record, sort_keys=True, default=repr) + "\n")
+            f.flush()
+            os.fsync(f.fileno())
+        return path
 
     def save_counterexample(self, result: Result, *, profile, seed):
         """Write the result's counterexample as a replayable JSON file; returns the path. Where the counterexample

@@ -25,10 +25,12 @@ class Profile:
     check_s: float = 45.0  # seconds one check may run (inertiaproof.budget): then it ends with what it has
     run_s: float = 300.0  # seconds a whole run may take: a check started late gets only what is left
     memory_mb: int = 4096  # memory one check may add to the process (its address space)
+    shard_examples: int = 100  # a hunt splits into shards of at most this many examples (tasks for the workers)
 
 
 PROFILES = {
-    "ci": Profile("ci", examples=60, samples=2000, refine_s=0.5, symbolic_max_n=3, derandomize=True),
+    "ci": Profile("ci", examples=60, samples=2000, refine_s=0.5, symbolic_max_n=3, derandomize=True,
+                  shard_examples=60),
     "deep": Profile("deep", examples=2000, samples=50000, refine_s=20.0, symbolic_max_n=5, derandomize=False,
                     concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6,
                     moment_samples=2**22, bernstein_degree=8, audit_samples=20000, audit_refine_s=5.0,

@@ -38,6 +38,7 @@ from . import catalog
 from .context import Context
 from .discovery import load_checks
 from .environment import versions
+from .execution import Executor
 from .outputs import Outputs
 from .profiles import PROFILES
 
@@ -96,17 +97,24 @@ def select(checks, *, only=None, scene=None, symbolic=False):
 
 
 def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, out_dir=None,
-               counterexample_dir=Path("counterexamples/found"), progress=None):
+               counterexample_dir=Path("counterexamples/found"), progress=None, executor=None):
     """Run the selected checks and return a :class:`Run`.
 
     ``profile`` is a name of PROFILES or a :class:`Profile`; each check runs within its budget (the profile's
-    ``check_s`` and ``memory_mb``, inside the run's ``run_s``) and ends INCONCLUSIVE when it runs out."""
+    ``check_s`` and ``memory_mb``, inside the run's ``run_s``) and ends INCONCLUSIVE when it runs out. Splittable
+    work (hunt shards) goes to ``executor`` (:mod:`.execution`; default: this process)."""
     profile = PROFILES[profile] if isinstance(profile, str) else profile
     checks = load_checks()
     specs, skipped = select(checks, only=only, scene=scene, symbolic=symbolic)
     if not specs:
         raise InputError("nothing to run: " + "; ".join(f"{name} is left out: {why}" for name, why in skipped))
     say = progress or (lambda message: None)
+    if executor is None:
+        executor = Executor()
+    if progress is not None and executor.say is None:
+        executor.say = lambda message: say(f"      {message}")
+    if out_dir is not None:  # the journal of violations as they arrive is this run's own
+        (Path(out_dir) / "data" / "arrived-counterexamples.jsonl").unlink(missing_ok=True)
     run = Run(skipped=skipped)
     memo = {}
     start = time.perf_counter()
@@ -114,7 +122,7 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
     for i, spec in enumerate(specs, 1):
         outputs = Outputs(out_dir, Path(counterexample_dir))
         budget = Budget.of(profile.check_s, profile.memory_mb * 2**20, until=run_ends)
-        ctx = Context(profile, seed=seed, scene=scene, outputs=outputs, memo=memo, budget=budget,
+        ctx = Context(profile, seed=seed, scene=scene, outputs=outputs, memo=memo, budget=budget, executor=executor,
                       progress=lambda message, name=spec.name: say(f"      {name}: {message}"))
         say(f"[{i}/{len(specs)}] {spec.name} ...")
         t0 = time.perf_counter()

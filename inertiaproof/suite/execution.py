@@ -1,0 +1,274 @@
+"""Where splittable work runs: in this process (one worker, Dask not even imported) or on a Dask cluster.
+
+A computation that splits into independent tasks (the shards of a hunt, the
+files of an audit) hands them to :meth:`Executor.map` with its *kind*; the
+executor returns their results in the order of the tasks, whatever order they
+finish in, so a run's answers do not depend on how many workers computed them.
+Each task must carry everything it depends on (a shard its own seed), and the
+split itself must not depend on the number of workers.
+
+- ``Executor()`` (``--workers 1``): the tasks run one after the other in this
+  process.
+- ``DaskExecutor(workers=N)``: a ``dask.distributed.LocalCluster`` on this
+  machine, started when the first task of a kind arrives: worker processes
+  for the kinds in ``KINDS`` marked ``"processes"`` (SymPy, Hypothesis: they
+  hold the GIL and keep global state), threads for ``"threads"`` (batched
+  NumPy, which releases the GIL).
+- ``DaskExecutor(scheduler=ADDRESS)``: an existing cluster (``dask
+  scheduler`` + ``dask worker ADDRESS``); every kind goes to it.
+
+A worker that dies mid-task has its tasks rerun by Dask on another worker;
+``on_result(index, result)`` is called in the client as each task arrives (a
+hunt writes a violating shard's example there before anything else runs).
+
+Dask is the optional extra ``inertiaproof[distributed]``; asking for more than
+one worker without it is an :class:`~inertiaproof.errors.InputError` (exit 2)
+saying how to install it.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import time
+
+from inertiaproof.errors import InputError
+
+__all__ = ["DaskExecutor", "Executor", "INSTALL_HINT", "KINDS", "NOT_SHARDED", "executor_for", "Progress",
+           "dask_installed", "default_workers"]
+
+KINDS = {  # kind of work: where it runs on a LocalCluster
+    "hunt": "processes",  # Hypothesis keeps per-process state and holds the GIL
+    "audit": "processes",  # XML reading, SymPy-free but Python-bound; MuJoCo per file
+    "symbolic": "processes",  # SymPy holds the GIL
+    "boxes": "threads",  # batched NumPy of branch and bound (releases the GIL)
+}
+NOT_SHARDED = {  # work that could split but still runs whole inside its check (honest list, issue 16)
+    "branch-and-bound box batches": "bounds/configuration.py narrows one bracket at a time under a wall-clock budget",
+    "stability-study runs": "sim/study.py runs its ramps in one loop",
+    "adaptive runs": "the APP-* hunts stop after a wall-clock simulation budget: their shards would be timing-dependent",
+    "symbolic derivations": "symbolic/ derives the objects of one chain in one process (and caches them)",
+    "hunts whose margin records side data": "their margin appends to lists of the check; they run their shards in "
+                                            "the client (same split and seeds, so the same answers)",
+}
+INSTALL_HINT = "more than one worker needs Dask: pip install 'inertiaproof[distributed]'"
+
+
+def default_workers(profile_name):
+    """The default of ``--workers``: 1 in ci, the number of cores this process may use otherwise."""
+    if profile_name == "ci":
+        return 1
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+class Progress:
+    """Counts and an ETA for one batch of tasks, when ``say`` is given: a tqdm bar when ``stream`` (stderr) is a
+    terminal, else plain lines through ``say`` (at most one per ``min_interval`` seconds, and the last)."""
+
+    def __init__(self, total, label, *, stream=None, say=None, min_interval=2.0):
+        self.total, self.label, self.done, self.start = total, label, 0, time.monotonic()
+        self.say, self.min_interval, self.last = say, min_interval, -math.inf
+        stream = stream if stream is not None else sys.stderr
+        self.bar = None
+        if say is not None and total > 1 and getattr(stream, "isatty", lambda: False)():
+            try:
+                from tqdm import tqdm
+
+                self.bar = tqdm(total=total, desc=label, unit="task", file=stream, leave=False)
+            except ImportError:  # tqdm missing: plain lines
+                self.bar = None
+
+    def eta(self):
+        """Seconds left at the rate so far (None before the first task)."""
+        if self.done == 0:
+            return None
+        elapsed = time.monotonic() - self.start
+        return elapsed / self.done * (self.total - self.done)
+
+    def update(self, n=1):
+        self.done += n
+        if self.bar is not None:
+            self.bar.update(n)
+            return
+        now = time.monotonic()
+        if self.say is not None and (now - self.last >= self.min_interval or self.done == self.total):
+            self.last = now
+            eta = self.eta()
+            self.say(f"{self.label}: {self.done}/{self.total} tasks" + (f", ETA {eta:.0f} s" if eta else ""))
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
+
+
+class Executor:
+    """One worker: the tasks run one after the other in this process."""
+
+    workers = 1
+    dashboard = None  # the Dask dashboard's address, when there is one
+    say = None  # progress lines (a callable taking a message), or None
+
+    def map(self, fn, items, *, kind, label, on_result=None, stop=None):
+        """``[fn(item) for item in items]`` in the order of ``items``.
+
+        ``on_result(i, result)`` runs in the caller as task i arrives; when ``stop(i, result)`` is true, the tasks
+        after i are not needed: they are cancelled (or not started) and their places hold None."""
+        if kind not in KINDS:
+            raise KeyError(f"unknown kind of work {kind!r}; known: {', '.join(KINDS)}")
+        items = list(items)
+        results = [None] * len(items)
+        progress = Progress(len(items), label, say=self.say if len(items) > 1 else None)
+        try:
+            for i, item in enumerate(items):
+                results[i] = fn(item)
+                progress.update()
+                if on_result is not None:
+                    on_result(i, results[i])
+                if stop is not None and stop(i, results[i]):
+                    break
+        finally:
+            progress.close()
+        return results
+
+    def close(self):
+        pass
+
+    def describe(self):
+        return "1 worker (in this process)"
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class DaskExecutor(Executor):
+    """Tasks go to a Dask cluster: a LocalCluster of ``workers`` (started on first use), or ``scheduler``'s."""
+
+    def __init__(self, workers=None, scheduler=None, *, say=None):
+        try:
+            import distributed  # noqa: F401
+        except ImportError:
+            raise InputError(INSTALL_HINT) from None
+        self.workers, self.scheduler, self.say = workers, scheduler, say
+        self._clients = {}  # "processes" / "threads" / "remote": Client
+        self._clusters = []
+        if scheduler is not None:
+            from distributed import Client
+
+            try:
+                self._clients["remote"] = Client(scheduler, timeout="10s")
+            except (OSError, TimeoutError) as exc:
+                raise InputError(f"--scheduler {scheduler}: cannot connect: {exc}") from None
+            self.dashboard = self._clients["remote"].dashboard_link
+            self.workers = len(self._clients["remote"].scheduler_info(n_workers=-1)["workers"])
+            self._announce(self._clients["remote"])
+
+    def client(self, kind):
+        """The client for ``kind`` (starting its LocalCluster on first use)."""
+        if "remote" in self._clients:
+            return self._clients["remote"]
+        how = KINDS[kind]
+        if how not in self._clients:
+            import logging
+
+            from distributed import Client, LocalCluster
+
+            processes = how == "processes"
+            cluster = LocalCluster(n_workers=self.workers if processes else 1,
+                                   threads_per_worker=1 if processes else self.workers, processes=processes,
+                                   dashboard_address=":0", silence_logs=logging.ERROR)
+            self._clusters.append(cluster)
+            self._clients[how] = Client(cluster)
+            self.dashboard = self.dashboard or self._clients[how].dashboard_link
+            self._announce(self._clients[how], how)
+        return self._clients[how]
+
+    def _announce(self, client, how="remote"):
+        if self.say is not None:
+            where = f"scheduler {self.scheduler}" if how == "remote" else f"a local cluster ({how})"
+            self.say(f"dask: {self.workers} worker(s) on {where}; dashboard {client.dashboard_link}")
+
+    def describe(self):
+        where = f"the cluster at {self.scheduler}" if self.scheduler else "a Dask LocalCluster"
+        return f"{self.workers} workers on {where}"
+
+    def map(self, fn, items, *, kind, label, on_result=None, stop=None):
+        if kind not in KINDS:
+            raise KeyError(f"unknown kind of work {kind!r}; known: {', '.join(KINDS)}")
+        from distributed import as_completed
+
+        items = list(items)
+        if not items:
+            return []
+        client = self.client(kind)
+        futures = [client.submit(fn, item, pure=False, key=f"{_key(label)}-{i}-{os.urandom(4).hex()}")
+                   for i, item in enumerate(items)]
+        index = {f.key: i for i, f in enumerate(futures)}
+        results, done = [None] * len(items), [False] * len(items)
+        first_stop = len(items)
+        progress = Progress(len(items), label, say=self.say if len(items) > 1 else None)
+        try:
+            for future in as_completed(futures):
+                i = index[future.key]
+                if i > first_stop:
+                    continue
+                results[i] = future.result()
+                done[i] = True
+                progress.update()
+                if on_result is not None:
+                    on_result(i, results[i])
+                if stop is not None and i < first_stop and stop(i, results[i]):
+                    first_stop = i
+                    client.cancel([f for f in futures[i + 1:] if not f.done()])
+                if all(done[: first_stop + 1] if first_stop < len(items) else done):
+                    break
+        finally:
+            progress.close()
+            client.cancel([f for f in futures if not f.done()])
+        return [r if i <= first_stop else None for i, r in enumerate(results)]
+
+    def close(self):
+        for client in self._clients.values():
+            try:
+                client.close()
+            except Exception:  # closing is best effort
+                pass
+        for cluster in self._clusters:
+            try:
+                cluster.close()
+            except Exception:
+                pass
+        self._clients, self._clusters = {}, []
+
+
+def _key(label):
+    return "".join(c if c.isalnum() or c in "-_." else "_" for c in str(label))[:60]
+
+
+def executor_for(workers=None, scheduler=None, *, profile="ci", say=None):
+    """The executor of ``--workers`` / ``--scheduler``: in-process for one worker, Dask otherwise."""
+    if scheduler is not None:
+        return DaskExecutor(scheduler=scheduler, say=say)
+    if workers is None:
+        workers = default_workers(profile)
+        if workers > 1 and not dask_installed():  # the default falls back; asking for workers does not
+            if say is not None:
+                say(f"one worker: Dask is not installed ({INSTALL_HINT})")
+            workers = 1
+    if workers < 1:
+        raise InputError(f"--workers must be at least 1, got {workers}")
+    if workers == 1:
+        return Executor()
+    return DaskExecutor(workers=workers, say=say)
+
+
+def dask_installed():
+    import importlib.util
+
+    return importlib.util.find_spec("distributed") is not None
