@@ -109,6 +109,7 @@ class Executor:
     """One worker: the tasks run one after the other in this process."""
 
     workers = 1
+    scheduler = None
     dashboard = None  # the Dask dashboard's address, when there is one
     say = None  # progress lines (a callable taking a message), or None
 
@@ -133,6 +134,10 @@ class Executor:
         finally:
             progress.close()
         return results
+
+    def portable(self, fn):
+        """Whether ``fn`` can be sent to a worker (always, in this process)."""
+        return True
 
     def close(self):
         pass
@@ -232,6 +237,15 @@ class DaskExecutor(Executor):
             progress.close()
             client.cancel([f for f in futures if not f.done()])
         return [r if i <= first_stop else None for i, r in enumerate(results)]
+
+    def portable(self, fn):
+        import cloudpickle
+
+        try:
+            cloudpickle.dumps(fn)
+        except Exception:  # pickling fails in many ways
+            return False
+        return True
 
     def close(self):
         for client in self._clients.values():

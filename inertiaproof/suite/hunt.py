@@ -14,7 +14,10 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import importlib
+import sys
 import types
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -23,7 +26,7 @@ from inertiaproof.result import quantity
 
 from .paths import cache_dir
 
-__all__ = ["Hunt", "hunt", "hunt_settings", "is_pure", "merge", "Shard", "shard_seed", "shard_sizes"]
+__all__ = ["Hunt", "hunt", "hunt_settings", "is_pure", "merge", "Shard", "portable", "shard_seed", "shard_sizes", "StrategyRef"]
 
 
 class _Violation(Exception):
@@ -109,9 +112,14 @@ def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, **settings_o
     sizes = shard_sizes(examples, getattr(ctx.profile, "shard_examples", examples))
     shards = [Shard(label, i, len(sizes), n, shard_seed(ctx.seed, label, i, len(sizes))) for i, n in enumerate(sizes)]
     executor = getattr(ctx, "executor", None) or Executor()
-    if not (is_pure(margin) if pure is None else pure):
-        executor = Executor()  # its margin writes into the check's own objects: run where they live
     task = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides)
+    if executor.workers != 1 or executor.scheduler is not None:
+        shipped = portable(strategy)
+        task = functools.partial(_run_shard, shipped, margin, ctx.profile, tolerance, settings_overrides)
+        if shipped is None or not (is_pure(margin) if pure is None else pure) or not executor.portable(task):
+            # its margin writes into the check's own objects, or it cannot be sent: its shards run here
+            executor = Executor()
+            task = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides)
     outputs = getattr(ctx, "outputs", None)
 
     def arrived(i, state):
@@ -177,9 +185,56 @@ def _immutable(value, pure):
     return False  # lists, dicts, sets, arrays, instances: possibly written by the margin
 
 
+@dataclass(frozen=True)
+class StrategyRef:
+    """A Hypothesis strategy shipped by name: ``module.name(*args, **kwargs)`` rebuilt in the worker (strategies
+    themselves do not pickle)."""
+    module: str
+    name: str
+    args: tuple
+    kwargs: tuple
+
+    def build(self):
+        return getattr(importlib.import_module(self.module), self.name)(*self.args, **dict(self.kwargs))
+
+
+def portable(strategy):
+    """``strategy`` in a form another process can rebuild (itself, or a :class:`StrategyRef` to the module-level
+    function that made it), or None."""
+    import cloudpickle
+
+    try:
+        cloudpickle.dumps(strategy)
+        return strategy
+    except Exception:  # most strategies hold functions that do not pickle
+        pass
+    try:
+        from hypothesis.strategies._internal.lazy import LazyStrategy
+    except ImportError:  # Hypothesis moved it: run in the client
+        return None
+    if not isinstance(strategy, LazyStrategy):
+        return None
+    fn, args, kwargs = strategy.function, strategy._LazyStrategy__args, strategy._LazyStrategy__kwargs
+    for module_name, module in list(sys.modules.items()):
+        if not module_name.startswith("inertiaproof") or module is None:
+            continue
+        maker = getattr(module, fn.__name__, None)
+        if maker is not None and (maker is fn or getattr(maker, "__wrapped__", None) is fn):
+            ref = StrategyRef(module_name, fn.__name__, tuple(args), tuple(sorted(kwargs.items())))
+            try:
+                cloudpickle.dumps(ref)
+                return ref
+            except Exception:
+                return None
+    return None
+
+
 def _run_shard(strategy, margin, profile, tolerance, settings_overrides, shard):
     """One shard of a hunt (a task: it carries its own seed and runs in any process)."""
     from hypothesis import assume, given, seed, target
+
+    if isinstance(strategy, StrategyRef):
+        strategy = strategy.build()
 
     state = Hunt(shard.label)
 
@@ -204,8 +259,38 @@ def _run_shard(strategy, margin, profile, tolerance, settings_overrides, shard):
     # the example database (deep profile) keeps each shard's examples under its own key, not one shared by all hunts
     test._hypothesis_internal_database_key = hashlib.sha256(
         f"{shard.label}:{shard.index}/{shard.count}".encode()).digest()
-    try:
-        test()
-    except _Violation:
-        pass  # state.violation holds the last (shrunk) failing example
+    with _fixed_constants():
+        try:
+            test()
+        except _Violation:
+            pass  # state.violation holds the last (shrunk) failing example
     return state
+
+
+@contextmanager
+def _fixed_constants():
+    """Hypothesis mixes into its draws the literals of every "local" module imported so far (not in site-packages),
+    so its examples would depend on what this process happened to import (and on an editable install): a worker
+    and the client would draw different examples from the same seed. During a shard that pool is empty."""
+    try:
+        from hypothesis.internal.conjecture import providers
+
+        empty = type(providers._local_constants)(**{k: type(v)(key=getattr(v, "key", None))
+                                                    for k, v in vars(providers._local_constants).items()})
+        original = providers._get_local_constants
+    except (ImportError, AttributeError, TypeError):  # a Hypothesis without the pool
+        yield
+        return
+    providers._get_local_constants = lambda: empty
+    _clear(providers)  # constants filtered from the pool before are cached by their constraints
+    try:
+        yield
+    finally:
+        providers._get_local_constants = original
+        _clear(providers)
+
+
+def _clear(providers):
+    cache = getattr(getattr(providers, "CONSTANTS_CACHE", None), "cache", None)
+    if cache is not None:
+        cache.clear()

@@ -1,0 +1,38 @@
+"""Which fields of results.json depend on the wall clock (and so differ between two runs of the same seed).
+
+Everything else is a function of the profile, the seed and the scene: the
+same for one worker or many (:mod:`.execution`). Timing-dependent are:
+
+- every ``runtime_s`` and every key ending in ``seconds`` (derivation times,
+  ``choi_seconds``, a stability study's solver times) or named ``time_per_n``;
+- ``convergence`` series of brackets: ``[[seconds, lower, upper], ...]``;
+- ``versions`` (the environment, not the answer).
+
+Work stopped by a wall-clock budget is timing-dependent in its values too: a
+bracket narrowed for ``refine_s`` seconds (``deep``: 20 s) ends where the time
+ran out, and the adaptive-control hunts (``APP-*``) stop simulating after
+``hunt_seconds``. In ``ci`` those budgets are not reached on an idle machine;
+under heavy load, or in ``deep``, their lower/upper values may differ.
+"""
+
+from __future__ import annotations
+
+__all__ = ["TIMING_KEYS", "is_timing_key", "without_timings"]
+
+TIMING_KEYS = frozenset({"runtime_s", "time_per_n", "convergence", "versions"})
+
+
+def is_timing_key(key):
+    """Whether a key of results.json names a wall-clock-dependent field."""
+    key = str(key)
+    return key in TIMING_KEYS or key.endswith("seconds")
+
+
+def without_timings(document):
+    """``document`` (results.json as loaded) without its wall-clock-dependent fields: what must not depend on the
+    number of workers."""
+    if isinstance(document, dict):
+        return {k: without_timings(v) for k, v in document.items() if not is_timing_key(k)}
+    if isinstance(document, list):
+        return [without_timings(v) for v in document]
+    return document

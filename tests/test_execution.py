@@ -1,0 +1,116 @@
+"""The execution layer (issue 16): hunts split into seeded shards give the same answers on 1 or 2 Dask workers,
+survive a killed worker, and `--workers 2` without Dask is a one-line exit-2 error."""
+
+import dataclasses
+import os
+import signal
+import sys
+import threading
+import time
+
+import pytest
+from hypothesis import strategies as st
+
+from inertiaproof import cli
+from inertiaproof.suite import runner
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.execution import INSTALL_HINT, Executor, executor_for
+from inertiaproof.suite.hunt import hunt, is_pure, portable, shard_seed, shard_sizes
+from inertiaproof.suite.outputs import Outputs
+from inertiaproof.suite.profiles import PROFILES
+from inertiaproof.suite.timings import without_timings
+
+SMALL = dataclasses.replace(PROFILES["ci"], shard_examples=5)  # ci, but every hunt of more than 5 examples splits
+
+
+def test_the_split_depends_on_the_profile_only():
+    assert shard_sizes(20, 5) == [5, 5, 5, 5]
+    assert shard_sizes(22, 5) == [5, 5, 4, 4, 4]
+    assert shard_sizes(3, 60) == [3]
+    assert shard_seed(0, "x", 0, 1) != shard_seed(0, "x", 0, 2) != shard_seed(0, "x", 1, 2)
+    assert shard_seed(0, "x", 1, 2) == shard_seed(0, "x", 1, 2)
+
+
+def test_margins_that_write_into_their_caller_stay_in_the_client():
+    record = []
+    assert is_pure(lambda x: x + 1.0)
+    assert not is_pure(lambda x: record.append(x) or 1.0)
+    k = 2.0
+    assert is_pure(lambda x: k * x)
+
+
+def test_more_workers_without_dask_is_a_one_line_exit_2(monkeypatch, tmp_path, capsys):
+    monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed raises ImportError
+    status = cli.main(["run", "--workers", "2", "--only", "EQ-geom", "--out", str(tmp_path), "--quiet"])
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and len(err.splitlines()) == 1 and INSTALL_HINT in err
+    with executor_for(None, None, profile="deep") as executor:  # the default falls back to one worker
+        assert executor.workers == 1
+
+
+def slow_margin(x):
+    time.sleep(0.02)
+    return 1.0 + (x % 1000) / 1000.0
+
+
+def violating_margin(x):
+    return -1.0 if x % 7 == 3 else 1.0
+
+
+@pytest.fixture(scope="module")
+def dask2():
+    pytest.importorskip("distributed")
+    import cloudpickle
+
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])  # the workers cannot import this test module
+    with executor_for(2, None) as executor:
+        yield executor
+
+
+def test_a_run_gives_the_same_results_json_on_one_and_two_workers(dask2, tmp_path):
+    docs = []
+    for i, executor in enumerate((Executor(), dask2)):
+        run = runner.run_checks(profile=SMALL, seed=0, only=["Prop1:numeric", "Thm4"], out_dir=tmp_path / str(i),
+                                counterexample_dir=tmp_path / "found", executor=executor)
+        docs.append(without_timings(runner.results_document(run, profile="ci", seed=0, scene=None)))
+    assert docs[0]["summary"] == {"HOLDS": 2, "VIOLATED": 0, "INCONCLUSIVE": 0}
+    assert docs[0] == docs[1]
+
+
+def test_a_violation_is_the_first_in_shard_order_and_is_journaled_on_arrival(dask2, tmp_path):
+    found = []
+    for i, executor in enumerate((Executor(), dask2)):
+        ctx = Context(SMALL, seed=1, outputs=Outputs(tmp_path / str(i), tmp_path / "found"), executor=executor)
+        h = hunt(st.integers(0, 10**6), violating_margin, ctx, label="issue16 violation", max_examples=40)
+        assert h.violation is not None
+        assert (tmp_path / str(i) / "data" / "arrived-counterexamples.jsonl").read_text().count("\n") >= 1
+        found.append((h.violation, h.examples, h.margins))
+    assert found[0] == found[1]
+
+
+def test_a_killed_worker_has_its_tasks_rerun_and_the_hunt_ends_the_same(dask2):
+    import distributed
+
+    strategy = st.integers(0, 10**6)
+    assert portable(strategy) is not None and is_pure(slow_margin)
+    results = []
+    for executor in (Executor(), dask2):
+        ctx = Context(SMALL, seed=2, executor=executor)
+        killed = []
+        if executor is dask2:
+            client = dask2.client("hunt")
+            pids = client.run(os.getpid)
+
+            def kill():
+                time.sleep(1.0)  # the shards (about 0.1 s each) are under way
+                pid = next(iter(pids.values()))
+                os.kill(pid, signal.SIGKILL)
+                killed.append(pid)
+
+            threading.Thread(target=kill, daemon=True).start()
+        h = hunt(strategy, slow_margin, ctx, label="issue16 killed worker", max_examples=200)
+        results.append((h.examples, h.margins, h.worst_margin))
+        if executor is dask2:
+            assert killed, "the worker was not killed during the hunt"
+            assert isinstance(distributed.Client, type)
+    assert results[0] == results[1]
