@@ -22,6 +22,7 @@ a body and is not judged, but a body made only of massless frames is.
 
 from __future__ import annotations
 
+import functools
 import re
 from pathlib import Path
 
@@ -298,19 +299,37 @@ def read_robot(path):
     return read_mjcf(path) if Path(path).suffix.lower() != ".urdf" and is_mjcf(path) else read_urdf(path)
 
 
-def audit_paths(paths, **options):
-    """Every robot under ``paths`` (files, or folders searched for *.urdf and MJCF *.xml): {path: entry}."""
-    files = {}
+def audit_paths(paths, executor=None, **options):
+    """Every robot under ``paths`` (files, or folders searched for *.urdf and MJCF *.xml): {path: entry}.
+
+    The files are audited as independent tasks of ``executor`` (:mod:`inertiaproof.suite.execution`; default: one
+    after the other in this process), and listed in the order of ``paths`` whatever order they finish in."""
+    files, todo = {}, []
     for path in map(Path, paths):
         if path.is_dir():
             found = sorted([*path.rglob("*.urdf"), *(p for p in path.rglob("*.xml") if is_mjcf(p))])
             if not found:
                 files[str(path)] = {"status": "error", "error": f"{path}: no *.urdf or MJCF *.xml files in this folder"}
             for f in found:
-                files[str(f)] = _audit_one(f, options)
+                files[str(f)] = None
+                todo.append(f)
         else:
-            files[str(path)] = _audit_one(path, options)
+            files[str(path)] = None
+            todo.append(path)
+    if executor is None:
+        from inertiaproof.suite.execution import Executor
+
+        executor = Executor()
+    done = executor.map(functools.partial(_audit_task, options), todo, kind="audit", label="audit")
+    for path, entry in zip(todo, done):
+        files[str(path)] = entry
     return files
+
+
+def _audit_task(options, path):
+    """One file's audit: a task for any worker."""
+    with np.errstate(all="ignore"):
+        return _audit_one(path, options)
 
 
 def _audit_one(path, options):

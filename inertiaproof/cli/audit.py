@@ -26,6 +26,7 @@ from inertiaproof.audit.text import format_audit
 from inertiaproof.budget import Budget, enforced
 from inertiaproof.errors import InputError
 from inertiaproof.suite.environment import versions
+from inertiaproof.suite.execution import executor_for
 from inertiaproof.suite.profiles import PROFILES
 
 __all__ = ["configure", "main", "write_repaired", "write_report"]
@@ -52,6 +53,10 @@ def configure(parser):
     parser.add_argument("--repair-slack", type=float, default=DEFAULT_SLACK, metavar="EPS",
                         help="relative triangle slack the repaired inertia keeps (default %(default)g)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="audit the files on N workers (a Dask LocalCluster; needs inertiaproof[distributed]); "
+                             "default: 1 in ci, the number of cores in deep")
+    parser.add_argument("--scheduler", metavar="ADDRESS", help="audit the files on an existing Dask cluster")
 
 
 def main(args):
@@ -64,8 +69,10 @@ def main(args):
     options = dict(samples=profile.audit_samples, refine_s=profile.audit_refine_s, bounds=args.bounds,
                    floating_base=args.floating_base, slack=args.repair_slack, seed=args.seed)
     memory = Budget(memory_bytes=profile.memory_mb * 2**20)
-    with np.errstate(all="ignore"), enforced(memory, grace=0.0):  # overflow inside margins falls back to LAPACK
-        files = audit_paths(args.paths, **options)
+    say = (lambda message: print(message, file=sys.stderr)) if args.workers or args.scheduler else None
+    with np.errstate(all="ignore"), enforced(memory, grace=0.0), \
+            executor_for(args.workers, args.scheduler, profile=args.profile, say=say) as executor:
+        files = audit_paths(args.paths, executor=executor, **options)  # overflow inside margins falls back to LAPACK
     doc = document(files, profile=args.profile, seed=args.seed, bounds=args.bounds, floating_base=args.floating_base,
                    slack=args.repair_slack, runtime_s=time.perf_counter() - start, versions=versions("yourdfpy", "mujoco"))
     for path, f in files.items():
