@@ -56,6 +56,7 @@ def main(args):
     with executor_for(args.workers, args.scheduler, profile=args.profile, say=say) as executor:
         run = runner.run_checks(profile=profile, seed=args.seed, only=args.only, scene=scene, symbolic=args.symbolic,
                                 out_dir=out, counterexample_dir=found, progress=say, executor=executor)
+        runner.write_execution_log(out / "execution.json", executor)
     doc = runner.results_document(run, profile=args.profile, seed=args.seed, scene=args.scene)
     path = runner.write_results(out / "results.json", doc)
     print(runner.format_table(run))

@@ -28,6 +28,7 @@ saying how to install it.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import sys
@@ -112,6 +113,8 @@ class Executor:
     scheduler = None
     dashboard = None  # the Dask dashboard's address, when there is one
     say = None  # progress lines (a callable taking a message), or None
+    where = "client"  # where the tasks run: "client" (this process) or "workers"
+    log = None  # one entry per batch: kind, label, tasks, seconds per task, wall seconds (bytes moved on Dask)
 
     def map(self, fn, items, *, kind, label, on_result=None, stop=None):
         """``[fn(item) for item in items]`` in the order of ``items``.
@@ -123,9 +126,12 @@ class Executor:
         items = list(items)
         results = [None] * len(items)
         progress = Progress(len(items), label, say=self.say if len(items) > 1 else None)
+        record = self._record(kind, label, len(items))
         try:
             for i, item in enumerate(items):
+                t0 = time.perf_counter()
                 results[i] = fn(item)
+                record["task_s"].append(time.perf_counter() - t0)
                 progress.update()
                 if on_result is not None:
                     on_result(i, results[i])
@@ -133,7 +139,17 @@ class Executor:
                     break
         finally:
             progress.close()
+            record["wall_s"] = time.perf_counter() - record.pop("_start")
         return results
+
+    def _record(self, kind, label, tasks):
+        """A new entry of :attr:`log` (one per batch of tasks): what the scaling benchmark reads."""
+        if self.log is None:
+            self.log = []
+        entry = {"kind": kind, "label": str(label), "where": self.where, "tasks": tasks, "task_s": [], "bytes_in": None,
+                 "bytes_out": None, "_start": time.perf_counter()}
+        self.log.append(entry)
+        return entry
 
     def portable(self, fn):
         """Whether ``fn`` can be sent to a worker (always, in this process)."""
@@ -154,6 +170,8 @@ class Executor:
 
 class DaskExecutor(Executor):
     """Tasks go to a Dask cluster: a LocalCluster of ``workers`` (started on first use), or ``scheduler``'s."""
+
+    where = "workers"
 
     def __init__(self, workers=None, scheduler=None, *, say=None):
         try:
@@ -212,7 +230,10 @@ class DaskExecutor(Executor):
         if not items:
             return []
         client = self.client(kind)
-        futures = [client.submit(fn, item, pure=False, key=f"{_key(label)}-{i}-{os.urandom(4).hex()}")
+        record = self._record(kind, label, len(items))
+        record["bytes_in"] = _size(functools.partial(fn, items[0])) * len(items)
+        record["bytes_out"] = 0
+        futures = [client.submit(_timed, fn, item, pure=False, key=f"{_key(label)}-{i}-{os.urandom(4).hex()}")
                    for i, item in enumerate(items)]
         index = {f.key: i for i, f in enumerate(futures)}
         results, done = [None] * len(items), [False] * len(items)
@@ -223,7 +244,9 @@ class DaskExecutor(Executor):
                 i = index[future.key]
                 if i > first_stop:
                     continue
-                results[i] = future.result()
+                results[i], seconds, nbytes = future.result()
+                record["task_s"].append(seconds)
+                record["bytes_out"] += nbytes
                 done[i] = True
                 progress.update()
                 if on_result is not None:
@@ -236,6 +259,7 @@ class DaskExecutor(Executor):
         finally:
             progress.close()
             client.cancel([f for f in futures if not f.done()])
+            record["wall_s"] = time.perf_counter() - record.pop("_start")
         return [r if i <= first_stop else None for i, r in enumerate(results)]
 
     def portable(self, fn):
@@ -259,6 +283,22 @@ class DaskExecutor(Executor):
             except Exception:
                 pass
         self._clients, self._clusters = {}, []
+
+
+def _timed(fn, item):
+    """A task on a worker: its result, the seconds it took and the size of the result sent back."""
+    t0 = time.perf_counter()
+    result = fn(item)
+    return result, time.perf_counter() - t0, _size(result)
+
+
+def _size(obj):
+    try:
+        import cloudpickle
+
+        return len(cloudpickle.dumps(obj))
+    except Exception:  # unpicklable here: Dask would have failed first
+        return 0
 
 
 def _key(label):

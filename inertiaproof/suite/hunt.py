@@ -118,7 +118,8 @@ def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, **settings_o
         task = functools.partial(_run_shard, shipped, margin, ctx.profile, tolerance, settings_overrides)
         if shipped is None or not (is_pure(margin) if pure is None else pure) or not executor.portable(task):
             # its margin writes into the check's own objects, or it cannot be sent: its shards run here
-            executor = Executor()
+            executor.log = [] if executor.log is None else executor.log
+            executor, executor.log = Executor(), executor.log
             task = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides)
     outputs = getattr(ctx, "outputs", None)
 

@@ -44,7 +44,7 @@ from .profiles import PROFILES
 
 __all__ = [
     "FEATURE_WORDS", "format_table", "progress_printer", "results_document", "Run", "run_checks", "select",
-    "write_junit", "write_results",
+    "write_execution_log", "write_junit", "write_results",
 ]
 
 FEATURE_WORDS = {
@@ -183,6 +183,14 @@ def write_results(path, document):
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(document, indent=1, sort_keys=False, allow_nan=False))
     return path
+
+
+def write_execution_log(path, executor):
+    """``OUT/execution.json``: how the splittable work ran (workers, each batch's kind, tasks, seconds per task,
+    bytes moved). Timings only: not part of the answer, so kept out of results.json."""
+    doc = {"schema": "inertiaproof.execution/1", "workers": executor.workers, "where": executor.describe(),
+           "dashboard": executor.dashboard, "batches": executor.log or []}
+    return write_results(path, doc)
 
 
 def write_junit(path, run):
