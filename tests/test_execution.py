@@ -114,3 +114,26 @@ def test_a_killed_worker_has_its_tasks_rerun_and_the_hunt_ends_the_same(dask2):
             assert killed, "the worker was not killed during the hunt"
             assert isinstance(distributed.Client, type)
     assert results[0] == results[1]
+
+
+def test_an_audit_gives_the_same_files_on_one_and_two_workers(dask2):
+    pybullet_data = pytest.importorskip("pybullet_data")
+    from inertiaproof.audit.document import audit_paths
+
+    folder = pybullet_data.getDataPath()
+    paths = [os.path.join(folder, name) for name in ("r2d2.urdf", "cartpole.urdf", os.path.join("kuka_iiwa", "model.urdf"), "plane.urdf")]
+    options = dict(samples=64, refine_s=0.0, bounds="arms")
+    one, two = audit_paths(paths, **options), audit_paths(paths, executor=dask2, **options)
+    assert list(one) == list(two) == paths
+    assert without_timings(one) == without_timings(two)
+    assert dask2.log[-1]["kind"] == "audit" and dask2.log[-1]["tasks"] == 4 and dask2.log[-1]["where"] == "workers"
+
+
+def test_progress_is_counts_and_an_eta_in_plain_lines_off_a_terminal():
+    from inertiaproof.suite.execution import Progress
+
+    lines = []
+    progress = Progress(3, "hunt x", say=lines.append, min_interval=0.0)
+    for _ in range(3):
+        progress.update()
+    assert lines[0].startswith("hunt x: 1/3 tasks") and "ETA" in lines[0] and lines[-1] == "hunt x: 3/3 tasks"

@@ -191,6 +191,8 @@ class DaskExecutor(Executor):
             self.dashboard = self._clients["remote"].dashboard_link
             self.workers = len(self._clients["remote"].scheduler_info(n_workers=-1)["workers"])
             self._announce(self._clients["remote"])
+        else:  # start the worker processes now, before a check lowers this process's memory limit (inherited)
+            self.client("hunt")
 
     def client(self, kind):
         """The client for ``kind`` (starting its LocalCluster on first use)."""
