@@ -70,11 +70,13 @@ def dask2():
 def test_a_run_gives_the_same_results_json_on_one_and_two_workers(dask2, tmp_path):
     docs = []
     for i, executor in enumerate((Executor(), dask2)):
-        run = runner.run_checks(profile=SMALL, seed=0, only=["Prop1:numeric", "Thm4"], out_dir=tmp_path / str(i),
+        run = runner.run_checks(profile=SMALL, seed=0, only=["Thm4", "EQ-triangle", "Thm1-nec"], out_dir=tmp_path / str(i),
                                 counterexample_dir=tmp_path / "found", executor=executor)
         docs.append(without_timings(runner.results_document(run, profile="ci", seed=0, scene=None)))
-    assert docs[0]["summary"] == {"HOLDS": 2, "VIOLATED": 0, "INCONCLUSIVE": 0}
+    assert docs[0]["summary"] == {"HOLDS": 3, "VIOLATED": 0, "INCONCLUSIVE": 0}
     assert docs[0] == docs[1]
+    on_workers = {b["label"] for b in dask2.log if b["where"] == "workers"}
+    assert {"Thm4 x2", "EQ-triangle", "Thm1-nec"} <= on_workers  # pure, and recording margins, went to the workers
 
 
 def test_a_violation_is_the_first_in_shard_order_and_is_journaled_on_arrival(dask2, tmp_path):
@@ -137,3 +139,23 @@ def test_progress_is_counts_and_an_eta_in_plain_lines_off_a_terminal():
     for _ in range(3):
         progress.update()
     assert lines[0].startswith("hunt x: 1/3 tasks") and "ETA" in lines[0] and lines[-1] == "hunt x: 3/3 tasks"
+
+
+def test_a_margin_that_records_as_it_goes_is_sent_detached_and_its_records_merged_in_shard_order(dask2):
+    from inertiaproof.suite.hunt import collectable
+
+    def hunt_recording(executor):
+        records, counts = [], {"even": 0}
+
+        def margin(x):
+            records.append(x)
+            counts["even"] += x % 2 == 0
+            return 1.0
+
+        assert collectable(margin) is not None
+        ctx = Context(SMALL, seed=4, executor=executor)
+        h = hunt(st.integers(0, 10**6), margin, ctx, label="issue16 records", max_examples=23)
+        return h.margins, records, counts
+
+    assert hunt_recording(Executor()) == hunt_recording(dask2)
+    assert dask2.log[-1]["label"] == "issue16 records" and dask2.log[-1]["where"] == "workers"

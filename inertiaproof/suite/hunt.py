@@ -26,7 +26,7 @@ from inertiaproof.result import quantity
 
 from .paths import cache_dir
 
-__all__ = ["Hunt", "hunt", "hunt_settings", "is_pure", "merge", "Shard", "portable", "shard_seed", "shard_sizes", "StrategyRef"]
+__all__ = ["collectable", "detached", "Hunt", "hunt", "hunt_settings", "is_pure", "merge", "Shard", "portable", "shard_seed", "shard_sizes", "StrategyRef"]
 
 
 class _Violation(Exception):
@@ -43,6 +43,7 @@ class Hunt:
     violation_margin: float | None = None
     margins: list = field(default_factory=list)
     resolutions: list = field(default_factory=list)
+    collected: list | None = None  # a shard's additions to its margin's lists and counts (see collectable)
 
     def summary(self):
         """Plain data for evidence."""
@@ -112,15 +113,21 @@ def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, **settings_o
     sizes = shard_sizes(examples, getattr(ctx.profile, "shard_examples", examples))
     shards = [Shard(label, i, len(sizes), n, shard_seed(ctx.seed, label, i, len(sizes))) for i, n in enumerate(sizes)]
     executor = getattr(ctx, "executor", None) or Executor()
-    task = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides)
+    task = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides, None)
+    collected = None  # closure cells of the margin that the shards add to (lists, dicts of counts)
     if executor.workers != 1 or executor.scheduler is not None:
-        shipped = portable(strategy)
-        task = functools.partial(_run_shard, shipped, margin, ctx.profile, tolerance, settings_overrides)
-        if shipped is None or not (is_pure(margin) if pure is None else pure) or not executor.portable(task):
+        shipped, sent, collected = portable(strategy), margin, None
+        if pure is None and not is_pure(margin):
+            collected = collectable(margin)
+            sent = None if collected is None else detached(margin, collected)
+        elif pure is False:
+            sent = None
+        task = functools.partial(_run_shard, shipped, sent, ctx.profile, tolerance, settings_overrides, collected)
+        if shipped is None or sent is None or not executor.portable(task):
             # its margin writes into the check's own objects, or it cannot be sent: its shards run here
             executor.log = [] if executor.log is None else executor.log
-            executor, executor.log = Executor(), executor.log
-            task = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides)
+            executor, executor.log, collected = Executor(), executor.log, None
+            task = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides, None)
     outputs = getattr(ctx, "outputs", None)
 
     def arrived(i, state):
@@ -130,7 +137,12 @@ def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, **settings_o
 
     states = executor.map(task, shards, kind="hunt", label=label, on_result=arrived,
                           stop=lambda i, state: state.violation is not None)
-    return merge([s for s in states if s is not None], label)
+    states = [s for s in states if s is not None]
+    if collected is not None:  # what the shards added to the margin's lists and counts, in shard order
+        for state in states:
+            for i, value in zip(collected, state.collected):
+                _add(margin.__closure__[i].cell_contents, value)
+    return merge(states, label)
 
 
 def merge(states, label):
@@ -164,6 +176,48 @@ def is_pure(margin):
         return all(_immutable(v, pure) for v in cells + defaults)
 
     return pure(margin)
+
+
+def collectable(margin):
+    """The indexes of ``margin``'s closure cells that hold a list or a dict of numbers (what a margin records as it
+    goes), when everything else it keeps is immutable (see :func:`is_pure`); else None. A shard on a worker starts
+    them empty and sends back what it added; the client adds that in shard order, as if the shards had run here."""
+    if not isinstance(margin, types.FunctionType) or not margin.__closure__:
+        return None
+    out = []
+    for i, cell in enumerate(margin.__closure__):
+        if not _filled(cell):
+            continue
+        value = cell.cell_contents
+        if isinstance(value, list) or (isinstance(value, dict) and all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) for v in value.values())):
+            out.append(i)
+        elif not _immutable(value, lambda fn: is_pure(fn)):
+            return None
+    if not all(_immutable(v, lambda fn: is_pure(fn)) for v in (margin.__defaults__ or ())):
+        return None
+    return out or None
+
+
+def detached(margin, cells):
+    """A copy of ``margin`` whose closure ``cells`` hold empty lists and zero counts (what is sent to a worker)."""
+    closure = tuple(types.CellType(_empty(c.cell_contents)) if i in cells else c
+                    for i, c in enumerate(margin.__closure__))
+    fn = types.FunctionType(margin.__code__, margin.__globals__, margin.__name__, margin.__defaults__, closure)
+    fn.__kwdefaults__, fn.__qualname__, fn.__module__ = margin.__kwdefaults__, margin.__qualname__, margin.__module__
+    return fn
+
+
+def _empty(value):
+    return [] if isinstance(value, list) else {k: type(v)(0) for k, v in value.items()}
+
+
+def _add(into, value):
+    if isinstance(into, list):
+        into.extend(value)
+    else:
+        for k, v in value.items():
+            into[k] = into.get(k, 0) + v
 
 
 def _filled(cell):
@@ -230,8 +284,9 @@ def portable(strategy):
     return None
 
 
-def _run_shard(strategy, margin, profile, tolerance, settings_overrides, shard):
-    """One shard of a hunt (a task: it carries its own seed and runs in any process)."""
+def _run_shard(strategy, margin, profile, tolerance, settings_overrides, collected, shard):
+    """One shard of a hunt (a task: it carries its own seed and runs in any process). With ``collected`` (closure
+    cells of a detached margin), the shard's state carries what the margin added to them."""
     from hypothesis import assume, given, seed, target
 
     if isinstance(strategy, StrategyRef):
@@ -265,6 +320,8 @@ def _run_shard(strategy, margin, profile, tolerance, settings_overrides, shard):
             test()
         except _Violation:
             pass  # state.violation holds the last (shrunk) failing example
+    if collected is not None:
+        state.collected = [margin.__closure__[i].cell_contents for i in collected]
     return state
 
 
