@@ -12,6 +12,7 @@ deterministic for a given seed; the ci profile keeps no example database.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import hashlib
 import importlib
@@ -237,6 +238,8 @@ def _immutable(value, pure):
         return pure(value)
     if isinstance(value, (types.BuiltinFunctionType, np.ufunc, np.generic)):
         return True
+    if dataclasses.is_dataclass(value) and not isinstance(value, type) and value.__dataclass_params__.frozen:
+        return all(_immutable(getattr(value, f.name), pure) for f in dataclasses.fields(value))
     return False  # lists, dicts, sets, arrays, instances: possibly written by the margin
 
 
