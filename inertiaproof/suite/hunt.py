@@ -105,7 +105,8 @@ def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, **settings_o
 
     The hunt is split into shards of at most ``ctx.profile.shard_examples`` examples, each with its own seed
     (:func:`shard_seed`); they run on ``ctx.executor`` (on workers when the margin is pure, see :func:`is_pure`,
-    else in this process) and are merged in shard order, so the answer is the same for any number of workers.
+    or only records into lists and counts, see :func:`collectable`; else in this process) and are merged in shard
+    order, so the answer is the same for any number of workers.
     A shard stops at its first violation; the shards after the first violating one are not needed. A violating
     shard's example is appended to ``OUT/data/arrived-counterexamples.jsonl`` as soon as it arrives."""
     from .execution import Executor
