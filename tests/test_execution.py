@@ -159,3 +159,11 @@ def test_a_margin_that_records_as_it_goes_is_sent_detached_and_its_records_merge
 
     assert hunt_recording(Executor()) == hunt_recording(dask2)
     assert dask2.log[-1]["label"] == "issue16 records" and dask2.log[-1]["where"] == "workers"
+
+
+def test_a_strategy_is_shipped_by_name_only_when_the_name_rebuilds_it():
+    from inertiaproof.checks.pointwise import hunt_cases
+
+    ref = portable(hunt_cases(True))
+    assert repr(ref.build()) == repr(hunt_cases(True))
+    assert portable(hunt_cases(True).map(lambda case: case)) is None  # .map after the call: not rebuilt by name

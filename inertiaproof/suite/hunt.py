@@ -271,8 +271,8 @@ def portable(strategy):
         from hypothesis.strategies._internal.lazy import LazyStrategy
     except ImportError:  # Hypothesis moved it: run in the client
         return None
-    if not isinstance(strategy, LazyStrategy):
-        return None
+    if not isinstance(strategy, LazyStrategy) or getattr(strategy, "_transformations", True):
+        return None  # not made by one call, or with .map/.filter applied after it: not rebuilt by name
     fn, args, kwargs = strategy.function, strategy._LazyStrategy__args, strategy._LazyStrategy__kwargs
     for module_name, module in list(sys.modules.items()):
         if not module_name.startswith("inertiaproof") or module is None:
