@@ -5,7 +5,8 @@ same for one worker or many (:mod:`.execution`). Timing-dependent are:
 
 - every ``runtime_s`` and every key ending in ``seconds`` (derivation times,
   ``choi_seconds``, a stability study's solver times) or named ``time_per_n``;
-- ``convergence`` series of brackets: ``[[seconds, lower, upper], ...]``;
+- ``convergence`` series of brackets: ``[[seconds, lower, upper], ...]``, and the ``lines`` of any plotted series
+  whose ``x_label`` or ``y_label`` is ``"seconds"`` (GRE's derivation time per n);
 - ``versions`` (the environment, not the answer).
 
 Work stopped by a wall-clock budget is timing-dependent in its values too: a
@@ -32,7 +33,9 @@ def without_timings(document):
     """``document`` (results.json as loaded) without its wall-clock-dependent fields: what must not depend on the
     number of workers."""
     if isinstance(document, dict):
-        return {k: without_timings(v) for k, v in document.items() if not is_timing_key(k)}
+        timed = "seconds" in (document.get("x_label"), document.get("y_label"))
+        return {k: without_timings(v) for k, v in document.items()
+                if not is_timing_key(k) and not (timed and k == "lines")}
     if isinstance(document, list):
         return [without_timings(v) for v in document]
     return document
