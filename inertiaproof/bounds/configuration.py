@@ -36,16 +36,18 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .domain import bernstein_domain, certification_obstacle, derivative_factors, free_coordinates, search_box
 from .extremes import bracket_extreme
+from .taylor import MassFamily, box_bounds
 from .spectral import CONVEX, spectral
 
 __all__ = [
     "apriori_bound", "apriori_jacobian_blocks", "column_bounds", "configuration_bracket", "EPS", "jacobian_family",
     "jacobian_normality", "jacobian_sup", "lever_bounds", "mass_family", "mass_inf", "mass_sup", "ROUNDING",
-    "skew_partial_sup", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
+    "box_cost", "skew_partial_sup", "VERTEX_LIMIT", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
 ]
 
 
 EPS = np.finfo(float).eps
+VERTEX_LIMIT = 6  # free coordinates up to which the 2^d vertices of the linear part are enumerated (exact linear part)
 ROUNDING = 64.0  # rounding allowance of a computed eigenvalue, in units of eps * ||matrix||_F
 
 # -- matrix families A(q) with derivatives --------------------------------------
@@ -91,6 +93,60 @@ def vertex_bound(a, da, radii, free, kind):
 
 
 def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rng, value_kind=None,
+                          square=False, progress=None, thetas=None):
+    """Bracket of sup (convex kinds) or inf (lmin) over the chain's configurations of kind(M(q, Theta_v)).
+
+    ``family`` is (evaluate, degree) from :func:`mass_family` (degree 2, with its ``thetas``); the value over a
+    stack of parameter sets is the worst over the stack. ``value_kind`` overrides how the observed side is
+    computed (e.g. 'smin' of QJ by SVD while the certified side bounds lmin of (QJ)^T QJ); ``square`` squares
+    observed singular values to match. The certified side is branch and bound with
+    :func:`inertiaproof.bounds.taylor.box_bounds` (polynomial in the number of joints per box).
+    """
+    evaluate, degree = family
+    sense = "max" if kind in CONVEX else "min"
+    pick = np.max if sense == "max" else np.min
+    obs_kind = value_kind or kind
+
+    source = evaluate if value_kind is None else jacobian_family(chain)[0]
+
+    def value(q):
+        v = spectral(source(q, derivatives=False), obs_kind)
+        return pick(v**2 if square else v, axis=-1)
+
+    lo, hi = search_box(chain)
+    free = free_coordinates(chain)
+    obstacle = certification_obstacle(chain)
+    if obstacle is None and (degree != 2 or thetas is None) and free.sum() > VERTEX_LIMIT:
+        obstacle = "no polynomial box bound for this family"
+    if obstacle is not None:
+        return bracket_extreme(value, None, lo, hi, sense=sense, quantity_name=quantity_name, samples=samples,
+                               refine_s=refine_s, rng=rng, free=free, note=obstacle)
+    if free.sum() <= VERTEX_LIMIT:
+        return _vertex_bracket(chain, family, kind, quantity_name=quantity_name, samples=samples, refine_s=refine_s,
+                               rng=rng, value_kind=value_kind, square=square, progress=progress, thetas=thetas)
+    apriori = apriori_bound(chain, thetas, "sup")
+    fam = MassFamily(chain, thetas)
+    weights = fam.factors.max(axis=(0, 1))  # split where the entries can move most
+
+    def box_bound(c, r):
+        return box_bounds(fam, kind, c, r)
+
+    note = ("second-order Taylor bound per box: entry sizes from lengths, Bernstein/Markov remainder, "
+            "congruence by the centre's Cholesky factor for lambda_min; rounding allowances stated in "
+            "inertiaproof.bounds.taylor")
+    result = bracket_extreme(value, box_bound, lo, hi, sense=sense, quantity_name=quantity_name, samples=samples,
+                             refine_s=refine_s, rng=rng, free=free, weights=weights, progress=progress, note=note,
+                             cost=box_cost(chain.n, len(fam.thetas)))
+    if sense == "max" and np.isfinite(apriori) and apriori < result.certified:
+        result.certified = apriori
+        result.note += "; the a priori bound from link lengths is smaller"
+        for point in result.convergence:
+            point[2] = min(point[2], apriori)
+    psd = bool(np.all(spectral(spatial_inertia(np.asarray(thetas, float)), "lmin") >= 0))
+    return _with_fallback(result, kind, apriori, psd)
+
+
+def _vertex_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rng, value_kind=None,
                           square=False, progress=None, thetas=None):
     """Bracket of sup (convex kinds) or inf (lmin, smin) over the chain's configurations of kind(A(q)).
 
@@ -140,7 +196,7 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
     if sense == "min" or not same:
         sup = bracket_extreme(value_for_norm(evaluate, norm_kind), bound_with(None, norm_kind), dlo, dhi, sense="max",
                               quantity_name=f"sup ||A|| for {quantity_name}", samples=samples, refine_s=stage,
-                              rng=rng, free=free, weights=factors)
+                              rng=rng, free=free, weights=factors, cost=_legacy_cost(free))
         scale = min(sup.certified, apriori)
         note = f"Taylor remainder scaled by sup ||A|| <= {scale:.6g} over a full period (certified)"
         if not np.isfinite(scale):
@@ -150,13 +206,24 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
                                   kind, apriori, thetas is not None)
     result = bracket_extreme(value, bound_with(scale, kind), lo, hi, sense=sense, quantity_name=quantity_name,
                              samples=samples, refine_s=stage if scale is not None else refine_s, rng=rng, free=free,
-                             weights=factors, progress=progress, note=note)
+                             weights=factors, progress=progress, note=note, cost=_legacy_cost(free))
     if scale is not None and sense == "max" and scale < result.certified:
         result.certified, result.note = scale, note.replace("Taylor remainder scaled by sup", "the sup over a period")
         for point in result.convergence:
             point[2] = min(point[2], scale)
     psd = thetas is not None and bool(np.all(spectral(spatial_inertia(np.asarray(thetas, float)), "lmin") >= 0))
     return _with_fallback(result, kind, apriori, psd)
+
+
+def _legacy_cost(free):
+    """The vertex path's cost: 2^d vertices per box (15 of them per round and second of budget)."""
+    d = int(np.sum(free))
+    return 2.0**d / 15.0 if d <= VERTEX_LIMIT else box_cost(len(free))
+
+
+def box_cost(n, stack=1):
+    """Relative cost of one box bound against a 7-joint chain with one parameter set (O(n^4) per box)."""
+    return max(1.0, stack * (n / 7.0) ** 4)
 
 
 def _with_fallback(result, kind, apriori, psd):
@@ -293,8 +360,18 @@ def apriori_bound(chain, thetas, kind):
 # -- the ingredients over configurations ----------------------------------------------
 
 def jacobian_sup(chain, **kw):
-    """sup_q sigma_max(QJ) (SVD)."""
-    return configuration_bracket(chain, jacobian_family(chain), "smax", quantity_name="sup_q sigma_max(QJ)", **kw)
+    """sup_q sigma_max(QJ) (SVD). Beyond ``VERTEX_LIMIT`` free coordinates: the square root of the bracket of
+    sup_q lambda_max((QJ)^T QJ), the mass matrix of unit bodies (Z = I), whose box bounds are polynomial."""
+    if free_coordinates(chain).sum() <= VERTEX_LIMIT or certification_obstacle(chain) is not None:
+        return configuration_bracket(chain, jacobian_family(chain), "smax", quantity_name="sup_q sigma_max(QJ)", **kw)
+    unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
+    b = configuration_bracket(chain, mass_family(chain, unit), "lmax", value_kind="smax", square=True,
+                              quantity_name="sup_q sigma_max(QJ)", thetas=unit, **kw)
+    root = (lambda x: None if x is None else float(np.sqrt(max(x, 0.0))))
+    b.observed, b.certified = root(b.observed), root(b.certified)
+    b.convergence = [[t, root(lo), root(hi)] for t, lo, hi in b.convergence]
+    b.note += "; square roots of the bracket of sup_q lambda_max((QJ)^T QJ) (unit bodies)"
+    return b
 
 
 def jacobian_normality(chain, **kw):
@@ -364,7 +441,7 @@ def skew_partial_sup(chain, *, samples, refine_s, rng, progress=None):
     usable = obstacle is None and same
     worst = bracket_extreme(lambda q: sigmas(q).max(1), max_bound if usable else None, lo, hi, sense="max",
                             quantity_name="max_p sup_q sigma_max(Y_p)", samples=samples, refine_s=refine_s / 2,
-                            rng=rng, free=free, weights=factors, progress=progress,
+                            rng=rng, free=free, weights=factors, progress=progress, cost=_legacy_cost(free),
                             note=obstacle or ("" if same else "joint limits inside a period: no certified side"))
     s = worst.certified
 
@@ -375,7 +452,7 @@ def skew_partial_sup(chain, *, samples, refine_s, rng, progress=None):
     rss = bracket_extreme(lambda q: np.sqrt((sigmas(q) ** 2).sum(1)),
                           rss_bound if usable and s is not None and np.isfinite(s) else None, lo, hi, sense="max",
                           quantity_name="sup_q (sum_p sigma_max(Y_p)^2)^(1/2)", samples=samples, refine_s=refine_s / 2,
-                          rng=rng, free=free, weights=factors, note=worst.note)
+                          rng=rng, free=free, weights=factors, note=worst.note, cost=_legacy_cost(free))
     return worst, rss
 
 
