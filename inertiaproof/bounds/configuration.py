@@ -37,7 +37,7 @@ from inertiaproof.model.inertia import spatial_inertia
 from .domain import bernstein_domain, certification_obstacle, derivative_factors, free_coordinates, search_box
 from .extremes import bracket_extreme
 from .taylor import MassFamily, box_bounds
-from .spectral import CONVEX, spectral
+from .spectral import CONVEX, Spectral, spectral
 
 __all__ = [
     "apriori_bound", "apriori_jacobian_blocks", "column_bounds", "configuration_bracket", "EPS", "jacobian_family",
@@ -103,7 +103,7 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
     :func:`inertiaproof.bounds.taylor.box_bounds` (polynomial in the number of joints per box).
     """
     evaluate, degree = family
-    sense = "max" if kind in CONVEX else "min"
+    sense = Spectral(kind).sense
     pick = np.max if sense == "max" else np.min
     obs_kind = value_kind or kind
 
@@ -137,11 +137,6 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
     result = bracket_extreme(value, box_bound, lo, hi, sense=sense, quantity_name=quantity_name, samples=samples,
                              refine_s=refine_s, rng=rng, free=free, weights=weights, progress=progress, note=note,
                              cost=box_cost(chain.n, len(fam.thetas)))
-    if sense == "max" and np.isfinite(apriori) and apriori < result.certified:
-        result.certified = apriori
-        result.note += "; the a priori bound from link lengths is smaller"
-        for point in result.convergence:
-            point[2] = min(point[2], apriori)
     psd = bool(np.all(spectral(spatial_inertia(np.asarray(thetas, float)), "lmin") >= 0))
     return _with_fallback(result, kind, apriori, psd)
 
@@ -157,7 +152,7 @@ def _vertex_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rn
     squares observed singular values to match.
     """
     evaluate, degree = family
-    sense = "max" if kind in CONVEX else "min"
+    sense = Spectral(kind).sense
     pick = np.max if sense == "max" else np.min
     obs_kind = value_kind or kind
 
@@ -207,10 +202,8 @@ def _vertex_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rn
     result = bracket_extreme(value, bound_with(scale, kind), lo, hi, sense=sense, quantity_name=quantity_name,
                              samples=samples, refine_s=stage if scale is not None else refine_s, rng=rng, free=free,
                              weights=factors, progress=progress, note=note, cost=_legacy_cost(free))
-    if scale is not None and sense == "max" and scale < result.certified:
-        result.certified, result.note = scale, note.replace("Taylor remainder scaled by sup", "the sup over a period")
-        for point in result.convergence:
-            point[2] = min(point[2], scale)
+    if scale is not None and sense == "max":
+        result.tighten(scale, "the sup over a period is sharper")
     psd = thetas is not None and bool(np.all(spectral(spatial_inertia(np.asarray(thetas, float)), "lmin") >= 0))
     return _with_fallback(result, kind, apriori, psd)
 
@@ -227,19 +220,11 @@ def box_cost(n, stack=1):
 
 
 def _with_fallback(result, kind, apriori, psd):
-    """Where branch and bound found no better certified side: the a priori length bound (sup) or 0 (inf of a PSD form)."""
-    if kind == "lmin" and psd and result.certified is not None and result.certified < 0:
-        result.certified = None
-    if result.certified is not None and np.isfinite(result.certified):
-        return result
+    """Where branch and bound certified less: the a priori length bound (sup) or 0 (inf of a PSD form)."""
     if kind in CONVEX:
-        result.certified, result.note = apriori, (result.note + "; " if result.note else "") + \
-            "branch and bound did not finish: a priori bound from link lengths (Frobenius norm)"
+        result.tighten(apriori, "the a priori bound from link lengths (Frobenius norm) is sharper")
     elif kind == "lmin" and psd:
-        result.certified, result.note = 0.0, (result.note + "; " if result.note else "") + \
-            "branch and bound did not finish: 0, as M = (QJ)^T Z QJ with Z >= 0 (key step, positivity of L)"
-    for point in result.convergence:
-        point[1 if result.sense == "min" else 2] = float(result.certified)
+        result.tighten(0.0, "0, as M = (QJ)^T Z QJ with Z >= 0 (key step, positivity of L)")
     return result
 
 
@@ -380,14 +365,9 @@ def jacobian_normality(chain, **kw):
     unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
     result = configuration_bracket(chain, mass_family(chain, unit), "lmin", value_kind="smin", square=True,
                                    quantity_name="inf_q sigma_min(QJ)^2", thetas=unit, **kw)
-    floor = triangular_normality_floor(chain)
-    if floor > (result.certified if result.certified is not None else -np.inf):
-        result.certified = floor
-        result.note = (result.note + "; " if result.note else "") + (
-            "certified side from the block-triangular structure of QJ (unit twist of joint l in column l of body "
-            "l's block, lengths bound the rest): valid for every q")
-        for point in result.convergence:
-            point[1] = max(point[1] if point[1] is not None else -np.inf, floor)
+    result.tighten(triangular_normality_floor(chain),
+                   "certified side from the block-triangular structure of QJ (unit twist of joint l in column l of "
+                   "body l's block, lengths bound the rest): valid for every q")
     return result
 
 
@@ -400,12 +380,8 @@ def mass_inf(chain, thetas, **kw):
     z = spatial_inertia(np.asarray(thetas, float))
     z_min = float((spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")).min())  # less its rounding
     floor = max(z_min, 0.0) * triangular_normality_floor(chain) * (1 - ROUNDING * EPS)
-    if floor > (result.certified if result.certified is not None else -np.inf):
-        result.certified = floor
-        result.note = (result.note + "; " if result.note else "") + (
-            "certified side min_l lambda_min(Z(Phi_l)) times the block-triangular floor of inf sigma_min(QJ)^2")
-        for point in result.convergence:
-            point[1] = max(point[1] if point[1] is not None else -np.inf, floor)
+    result.tighten(floor, "certified side min_l lambda_min(Z(Phi_l)) times the block-triangular floor of "
+                          "inf sigma_min(QJ)^2")
     return result
 
 

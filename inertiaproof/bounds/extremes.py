@@ -59,6 +59,24 @@ class Bracket:
     def width(self):
         return self.upper - self.lower
 
+    def tighten(self, certified, how):
+        """Adopt another certified bound of the same extreme where it is sharper (a larger lower bound of an inf, a
+        smaller upper bound of a sup, or any where there was none): the one place a bracket is tightened. ``how``
+        joins the note; the convergence record's certified side follows. Returns whether it was adopted."""
+        if certified is None or np.isnan(certified):
+            return False
+        sign = 1.0 if self.sense == "min" else -1.0
+        current = self.certified if self.certified is not None and np.isfinite(self.certified) else -sign * np.inf
+        if not sign * float(certified) > sign * current:
+            return False
+        self.certified = float(certified)
+        self.note = (self.note + "; " if self.note else "") + how
+        side = 1 if self.sense == "min" else 2
+        for point in self.convergence:
+            old = point[side]
+            point[side] = float(certified) if old is None else (max(old, certified) if sign > 0 else min(old, certified))
+        return True
+
     def evidence(self):
         """The ``bracket`` evidence the report plots (inertiaproof.result)."""
         sampled = "attained at the witness: an {} estimate of the {}".format(

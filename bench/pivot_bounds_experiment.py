@@ -91,9 +91,20 @@ class PivotFamily:
 
     def turn_maps(self, b, x):
         """tm(Jz(x)) for x (K,): (K, 6, 6)."""
-        return np.array([twist_map(_jz(v, self.revolute[b])) for v in x])
+        x = np.asarray(x, float)
+        out = np.zeros(x.shape + (6, 6))
+        if self.revolute[b]:  # blockdiag(Rz(x)^T, Rz(x)^T)
+            c, s = np.cos(x), np.sin(x)
+            for o in (0, 3):
+                out[:, o, o] = out[:, o + 1, o + 1] = c
+                out[:, o, o + 1], out[:, o + 1, o] = s, -s
+                out[:, o + 2, o + 2] = 1.0
+        else:  # [[I, -S(x e_z)], [0, I]]
+            out[:] = np.eye(6)
+            out[:, 0, 4], out[:, 1, 3] = x, -x
+        return out
 
-    def rotated_lower(self, b, p, c, r):
+    def rotated_lower(self, b, p, c, r, relative=True):
         """A Loewner lower bound over |x - c| <= r (K,) of Phi_b(x)^T p Phi_b(x), p (K, V, 6, 6); and its loss norm."""
         q = np.einsum("ji,kvjl,lm->kvim", self.after[b], p, self.after[b])  # tm(after)^T p tm(after)
         if self.revolute[b]:
@@ -105,7 +116,7 @@ class PivotFamily:
             rr = r[:, None, None, None]
             a1, b1 = 1 - np.cos(np.minimum(rr, np.pi)), np.sin(np.minimum(rr, np.pi / 2))
             a2, b2 = 1 - np.cos(np.minimum(2 * rr, np.pi)), np.sin(np.minimum(2 * rr, np.pi / 2))
-            h = self._metric(samples[0])
+            h = self._metric(samples[0]) if relative else None
             abs1, pos1 = _parts(f1c, h)
             abs1s, _ = _parts(f1s, h)
             _, pos2 = _parts(f2c, h)
@@ -117,7 +128,7 @@ class PivotFamily:
             f0, fp, fm = (self._turned(b, q, c + d) for d in (0.0, 1.0, -1.0))
             f1, f2 = 0.5 * (fp - fm), 0.5 * (fp + fm) - f0
             rr = r[:, None, None, None]
-            h = self._metric(f0)
+            h = self._metric(f0) if relative else None
             abs1, _ = _parts(f1, h)
             abs2, _ = _parts(f2, h)
             loss = rr * abs1 + rr**2 * abs2
@@ -161,7 +172,7 @@ def pivot_test(family: PivotFamily, sign, armature, centres, radii):
         u = np.einsum("kvij,j->kvi", a, s)
         p = a - np.einsum("kvi,kvj->kvij", u, u) / safe[..., None, None]
         p = p - (ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + (u * u).sum(-1) / safe))[..., None, None] * np.eye(6)
-        g, loss = family.rotated_lower(b, p, centres[:, b], radii[:, b])
+        g, loss = family.rotated_lower(b, p, centres[:, b], radii[:, b], relative=sign > 0)
         losses[:, b] = (loss / np.maximum(np.abs(safe), 1e-300)).max(1)
         a = z[None, :, b - 1] + g
     return ok, losses
