@@ -209,9 +209,10 @@ def _vertex_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rn
 
 
 def _legacy_cost(free):
-    """The vertex path's cost: 2^d vertices per box (15 of them per round and second of budget)."""
+    """The vertex path's cost: 2^d vertices per box, 45 per round and second of budget (calibrated: refine_s is about
+    the seconds a bracket takes on 2 loaded cores)."""
     d = int(np.sum(free))
-    return 2.0**d / 15.0 if d <= VERTEX_LIMIT else box_cost(len(free))
+    return 2.0**d / 45.0 if d <= VERTEX_LIMIT else box_cost(len(free))
 
 
 def box_cost(n, stack=1):
