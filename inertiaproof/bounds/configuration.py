@@ -36,7 +36,7 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .domain import bernstein_domain, certification_obstacle, derivative_factors, free_coordinates, search_box
 from .extremes import bracket_extreme
-from .taylor import MassFamily, box_bounds
+from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, Spectral, spectral
 
 __all__ = [
@@ -138,7 +138,7 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
                              refine_s=refine_s, rng=rng, free=free, weights=weights, progress=progress, note=note,
                              cost=box_cost(chain.n, len(fam.thetas)))
     psd = bool(np.all(spectral(spatial_inertia(np.asarray(thetas, float)), "lmin") >= 0))
-    return _with_fallback(result, kind, apriori, psd)
+    return _with_fallback(result, kind, apriori, psd, chain, thetas)
 
 
 def _vertex_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rng, value_kind=None,
@@ -205,7 +205,7 @@ def _vertex_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rn
     if scale is not None and sense == "max":
         result.tighten(scale, "the sup over a period is sharper")
     psd = thetas is not None and bool(np.all(spectral(spatial_inertia(np.asarray(thetas, float)), "lmin") >= 0))
-    return _with_fallback(result, kind, apriori, psd)
+    return _with_fallback(result, kind, apriori, psd, chain, thetas)
 
 
 def _legacy_cost(free):
@@ -220,10 +220,14 @@ def box_cost(n, stack=1):
     return max(1.0, stack * (n / 7.0) ** 4)
 
 
-def _with_fallback(result, kind, apriori, psd):
-    """Where branch and bound certified less: the a priori length bound (sup) or 0 (inf of a PSD form)."""
+def _with_fallback(result, kind, apriori, psd, chain=None, thetas=None):
+    """Where branch and bound certified less: the Perron bound of the entry sizes or the a priori length bound
+    (sup), or 0 (inf of a PSD form)."""
     if kind in CONVEX:
         result.tighten(apriori, "the a priori bound from link lengths (Frobenius norm) is sharper")
+        if thetas is not None and kind in ("lmax", "absmax") and certification_obstacle(chain) is None:
+            result.tighten(perron_bound(MassFamily(chain, thetas)),
+                           "spectral radius of the entrywise bounds |M_il(q)| <= S_il from lengths (Perron-Frobenius)")
     elif kind == "lmin" and psd:
         result.tighten(0.0, "0, as M = (QJ)^T Z QJ with Z >= 0 (key step, positivity of L)")
     return result

@@ -45,7 +45,7 @@ from .domain import bernstein_domain, certification_obstacle
 
 __all__ = [
     "box_bounds", "certified_box_bound", "ENTRY_ROUNDING", "entry_degrees", "entry_factors", "entry_sups",
-    "MassFamily", "ROUNDING",
+    "MassFamily", "perron_bound", "ROUNDING",
 ]
 
 EPS = np.finfo(float).eps
@@ -75,7 +75,8 @@ def entry_sups(chain, thetas):
     M_il = sum_{b >= max(i,l)} x_i^T Z_b x_l with x_k = QJ_b e_k (MassMatrix). Column l of body l's block is
     the constant unit twist s_l, so the b = l term is |x_i^T (Z_l s_l)| <= lin_li |(Z s)_v| + ang_li |(Z s)_w|
     (exact s^T Z s when i = l too); for b > l, |x^T Z y| <= ||x||_W ||y||_W with W = |Z| and
-    ||x||_W <= lambda_max(W_vv)^(1/2) lin + lambda_max(W_ww)^(1/2) ang (column bounds of QJ from lengths).
+    ||x||_W^2 <= lambda_max(W_vv) lin^2 + 2 ||W_vw|| lin ang + lambda_max(W_ww) ang^2 (column bounds of QJ from
+    lengths).
     """
     from .configuration import column_bounds
 
@@ -85,9 +86,11 @@ def entry_sups(chain, thetas):
     w, u = np.linalg.eigh(z)
     za = np.einsum("...ij,...j,...kj->...ik", u, np.abs(w), u)  # |Z|
     za = za + (ROUNDING * EPS * np.linalg.norm(z, axis=(-2, -1)))[..., None, None] * np.eye(6)
-    root_v = np.sqrt(np.linalg.eigvalsh(za[..., :3, :3])[..., -1])  # (V, N)
-    root_w = np.sqrt(np.linalg.eigvalsh(za[..., 3:, 3:])[..., -1])
-    wn = root_v[..., :, None] * linear[None] + root_w[..., :, None] * angular[None]  # (V, b, k) >= ||x_k||_W
+    l_v = np.linalg.eigvalsh(za[..., :3, :3])[..., -1]  # (V, N)
+    l_w = np.linalg.eigvalsh(za[..., 3:, 3:])[..., -1]
+    n_vw = np.linalg.norm(za[..., :3, 3:], 2, axis=(-2, -1))
+    wn = np.sqrt(l_v[..., None] * linear[None] ** 2 + 2 * n_vw[..., None] * linear[None] * angular[None]
+                 + l_w[..., None] * angular[None] ** 2) * (1 + 8 * EPS)  # (V, b, k) >= ||x_k||_W
     twists = np.array([j.unit_twist for j in chain.z_joints])  # (n, 6)
     zs = np.einsum("vlij,lj->vli", z, twists)  # (V, l, 6): Z_l s_l
     own = np.einsum("li,vli->vl", twists, zs)  # s_l^T Z_l s_l
@@ -210,6 +213,14 @@ def box_bounds(family: MassFamily, kind, centres, radii):
     if kind in ("lmin", "lmax"):
         return out[0]
     return np.maximum(out[0], -out[1])
+
+
+def perron_bound(family: MassFamily):
+    """max_v rho(S_v) >= sup_q |lambda|_max(M(q, Theta_v)) for every q: |M(q)| <= S entrywise, so the spectral radius
+    of M(q) is at most that of |M(q)|, at most that of S (Perron-Frobenius), rounded up."""
+    s = family.sups
+    rho = np.linalg.eigvalsh(s)[..., -1]
+    return float((rho + ROUNDING * EPS * np.linalg.norm(s, axis=(-2, -1))).max())
 
 
 def certified_box_bound(chain, thetas, kind, lo, hi):
