@@ -240,8 +240,9 @@ def value_for_norm(evaluate, kind):
 
 
 def lever_bounds(chain):
-    """Certified |z_l - p_k| (l >= k) for all q: the sum of the translations of the fixed transforms and of the slides
-    from joint k's axis to body l's origin (rotations keep lengths). Lower triangle of an n x n array; a slide
+    """Certified |u_k x (z_l - p_k)| <= |z_l - p_k| (l >= k) for all q: the sum of the translations of the fixed
+    transforms and of the slides from joint k's axis to body l's origin (rotations keep lengths), the first offset
+    of a turning joint counted by its part across the axis (:func:`_axis_distance`). Lower triangle of an n x n array; a slide
     without limits counts as 0 only as the first joint (it moves the joint points too): see certification_obstacle."""
     lengths = []
     for joint in chain.joints:
@@ -252,7 +253,22 @@ def lever_bounds(chain):
         for k in range(l + 1):
             out[l, k] = sum(lengths[m][1] + lengths[m][2] for m in range(k, l + 1)) + sum(
                 lengths[m][0] for m in range(k + 1, l + 1))
-    return out
+            if chain.joints[k].revolute:  # only the distance from joint k's axis counts: |u_k x (z_l - p_k)|
+                out[l, k] = min(out[l, k], _axis_distance(chain, k, l, lengths))
+    return out * (1 + 4 * chain.n * EPS)
+
+
+def _axis_distance(chain, k, l, lengths):
+    """A bound of the distance of body l's origin from joint k's axis for every q: the offset fixed to joint k's
+    turn (its after transform and joint k+1's before transform, in joint k's frame with the axis on z) counts by
+    its part across the axis; the later translations and slides by their lengths."""
+    z = chain.z_joints[k]
+    offset = z.after[:3, 3].copy()
+    if l > k:
+        offset = offset + z.after[:3, :3] @ chain.z_joints[k + 1].before[:3, 3]
+    rest = sum(lengths[m][1] + lengths[m][2] for m in range(k + 1, l + 1)) + sum(
+        lengths[m][0] for m in range(k + 2, l + 1))
+    return float(np.hypot(offset[0], offset[1])) + rest
 
 
 def column_bounds(chain):

@@ -7,9 +7,10 @@ costs O(n) symmetric eigenproblems per box instead of 2^n vertices:
   where X_{i<-l} depends on q_{i+1}..q_l with degree 1 and the composite inertia I^c_l on q_{l+1}..q_n
   with degree 2 (trigonometric for turns, algebraic for slides). So dM_il/dq_j = 0 for j <= min(i, l),
   and M_il has degree <= 1 in q_j for min < j <= max, <= 2 beyond (:func:`entry_degrees`).
-- Entry sizes from lengths alone: M_il = sum_{b >= max(i,l)} (QJ_b e_i)^T Z(Phi_b) (QJ_b e_l), so
-  |M_il| <= S_il = sum_b ||Z(Phi_b)|| G_bi G_bl with G the certified column norms of QJ
-  (:func:`inertiaproof.bounds.configuration.column_bounds`), for every q (:func:`entry_sups`).
+- Entry sizes: from lengths alone, M_il = sum_{b >= max(i,l)} (QJ_b e_i)^T Z(Phi_b) (QJ_b e_l) gives a bound
+  S_il of |M_il| for every q (:func:`entry_sups`); for up to ``FOURIER_LIMIT`` free turning joints the Wiener
+  norm of the exact Fourier coefficients is often much smaller (:func:`fourier_sups`), and the smaller is kept.
+  The spectral radius of S bounds |lambda|_max(M(q)) for every q (:func:`perron_bound`).
 - Bernstein's inequality (a full period) and Markov's (the limits of a slide) bound every partial
   derivative of M_il by c_il,j S_il, so on the box the second-order Taylor remainder of entry (i, l) is at
   most 1/2 (sum_j c_il,j r_j)^2 S_il and the first-order one (mean value) at most (sum_j c_il,j r_j) S_il.
@@ -45,6 +46,7 @@ from .domain import bernstein_domain, certification_obstacle
 
 __all__ = [
     "box_bounds", "certified_box_bound", "ENTRY_ROUNDING", "entry_degrees", "entry_factors", "entry_sups",
+    "FOURIER_LIMIT", "fourier_sups",
     "MassFamily", "perron_bound", "ROUNDING",
 ]
 
@@ -104,6 +106,34 @@ def entry_sups(chain, thetas):
     return out * (1 + 16 * (n + 6) * EPS)  # the sums and products above, rounded up
 
 
+FOURIER_LIMIT = 7  # free turning coordinates up to which the 5^m Fourier coefficients of M are computed
+
+
+def fourier_sups(chain, thetas, free):
+    """W[v, i, l] = sum_k |F_k| >= sup_q |M_il(q, Theta_v)| over all q, or None (a free slide, or more than
+    ``FOURIER_LIMIT`` free coordinates).
+
+    M is a trigonometric polynomial of degree <= 2 in every turning coordinate, so its values on the grid of 5
+    angles per free coordinate give its Fourier coefficients F_k (k in {-2..2}^m) exactly, and
+    |M_il(q)| = |sum_k F_k,il e^(i k.q)| <= sum_k |F_k,il| (the Wiener norm). Rounding (stated): each sample
+    carries ``ENTRY_ROUNDING`` n eps S_il (S from lengths), the FFT 5 m eps max |sample|; both are added for
+    every one of the 5^m coefficients.
+    """
+    idx = np.flatnonzero(free)
+    m, n = len(idx), chain.n
+    if m > FOURIER_LIMIT or not all(chain.joints[j].revolute for j in idx):
+        return None
+    thetas = np.asarray(thetas, float)
+    grid = np.stack(np.meshgrid(*([2 * np.pi * np.arange(5) / 5] * m), indexing="ij"), -1).reshape(-1, m)
+    q = np.zeros((len(grid), n))
+    q[:, idx] = grid
+    samples = composite.mass_matrix(chain, q[:, None], thetas[None])  # (5^m, V, n, n)
+    coefficients = np.fft.fftn(samples.reshape((5,) * m + samples.shape[1:]), axes=tuple(range(m))) / 5**m
+    wiener = np.abs(coefficients).reshape((-1,) + samples.shape[1:]).sum(0)
+    error = ENTRY_ROUNDING * n * EPS * entry_sups(chain, thetas) + 5 * max(m, 1) * EPS * np.abs(samples).max(0)
+    return (wiener + 5**m * 1.01 * error) * (1 + 2 * 5**m * EPS)
+
+
 class MassFamily:
     """M(q, Theta_v) for a stack of parameter sets, with what its box bounds need (computed once)."""
 
@@ -114,6 +144,11 @@ class MassFamily:
         self.thetas = np.asarray(thetas, float)
         self.factors = entry_factors(chain)  # (n, n, n)
         self.sups = entry_sups(chain, self.thetas)  # (V, n, n)
+        from .domain import free_coordinates
+
+        wiener = fourier_sups(chain, self.thetas, free_coordinates(chain))
+        if wiener is not None:
+            self.sups = np.minimum(self.sups, wiener)
         self.psd = bool(np.all(np.linalg.eigvalsh(spatial_inertia(self.thetas)) >= 0))
 
     def centre(self, c):
