@@ -12,7 +12,10 @@ import pytest
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
 from inertiaproof.bounds.extremes import Bracket
 from inertiaproof.bounds.spectral import CONVEX, Spectral, spectral
-from inertiaproof.bounds.taylor import MassFamily, box_bounds, certified_box_bound, entry_degrees, entry_sups
+from inertiaproof.bounds.domain import free_coordinates
+from inertiaproof.bounds.taylor import (
+    MassFamily, box_bounds, certified_box_bound, entry_degrees, entry_sups, fourier_sups, perron_bound,
+)
 from inertiaproof.bounds.time import parameter_vertices
 from inertiaproof.dynamics import composite
 from inertiaproof.scene import robots
@@ -55,9 +58,19 @@ def test_entry_sups_bound_every_sampled_entry(scene):
     rng = np.random.default_rng(4)
     q = rng.uniform(-np.pi, np.pi, (4000, chain.n))
     for thetas in (_stack(scene), _stack(scene, rate=True)):
-        s = entry_sups(chain, thetas)
-        m = np.abs(composite.mass_matrix(chain, q[:, None], thetas[None])).max(0)
-        assert np.all(m <= s * (1 + 1e-12) + 1e-300)
+        family = MassFamily(chain, thetas)  # the smaller of the length bounds and the Wiener norms
+        m = composite.mass_matrix(chain, q[:, None], thetas[None])
+        for s in (entry_sups(chain, thetas), family.sups):
+            assert np.all(np.abs(m).max(0) <= s * (1 + 1e-12) + 1e-300)
+        assert np.abs(np.linalg.eigvalsh(m)).max() <= perron_bound(family)
+
+
+def test_wiener_norms_are_sharper_than_lengths_on_ur5():
+    scene = robots.ur5()
+    chain, thetas = scene.chain, _stack(scene)
+    wiener = fourier_sups(chain, thetas, free_coordinates(chain))
+    assert wiener.sum() < 0.5 * entry_sups(chain, thetas).sum()
+    assert perron_bound(MassFamily(chain, thetas)) < 1.1 * 3.8146  # the sampled sup of lambda_max (bench)
 
 
 def _boxes(chain, rng, count, scale):

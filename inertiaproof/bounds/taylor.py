@@ -124,7 +124,22 @@ def fourier_sups(chain, thetas, free):
     if m > FOURIER_LIMIT or not all(chain.joints[j].revolute for j in idx):
         return None
     thetas = np.asarray(thetas, float)
-    grid = np.stack(np.meshgrid(*([2 * np.pi * np.arange(5) / 5] * m), indexing="ij"), -1).reshape(-1, m)
+    key = (tuple((j.before.tobytes(), j.after.tobytes(), j.revolute, j.coordinate.name) for j in chain.joints),
+           thetas.shape, thetas.tobytes(), np.asarray(free, bool).tobytes())
+    if key not in _FOURIER_CACHE:
+        if len(_FOURIER_CACHE) >= 32:
+            _FOURIER_CACHE.pop(next(iter(_FOURIER_CACHE)))
+        _FOURIER_CACHE[key] = _wiener(chain, thetas, idx)
+    return _FOURIER_CACHE[key].copy()
+
+
+_FOURIER_CACHE = {}  # content-keyed (the chain's transforms, the parameters): the same inputs, the same answer
+
+
+def _wiener(chain, thetas, idx):
+    m, n = len(idx), chain.n
+    grid = (np.stack(np.meshgrid(*([2 * np.pi * np.arange(5) / 5] * m), indexing="ij"), -1).reshape(-1, m) if m
+            else np.zeros((1, 0)))  # no free coordinate: M is constant
     q = np.zeros((len(grid), n))
     q[:, idx] = grid
     samples = composite.mass_matrix(chain, q[:, None], thetas[None])  # (5^m, V, n, n)
