@@ -16,6 +16,15 @@ two facts:
 - lambda_max and sigma_max are convex, lambda_min concave, in the linear part
   A(c) + sum_j d_j dA/dq_j(c): their extremes over a box lie at its vertices.
 
+Up to ``VERTEX_LIMIT`` free coordinates the 2^d vertices are enumerated (the linear part exactly). Beyond, a
+box costs O(n) symmetric eigenproblems (:mod:`inertiaproof.bounds.taylor`: per-entry degrees and sizes, a
+second-order remainder, the linear part by matrix absolute values), so time and memory grow polynomially with
+the joints; the budget is a count of rounds scaled by the cost of a box, with a wall-clock guard, and where it
+runs out the bracket is wider, never missing. Every sup of lambda_max or |lambda|_max is also bounded by the
+spectral radius of entrywise bounds of |M_il(q)| (Perron-Frobenius; lengths, or the Wiener norm of M's exact
+Fourier coefficients), and every bracket adopts a sharper certified side only through
+:meth:`inertiaproof.bounds.extremes.Bracket.tighten`.
+
 Over time, Theta(t) of payloads and scalings lies on segments
 Theta_base + s Phi_load with s in the profile's range; spectral extremes that
 are concave or convex in Theta are then attained at the segment's ends (exact
