@@ -1,5 +1,13 @@
-"""Certified eigenvalue bounds of M(q, Theta) on a box of configurations from the pivots of the articulated-body
-factorisation (Loewner-monotone, O(n) 6 x 6 operations per box and trial value).
+"""EXPERIMENT (not used by the suite; kept for its negative result, issue 12). Certified eigenvalue bounds of
+M(q, Theta) on a box from the pivots of the articulated-body factorisation (Loewner-monotone, O(n) 6 x 6
+operations per box and trial value).
+
+Result on the Panda with 2 kg (inf lambda_min = 1.778e-3 at the witness): exact at a point, 1.736e-3 on a box of
+radius 0.01 rad in every joint (the turn's loss measured in the metric of the turned inertia), no bound at
+0.1 rad. A Loewner lower bound of R(x)^T P R(x) over an interval of x must drop the heavy directions of an
+anisotropic articulated inertia to its light ones (the family has no better common lower bound), so the pivots
+fail unless the boxes are ~0.01 rad wide in all six coordinates: no branch and bound within a ci budget.
+Run: python bench/pivot_bounds_experiment.py (prints the bound against the radius).
 
 M(q) + a I > 0 exactly when every pivot of its tip-first LDL^T factorisation is positive. In body coordinates
 (MassMatrix: M = sum_b QJ_b^T Z_b QJ_b, body twists V_b = Phi_b(q_b) V_(b-1) + s_b qdot_b, Phi_b the twist map of
@@ -33,7 +41,7 @@ import numpy as np
 from inertiaproof.dynamics.twists import twist_map
 from inertiaproof.model.inertia import spatial_inertia
 
-__all__ = ["PivotFamily", "pivot_bounds", "ROUNDING"]
+__all__ = ["PivotFamily", "pivot_bounds", "pivot_test", "ROUNDING"]
 
 EPS = np.finfo(float).eps
 ROUNDING = 64.0
@@ -203,3 +211,20 @@ def pivot_bounds(family: PivotFamily, kind, centres, radii, start, *, steps=40):
         good = np.where(ok, mid, good)
     gamma = np.where(np.isnan(good), -sign * np.inf, start - sign * np.nan_to_num(good) * span)
     return (gamma.min(1) if kind == "lmin" else gamma.max(1)), losses
+
+
+if __name__ == "__main__":
+    from inertiaproof.bounds.configuration import mass_inf
+    from inertiaproof.bounds.time import parameter_vertices
+    from inertiaproof.dynamics import composite
+    from inertiaproof.scene import robots
+
+    scene = robots.panda(payload=2.0)
+    chain, stack = scene.chain, parameter_vertices(scene.trajectory)[0]
+    witness = mass_inf(chain, stack, samples=2000, refine_s=0.3, rng=np.random.default_rng(0)).witness
+    start = np.linalg.eigvalsh(composite.mass_matrix(chain, witness[None, None], stack[None]))[..., 0]
+    lo, hi = chain.coordinate_box()
+    for radius in (0.0, 0.01, 0.03, 0.1):
+        r = np.minimum(radius, 0.5 * (hi - lo))[None]
+        r[0, 0] = 0.0
+        print(radius, float(pivot_bounds(PivotFamily(chain, stack), "lmin", witness[None], r, start)[0][0]))
