@@ -45,17 +45,19 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .domain import bernstein_domain, certification_obstacle, derivative_factors, free_coordinates, search_box
 from .extremes import bracket_extreme
+from .pivots import PIVOT_MIN_S, PivotFamily, pivot_bounds
 from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, Spectral, spectral
 
 __all__ = [
     "apriori_bound", "apriori_jacobian_blocks", "column_bounds", "configuration_bracket", "EPS", "jacobian_family",
     "jacobian_normality", "jacobian_sup", "lever_bounds", "mass_family", "mass_inf", "mass_sup", "ROUNDING",
-    "box_cost", "skew_partial_sup", "VERTEX_LIMIT", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
+    "box_cost", "pivot_normality", "skew_partial_sup", "VERTEX_LIMIT", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
 ]
 
 
 EPS = np.finfo(float).eps
+PIVOT_COST = 20.0  # a round of pivot box bounds (20 bisection steps) against a 7-joint Taylor round (~0.5 s)
 VERTEX_LIMIT = 6  # free coordinates up to which the 2^d vertices of the linear part are enumerated (exact linear part)
 ROUNDING = 64.0  # rounding allowance of a computed eigenvalue, in units of eps * ||matrix||_F
 
@@ -391,27 +393,70 @@ def jacobian_sup(chain, **kw):
 
 def jacobian_normality(chain, **kw):
     """inf_q sigma_min(QJ)^2 = inf_q lambda_min((QJ)^T QJ) (Definition 2): observed by SVD of QJ; the certified side is
-    the better of branch and bound and the chain's :func:`triangular_normality_floor`."""
+    the best of branch and bound (vertices; with a budget of PIVOT_MIN_S or more also the articulated-body pivots)
+    and the chain's :func:`triangular_normality_floor`."""
     unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
     result = configuration_bracket(chain, mass_family(chain, unit), "lmin", value_kind="smin", square=True,
                                    quantity_name="inf_q sigma_min(QJ)^2", thetas=unit, **kw)
     result.tighten(triangular_normality_floor(chain),
                    "certified side from the block-triangular structure of QJ (unit twist of joint l in column l of "
                    "body l's block, lengths bound the rest): valid for every q")
+    refine_s = kw.get("refine_s", 0.0)
+    if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
+        result.tighten(pivot_normality(chain, refine_s / 2, kw.get("samples", 2000)),
+                       "branch and bound with the articulated-body pivots of (QJ)^T QJ - gamma I on each box "
+                       "(inertiaproof.bounds.pivots)")
     return result
+
+
+def pivot_normality(chain, refine_s, samples):
+    """A certified lower bound of inf_q lambda_min((QJ)^T QJ) by branch and bound with pivot bounds (its own seed, so
+    the same chain and budget give the same number; cached by content)."""
+    key = (tuple((j.before.tobytes(), j.after.tobytes(), j.revolute, j.coordinate.name, j.limits) for j in chain.joints),
+           refine_s, samples)
+    if key not in _PIVOT_CACHE:
+        if len(_PIVOT_CACHE) >= 32:
+            _PIVOT_CACHE.pop(next(iter(_PIVOT_CACHE)))
+        _PIVOT_CACHE[key] = _pivot_normality(chain, np.random.default_rng(0), refine_s, samples)
+    return _PIVOT_CACHE[key]
+
+
+_PIVOT_CACHE = {}
+
+
+def _pivot_normality(chain, rng, refine_s, samples):
+    unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
+    family = PivotFamily(chain, unit)
+
+    def value(q):
+        return spectral(composite.mass_matrix(chain, q[:, None], unit[None]), "lmin").min(-1)
+
+    def box_bound(c, r):
+        start = spectral(composite.mass_matrix(chain, c[:, None], unit[None]), "lmin")
+        return pivot_bounds(family, "lmin", c, r, start, steps=20)[0]
+
+    lo, hi = search_box(chain)
+    found = bracket_extreme(value, box_bound, lo, hi, sense="min", quantity_name="inf_q sigma_min(QJ)^2 (pivots)",
+                            samples=samples, refine_s=refine_s, rng=rng, free=free_coordinates(chain),
+                            cost=PIVOT_COST)
+    return found.certified
 
 
 def mass_inf(chain, thetas, **kw):
     """inf over q and the parameter sets of lambda_min(M(q, Theta)); where branch and bound certifies less, the
     proof of Theorem 2 does: lambda_min(M) >= min_l lambda_min(Z(Phi_l)) inf_q sigma_min(QJ)^2 with the
-    :func:`triangular_normality_floor`."""
+    :func:`triangular_normality_floor` or (budget PIVOT_MIN_S or more) :func:`pivot_normality`."""
     result = configuration_bracket(chain, mass_family(chain, thetas), "lmin",
                                    quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
     z = spatial_inertia(np.asarray(thetas, float))
     z_min = float((spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")).min())  # less its rounding
-    floor = max(z_min, 0.0) * triangular_normality_floor(chain) * (1 - ROUNDING * EPS)
-    result.tighten(floor, "certified side min_l lambda_min(Z(Phi_l)) times the block-triangular floor of "
-                          "inf sigma_min(QJ)^2")
+    gamma = triangular_normality_floor(chain)
+    refine_s = kw.get("refine_s", 0.0)
+    if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
+        gamma = max(gamma, pivot_normality(chain, refine_s / 2, kw.get("samples", 2000)))
+    floor = max(z_min, 0.0) * gamma * (1 - ROUNDING * EPS)
+    result.tighten(floor, "certified side min_l lambda_min(Z(Phi_l)) times a certified lower bound of "
+                          "inf sigma_min(QJ)^2 (block-triangular floor, or the pivots' branch and bound)")
     return result
 
 

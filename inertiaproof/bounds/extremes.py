@@ -188,6 +188,7 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
         if sign * child_v[k] < sign * best:
             best, best_q = float(child_v[k]), child_c[k].copy()
         child_b = sign * box_bound(child_c, child_r)
+        child_b = np.maximum(child_b, np.concatenate([bounds[take], bounds[take]]))  # a child lies in its parent
         boxes += len(child_c)
         centres = np.concatenate([centres[rest], child_c])
         radii = np.concatenate([radii[rest], child_r])

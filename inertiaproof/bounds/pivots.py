@@ -1,13 +1,12 @@
-"""EXPERIMENT (not used by the suite; kept for its negative result, issue 12). Certified eigenvalue bounds of
-M(q, Theta) on a box from the pivots of the articulated-body factorisation (Loewner-monotone, O(n) 6 x 6
-operations per box and trial value).
+"""Certified lambda_min / lambda_max of M(q, Theta) on a box from the pivots of the articulated-body factorisation
+(Loewner-monotone, O(n) 6 x 6 operations per box and trial value). Used for inf_q sigma_min(QJ)^2 (unit bodies),
+where it is well behaved, in profiles with a budget of at least ``PIVOT_MIN_S`` seconds per bracket.
 
-Result on the Panda with 2 kg (inf lambda_min = 1.778e-3 at the witness): exact at a point, 1.736e-3 on a box of
-radius 0.01 rad in every joint (the turn's loss measured in the metric of the turned inertia), no bound at
-0.1 rad. A Loewner lower bound of R(x)^T P R(x) over an interval of x must drop the heavy directions of an
-anisotropic articulated inertia to its light ones (the family has no better common lower bound), so the pivots
-fail unless the boxes are ~0.01 rad wide in all six coordinates: no branch and bound within a ci budget.
-Run: python bench/pivot_bounds_experiment.py (prints the bound against the radius).
+Measured (issue 12): on unit bodies (QJ^T QJ) Panda 0.521 at a point, 0.32 on a box of 0.1 rad in every joint,
+0.086 on 1 rad; UR5 0.3384 on 0.1 rad. With real inertias (Panda, 2 kg) it fails beyond ~0.03 rad: a Loewner lower
+bound of R(x)^T P R(x) over an interval of x must drop the heavy directions of an anisotropic articulated inertia
+to its light ones (the family has no better common lower bound). ``python -m inertiaproof.bounds.pivots`` prints
+the bound against the radius.
 
 M(q) + a I > 0 exactly when every pivot of its tip-first LDL^T factorisation is positive. In body coordinates
 (MassMatrix: M = sum_b QJ_b^T Z_b QJ_b, body twists V_b = Phi_b(q_b) V_(b-1) + s_b qdot_b, Phi_b the twist map of
@@ -41,10 +40,11 @@ import numpy as np
 from inertiaproof.dynamics.twists import twist_map
 from inertiaproof.model.inertia import spatial_inertia
 
-__all__ = ["PivotFamily", "pivot_bounds", "pivot_test", "ROUNDING"]
+__all__ = ["PIVOT_MIN_S", "PivotFamily", "pivot_bounds", "pivot_test", "ROUNDING"]
 
 EPS = np.finfo(float).eps
 ROUNDING = 64.0
+PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot bound is run (deep; ci skips it)
 RIDGE = 1e-4  # relative ridge of the loss metric
 ANGLES = 2 * np.pi * np.arange(5) / 5
 
@@ -79,7 +79,8 @@ def _parts(a, h=None):
         absolute, positive = root @ absolute @ root, root @ positive @ root
         # W was built from a computed inverse root: check W -+ A >= 0 a posteriori and lift what is missing
         for out, others in ((absolute, (a, -a)), (positive, (a, np.zeros_like(a)))):
-            gap = np.minimum(*(np.linalg.eigvalsh(out - o)[..., 0] for o in others))
+            gap = np.minimum(*(np.linalg.eigvalsh(out - o)[..., 0] - ROUNDING * EPS * np.linalg.norm(out - o, axis=(-2, -1))
+                               for o in others))
             out += np.maximum(-gap, 0)[..., None, None] * np.eye(a.shape[-1])
     slack = (ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + np.linalg.norm(absolute, axis=(-2, -1))))
     slack = slack[..., None, None] * np.eye(a.shape[-1])
