@@ -82,3 +82,17 @@ def test_pivot_normality_is_certified_and_cached():
     sampled = spectral(composite.mass_matrix(chain, q[:, None], _unit(chain)[None]), "lmin").min()
     assert 0 < first <= sampled and pivot_normality(chain, 0.25, 500) == first
     assert pivots.PIVOT_MIN_S <= 0.5  # the ci profile's budget runs it
+
+
+@pytest.mark.parametrize("scene", [robots.ur5(), robots.spatial_3r()], ids=lambda s: s.name)
+def test_weighted_pivot_floor_is_below_the_sampled_inf_of_lambda_min(scene):
+    """M(q) >= sum_l mu_l QJ_l^T QJ_l for mu_l <= lambda_min(Z_l): the pivot bound of the right side is below
+    every sampled lambda_min(M) (and positive on these chains)."""
+    from inertiaproof.model.inertia import spatial_inertia
+
+    chain, thetas = scene.chain, parameter_vertices(scene.trajectory)[0]
+    mu = spectral(spatial_inertia(thetas), "lmin")
+    bound = pivot_normality(chain, 0.25, 500, mu)
+    q = np.random.default_rng(11).uniform(-np.pi, np.pi, (20000, chain.n))
+    sampled = spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmin").min()
+    assert 0 < bound <= sampled

@@ -409,23 +409,25 @@ def jacobian_normality(chain, **kw):
     return result
 
 
-def pivot_normality(chain, refine_s, samples):
-    """A certified lower bound of inf_q lambda_min((QJ)^T QJ) by branch and bound with pivot bounds (its own seed, so
-    the same chain and budget give the same number; cached by content)."""
+def pivot_normality(chain, refine_s, samples, weights=None):
+    """A certified lower bound of inf_q lambda_min(sum_l mu_l QJ_l^T QJ_l) (min over the rows of ``weights`` (V, N),
+    mu = 1 when None: inf_q sigma_min(QJ)^2) by branch and bound with pivot bounds; -inf where none was found. Its
+    own seed, so the same chain and budget give the same number; cached by content."""
+    weights = np.ones((1, chain.bodies)) if weights is None else np.asarray(weights, float)
     key = (tuple((j.before.tobytes(), j.after.tobytes(), j.revolute, j.coordinate.name, j.limits) for j in chain.joints),
-           refine_s, samples)
+           refine_s, samples, weights.shape, weights.tobytes())
     if key not in _PIVOT_CACHE:
         if len(_PIVOT_CACHE) >= 32:
             _PIVOT_CACHE.pop(next(iter(_PIVOT_CACHE)))
-        _PIVOT_CACHE[key] = _pivot_normality(chain, np.random.default_rng(0), refine_s, samples)
+        _PIVOT_CACHE[key] = _pivot_normality(chain, np.random.default_rng(0), refine_s, samples, weights)
     return _PIVOT_CACHE[key]
 
 
 _PIVOT_CACHE = {}
 
 
-def _pivot_normality(chain, rng, refine_s, samples):
-    unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
+def _pivot_normality(chain, rng, refine_s, samples, weights):
+    unit = weights[..., None] * np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0])  # (V, N, 10): Z_l = mu_l I6
     family = PivotFamily(chain, unit)
 
     def value(q):
@@ -439,7 +441,7 @@ def _pivot_normality(chain, rng, refine_s, samples):
     found = bracket_extreme(value, box_bound, lo, hi, sense="min", quantity_name="inf_q sigma_min(QJ)^2 (pivots)",
                             samples=samples, refine_s=refine_s, rng=rng, free=free_coordinates(chain),
                             cost=PIVOT_COST)
-    return found.certified
+    return -np.inf if found.certified is None else found.certified
 
 
 def mass_inf(chain, thetas, **kw):
@@ -457,6 +459,11 @@ def mass_inf(chain, thetas, **kw):
     floor = max(z_min, 0.0) * gamma * (1 - ROUNDING * EPS)
     result.tighten(floor, "certified side min_l lambda_min(Z(Phi_l)) times a certified lower bound of "
                           "inf sigma_min(QJ)^2 (block-triangular floor, or the pivots' branch and bound)")
+    if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
+        mu = spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")  # (V, N), rounded down: Z_l >= mu_l I
+        result.tighten(pivot_normality(chain, refine_s / 2, kw.get("samples", 2000), mu),
+                       "M(q) >= sum_l mu_l QJ_l^T QJ_l with mu_l <= lambda_min(Z(Phi_l)) (key step, body by body), "
+                       "its inf certified by branch and bound with articulated-body pivots")
     return result
 
 
