@@ -167,3 +167,11 @@ def test_a_strategy_is_shipped_by_name_only_when_the_name_rebuilds_it():
     ref = portable(hunt_cases(True))
     assert repr(ref.build()) == repr(hunt_cases(True))
     assert portable(hunt_cases(True).map(lambda case: case)) is None  # .map after the call: not rebuilt by name
+
+
+def test_timing_fields_are_the_listed_ones():
+    doc = {"runtime_s": 1.0, "checks": [{"evidence": {"choi_seconds": 2.0, "value": 3.0, "convergence": [[0.1, 1, 2]],
+                                                      "series": {"y_label": "seconds", "lines": {"d": [[1, 0.2]]}},
+                                                      "other": {"y_label": "lambda", "lines": {"d": [[1, 5.0]]}}}}]}
+    assert without_timings(doc) == {"checks": [{"evidence": {"value": 3.0, "series": {"y_label": "seconds"},
+                                                             "other": {"y_label": "lambda", "lines": {"d": [[1, 5.0]]}}}}]}
