@@ -194,6 +194,11 @@ def _write(doc, results_dir):
         for e in doc["estimate"]:
             lines.append(f"| {e['workers']} | {e['wall_s']:.1f} | {e['serial_s']:.1f} | {e['speed_up']:.2f} |")
     lines += analysis(doc)
+    if doc.get("full_deep"):
+        f = doc["full_deep"]
+        lines += ["", "## Full deep profile (run by hand)", "", f["note"], "",
+                  "| workers | run time s | summary | exit |", "|---|---|---|---|"]
+        lines += [f"| {r['workers']} | {r['runtime_s']:.1f} | {r['summary']} | {r['exit_status']} |" for r in f["runs"]]
     (results_dir / "scaling.md").write_text("\n".join(lines) + "\n")
 
 
