@@ -183,6 +183,9 @@ def test_composite_mass_matrix_passes_complex_steps_and_chunks():
     assert np.allclose(dm, terms.mass_matrix_partials(qj, dqj, theta), rtol=0, atol=1e-12)
 
 
+EPS = np.finfo(float).eps
+
+
 def test_joints_moved_onto_z_keep_the_kinematics():
     from inertiaproof.dynamics.twists import axis_frame, twist_map
 
@@ -190,6 +193,10 @@ def test_joints_moved_onto_z_keep_the_kinematics():
         a = axis_frame(np.asarray(axis) / np.linalg.norm(axis))
         assert np.allclose(a @ [0, 0, 1], np.asarray(axis) / np.linalg.norm(axis)) and np.allclose(a.T @ a, np.eye(3))
     assert np.array_equal(axis_frame((0, 0, 1.0)), np.eye(3))
+    for tilt in (1e-3, 1e-5, 1e-7, 1e-9, 1e-12, 1e-15):  # near -e_z, where 1 + axis_z cancels (seed 3's Prop1 chain)
+        axis = np.array([tilt, -0.7 * tilt, -1.0]) / np.linalg.norm([tilt, -0.7 * tilt, -1.0])
+        a = axis_frame(axis)
+        assert np.abs(a.T @ a - np.eye(3)).max() < 16 * EPS and np.abs(a[:, 2] - axis).max() < 16 * EPS, tilt
     t = origin((0.3, -0.2, 0.5), (0.4, 0.1, -0.7))
     v, w = RNG.normal(size=3), RNG.normal(size=3)
     r, p = t[:3, :3], t[:3, 3]

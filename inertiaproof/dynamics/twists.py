@@ -51,13 +51,19 @@ class Arena:
 
 
 def axis_frame(axis):
-    """The rotation A about e_z x axis taking e_z to ``axis`` (A = I for e_z; a half turn about x for -e_z)."""
+    """The rotation A about e_z x axis taking e_z to the unit ``axis`` (A = I for e_z; a half turn about x for -e_z).
+
+    Rodrigues' form I + S + S^2 / (1 + c), S = skew(e_z x axis), c = axis_z; near -e_z the factor is
+    (1 - c) / |e_z x axis|^2 (the same for a unit axis), since 1 + c cancels: it lost up to 1e-6 of A's
+    orthogonality there.
+    """
     a = np.asarray(axis, dtype=float)
     v, c = np.cross([0.0, 0.0, 1.0], a), a[2]
-    if c <= -1.0 + 1e-12:
-        return np.diag([1.0, -1.0, -1.0])
+    vv = v @ v
+    if vv == 0.0:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
     s = skew(v)
-    return np.eye(3) + s + s @ s / (1.0 + c)
+    return np.eye(3) + s + s @ s * ((1.0 - c) / vv if c < 0 else 1.0 / (1.0 + c))
 
 
 def twist_map(t):
