@@ -85,7 +85,8 @@ def pointwise_on_scene(check_id, ctx, scene, k, reported=None):
     compared = ~np.isnan(margin)
     if not compared.any():
         return {"violated": False, "counterexample": None,
-                "evidence": {"samples": quantity(len(q), "count", "random (q, t) pairs; both sides vanish at all")}}
+                "evidence": {"samples": quantity(len(q), "count", "random (q, t) pairs; both sides vanish at all"),
+                             **({"reported": _reported_evidence(reported)} if reported else {})}}
     i = int(np.nanargmin(margin + resolution))
     point = (i, float(margin[i]), float(resolution[i]), float(lhs[i]), float(rhs[i]), str(names[i]))
     evidence = {"constants_tested": sorted(set(CONSTANTS[check_id])),
@@ -121,7 +122,14 @@ def pointwise_on_scene(check_id, ctx, scene, k, reported=None):
                 "samples": ctx.profile.samples, "refine_s": ctx.profile.refine_s, "seed": ctx.seed}}
     if against:
         evidence["against_reported"] = against
+    if reported:
+        evidence["reported"] = _reported_evidence(reported)
     return {"violated": violated, "counterexample": counterexample, "evidence": evidence}
+
+
+def _reported_evidence(reported):
+    return {name: quantity(float(v), "value", "constant the check reports for the scene (times the factor for "
+                           "the paper's)") for name, v in reported.items()}
 
 
 def judge(sense, lhs, constant_lower, constant_upper, *, proof_covers, pointwise_violated):

@@ -22,6 +22,7 @@ from inertiaproof.checks.bound_verdicts import (
     time_and_configuration_bracket,
     time_quantities,
 )
+from inertiaproof.checks.constant_hunt import with_reported_hunt
 from inertiaproof.checks.pointwise import with_hunt
 
 from inertiaproof.bounds import formulas
@@ -148,17 +149,21 @@ def thm4_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
     """Theorem 4 with the paper's chi multiplied by k; the hunt tests every constant as the code computes it
     (formulas.chi, chi_sharp, chi_z: the sharp factor 2 is stronger than the paper's sqrt(69 N)) times hunt_factor."""
     scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.panda(payload=2.0), robots.planar_2r(payload=1.0)])
-    return with_hunt(ctx, run_scenes("Thm4", ctx, rate_case, scenes, k), hunt_factor, moving_mass=False)
+    result = with_hunt(ctx, run_scenes("Thm4", ctx, rate_case, scenes, k), hunt_factor, moving_mass=False)
+    return with_reported_hunt(ctx, result, moving_mass=False)
 
 
 def acc_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
     scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.trolley_2r(loop=True, mass=2.0)])
-    return with_hunt(ctx, run_scenes("EQ-acc", ctx, acceleration_case, scenes, k), hunt_factor, moving_mass=True)
+    result = with_hunt(ctx, run_scenes("EQ-acc", ctx, acceleration_case, scenes, k), hunt_factor, moving_mass=True)
+    return with_reported_hunt(ctx, result, moving_mass=True)
 
 
 def thm5_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
     scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.trolley_2r(loop=True, mass=2.0)])
-    return with_hunt(ctx, run_scenes("Asm3/Thm5", ctx, lumped_velocity_case, scenes, k), hunt_factor, moving_mass=True)
+    result = with_hunt(ctx, run_scenes("Asm3/Thm5", ctx, lumped_velocity_case, scenes, k), hunt_factor,
+                       moving_mass=True)
+    return with_reported_hunt(ctx, result, moving_mass=True)
 
 
 @check("Thm4", needs={"chain", "time_varying"})
