@@ -103,9 +103,23 @@ def printed_names(tex):
     return names
 
 
+_CAMEL = re.compile(r"[A-Za-z][A-Za-z0-9_:]*")
+
+
+def _is_label_like(token):
+    """A LaTeX label, not an English word: it has an underscore or a colon, or capitals inside (CamelCase)."""
+    return "_" in token or ":" in token or sum(c.isupper() for c in token[1:]) >= 1
+
+
 def printed(label):
-    """How the paper prints ``label`` (its theorem, equation or section number); anything else as it is."""
-    return PRINTED.get(label, label)
+    """How the paper prints ``label`` (its theorem, equation or section number); in a longer name such as
+    "Theorem 2 (LowerBoundedness)" each label-like word is replaced ("Theorem 2, Eq. (60)"); anything else is
+    returned as it is."""
+    if label in PRINTED:
+        return PRINTED[label]
+    text = _CAMEL.sub(lambda m: PRINTED[m.group(0)] if m.group(0) in PRINTED and _is_label_like(m.group(0))
+                      else m.group(0), label)
+    return re.sub(r" \(((?:Eq\. \(\d+\)(?:, )?)+)\)", r", \1", text)
 
 
 # printed_names() of shared/paper/time_dependent_inertial_parameters.tex (tests/test_report_engineer.py re-derives it)
