@@ -95,7 +95,7 @@ def reported_hunt(check_id, ctx, moving_mass, examples=None):
                                                     "hunted scenes whose reported constants are all infinite (no "
                                                     "certified side) or whose both sides vanish"),
                 "what": f"random scenes (chains of 1 to {HUNT_JOINTS} joints, revolute and prismatic, consistent "
-                        f"{'moving masses' if moving_mass else 'payload ramps'}), each run through the check's own "
+                        f"{ {True: 'moving masses', False: 'payload ramps', None: 'payload ramps or moving masses'}[moving_mass] }), each run through the check's own "
                         f"case function with {HUNT_SAMPLES} samples and {HUNT_REFINE_S:g} s of narrowing per bracket; "
                         "margin: the smallest relative margin of sampled left-hand sides against the constants it "
                         "reports (paper's with certified ingredients, sharpest certified)"}

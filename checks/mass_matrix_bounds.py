@@ -115,14 +115,14 @@ def thm2_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
     """Theorem 2 with the paper's alpha1 multiplied by k (k > 1 overstates it); the hunt tests the constants as the
     code computes them (formulas.alpha1, alpha1_z) times hunt_factor."""
     result = run_scenes("Thm2", ctx, lower_bound_case, scenes or bound_scenes(ctx), k)
-    return with_reported_hunt(ctx, with_hunt(ctx, result, hunt_factor, moving_mass=False), moving_mass=False)
+    return with_reported_hunt(ctx, with_hunt(ctx, result, hunt_factor, moving_mass=None), moving_mass=None)
 
 
 def thm3_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
     """Theorem 3 with the paper's alpha2 multiplied by k (k < 1 shrinks it); the hunt tests the constants as the
     code computes them (formulas.alpha2, alpha2_z) times hunt_factor."""
     result = run_scenes("Thm3", ctx, upper_bound_case, scenes or bound_scenes(ctx), k)
-    return with_reported_hunt(ctx, with_hunt(ctx, result, hunt_factor, moving_mass=False), moving_mass=False)
+    return with_reported_hunt(ctx, with_hunt(ctx, result, hunt_factor, moving_mass=None), moving_mass=None)
 
 
 @check("Thm2", needs={"chain"})

@@ -149,8 +149,8 @@ def thm4_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
     """Theorem 4 with the paper's chi multiplied by k; the hunt tests every constant as the code computes it
     (formulas.chi, chi_sharp, chi_z: the sharp factor 2 is stronger than the paper's sqrt(69 N)) times hunt_factor."""
     scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.panda(payload=2.0), robots.planar_2r(payload=1.0)])
-    result = with_hunt(ctx, run_scenes("Thm4", ctx, rate_case, scenes, k), hunt_factor, moving_mass=False)
-    return with_reported_hunt(ctx, result, moving_mass=False)
+    result = with_hunt(ctx, run_scenes("Thm4", ctx, rate_case, scenes, k), hunt_factor, moving_mass=None)
+    return with_reported_hunt(ctx, result, moving_mass=None)
 
 
 def acc_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):

@@ -236,9 +236,11 @@ def replay_bound_point(data, ctx):
 
 @st.composite
 def hunt_cases(draw, moving_mass):
-    """A random chain, a random trajectory of consistent bodies on it, and a seed for the (q, t) samples."""
+    """A random chain, a random trajectory of consistent bodies on it (a moving mass, a payload ramp, or either when
+    ``moving_mass`` is None), and a seed for the (q, t) samples."""
     chain, length = draw(chains(max_joints=HUNT_JOINTS))
-    traj = draw(trajectories(chain.bodies, length, moving_mass=moving_mass))
+    moving = draw(st.booleans()) if moving_mass is None else moving_mass
+    traj = draw(trajectories(chain.bodies, length, moving_mass=moving))
     return chain, traj, draw(st.integers(0, 2**32 - 1))
 
 
@@ -267,8 +269,8 @@ def run_hunt(check_id, ctx, k=1.0, moving_mass=False, examples=None, constants=N
                 "factor": quantity(k, "value", "multiplier of the constants hunted (1: as the code computes them)"),
                 "constants": names,
                 "what": f"random chains (revolute and prismatic, 1 to {HUNT_JOINTS} joints, DH and general axes, 1 mm "
-                        "to 30 m), consistent bodies near-degenerate to ordinary, smooth payload ramps or moving "
-                        f"masses; {POINTS} (q, t) pairs per chain; every constant ({', '.join(names)}) evaluated by "
+                        "to 30 m), consistent bodies near-degenerate to ordinary, "
+                        f"{ {True: 'moving masses', False: 'smooth payload ramps', None: 'payload ramps or moving masses'}[moving_mass] }; {POINTS} (q, t) pairs per chain; every constant ({', '.join(names)}) evaluated by "
                         "the function that computes it (inertiaproof.bounds.formulas) with the ingredients at (q, t)"}
     cx = None
     if found.violation is not None:
