@@ -253,8 +253,16 @@ def narrowing(fig, data):
     _scale(ax, "y", [p[1] for line in data["lines"] for p in line["points"]])
     ax.set_xlabel("run time spent narrowing [s]")
     ax.set_ylabel("(upper - lower) / |upper|")
-    _legend(ax, loc="best")
+    rows = math.ceil(len(data["lines"]) / 2)
+    height = 2.6 + LINE * rows
+    fig.set_size_inches(WIDTH, height)
     _fit(fig)
+    handles, labels = ax.get_legend_handles_labels()
+    if handles:  # below the axes, two columns: a dozen brackets do not fit inside
+        legend = LINE * rows + PAD
+        bottom = fig.subplotpars.bottom * height
+        fig.subplots_adjust(bottom=(bottom + legend) / height)
+        fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.0), ncols=2)
 
 
 DRAW = {"bracket": bracket, "constants": constants, "hunt": hunt, "series": series,

@@ -122,3 +122,20 @@ def test_reported_constants_hunt_catches_a_wrong_certified_number(monkeypatch, t
         from inertiaproof.suite.registry import REPLAYERS
         assert REPLAYERS["bound-constant"](cx["data"], ctx()).verdict == Verdict.VIOLATED
     assert REPLAYERS["bound-constant"](cx["data"], ctx()).verdict == Verdict.HOLDS
+
+
+def test_inertiaproof_replay_of_a_falsified_constants_file_holds_on_the_real_code(monkeypatch, tmp_path):
+    """The command line: a counterexample found with chi's factor 2 dropped, replayed by `inertiaproof replay` in a
+    fresh process (the real code) exits 0 and says HOLDS."""
+    import subprocess
+    import sys
+
+    monkeypatch.setattr(formulas, "chi_sharp", lambda mu, s: mu * s**2)
+    run = ctx(tmp_path)
+    result = thm4_result(run, PAYLOAD)
+    assert result.verdict == Verdict.VIOLATED
+    path = run.outputs.save_counterexample(result, profile="ci", seed=0)
+    assert replay(path).verdict == Verdict.VIOLATED
+    done = subprocess.run([sys.executable, "-m", "inertiaproof", "replay", str(path)], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0 and "HOLDS" in done.stdout, done.stdout + done.stderr
