@@ -34,11 +34,11 @@ FALSIFIED = [  # (check, formula, constant it computes, the formula made false i
     ("Thm2", "alpha1_z", "alpha1 (certified, Z)", lambda z_min, gamma: 10 * z_min * gamma),
     ("Thm3", "alpha2", "alpha2", lambda zeta, s: zeta * s**2),  # the key step's factor 2 dropped
     ("Thm3", "alpha2_z", "alpha2 (certified, Z)", lambda z_max, s: z_max * s**2 / 10),
-    ("Thm4", "chi", "chi", lambda mu, s, bodies: np.sqrt(69.0 * bodies) * mu * s**2 / 100),
+    ("Thm4", "chi", "chi", lambda mu, s, bodies: np.sqrt(69.0 * bodies) * mu * s**2 / 10),
     ("Thm4", "chi_sharp", "chi (certified, factor 2)", lambda mu, s: mu * s**2),  # the sharp factor 2 dropped
     ("Thm4", "chi_z", "chi (certified, Z)", lambda zdot, s: zdot * s**2 / 10),
     ("EQ-acc", "acceleration", "dPsi* S", lambda dpsi, s: dpsi * s / 10),
-    ("Asm3/Thm5", "lumped_velocity", "sqrt(6N) Psi* Y", lambda psi, y, rows: np.sqrt(rows) * psi * y / 100),
+    ("Asm3/Thm5", "lumped_velocity", "sqrt(6N) Psi* Y", lambda psi, y, rows: np.sqrt(rows) * psi * y / 10),
     ("Asm3/Thm5", "lumped_velocity_sharp", "Psi* Y_rss (certified)", lambda psi, y_rss: psi * y_rss / 10),
 ]
 
