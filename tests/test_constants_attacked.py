@@ -139,3 +139,56 @@ def test_inertiaproof_replay_of_a_falsified_constants_file_holds_on_the_real_cod
     done = subprocess.run([sys.executable, "-m", "inertiaproof", "replay", str(path)], capture_output=True, text=True,
                           timeout=120)
     assert done.returncode == 0 and "HOLDS" in done.stdout, done.stdout + done.stderr
+
+
+# -- the audit's constants (inertiaproof audit reports alpha1, alpha2 and certified sides per chain) --------------
+
+from hypothesis import HealthCheck, find, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+from inertiaproof.counterexamples.chains import chains  # noqa: E402
+from inertiaproof.counterexamples.inertias import consistent_phi  # noqa: E402
+
+from inertiaproof.audit.document import chain_bounds  # noqa: E402
+from inertiaproof.dynamics import composite  # noqa: E402
+
+AUDIT_SETTINGS = dict(database=None, derandomize=True, deadline=None, suppress_health_check=list(HealthCheck))
+
+
+@st.composite
+def audited_chains(draw):
+    """A random chain (1 to 6 joints, revolute and prismatic) with constant consistent bodies."""
+    chain, length = draw(chains(max_joints=6))
+    theta = np.stack([draw(consistent_phi(size=(length / 10, length))) for _ in range(chain.bodies)])
+    return chain, theta
+
+
+def audit_margin(example):
+    """Smallest relative margin of sampled lambda_min(M(q)) / lambda_max(M(q)) against every constant and certified
+    side ``chain_bounds`` (what ``inertiaproof audit`` reports) gives for the chain; below -1e-9: a reported bound
+    is wrong."""
+    chain, theta = example
+    found = chain_bounds(chain, theta, samples=200, refine_s=0.02)
+    lo, hi = chain.coordinate_box()
+    q = lo + (hi - lo) * np.random.default_rng(1).random((400, chain.n))
+    w = np.linalg.eigvalsh(composite.mass_matrix(chain, q, theta))
+    low, high = w[:, 0].min(), w[:, -1].max()
+    scale = abs(high) + abs(low)
+    lows = [found[k]["value"] for k in ("alpha1_certified", "alpha1_paper_lower", "inf_lambda_min_certified")]
+    highs = [found[k]["value"] for k in ("alpha2_certified", "alpha2_paper_upper", "sup_lambda_max_certified")]
+    margins = [(low - float(v)) / scale for v in lows] + [(float(v) - high) / scale for v in highs]
+    return min(m for m in margins if np.isfinite(m))
+
+
+@settings(max_examples=8, **AUDIT_SETTINGS)
+@given(audited_chains())
+def test_audit_constants_hold_on_random_chains(example):
+    assert audit_margin(example) >= -1e-9
+
+
+def test_audit_catches_a_falsified_certified_alpha2(monkeypatch):
+    """alpha2 at the level of Z made a tenth: some random chain's reported alpha2 lies below a sampled lambda_max."""
+    monkeypatch.setattr(formulas, "alpha2_z", lambda z_max, s: z_max * s**2 / 10)
+    found = find(audited_chains(), lambda ex: audit_margin(ex) < -1e-9, settings=settings(max_examples=30,
+                                                                                          **AUDIT_SETTINGS))
+    monkeypatch.undo()
+    assert audit_margin(found) >= -1e-9  # the same chain with the real formula
