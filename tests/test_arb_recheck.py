@@ -1,5 +1,8 @@
 """The certified side of the configuration brackets re-checked in ball arithmetic (python-flint's arb; issue 12).
 
+Families: lambda_min and lambda_max of M(q, Theta) (Theorems 2, 3) on the planar 2R, spatial 3R and Panda arms,
+sigma_max(M(q, Thetadot)) (Theorem 4) on the 2R, sigma_max(QJ) (Lemma 2) on the 3R.
+
 The branch and bound of inertiaproof.bounds.configuration bounds a spectral function of M(q, Theta) (or QJ(q))
 over each box of configurations (``box_bound(centres, radii)``, handed to bracket_extreme). Here that very
 function is captured during a real bracket computation and evaluated on sampled small boxes; arb evaluates
@@ -55,6 +58,9 @@ def _arb_spectra(chain, q, thetas, what):
     found = [eigen_enclosures(arb_mass_matrix(chain, q, spatial_inertia(theta))) for theta in thetas]
     if what == "lmin":
         return min(f[0][0] for f in found), min(f[0][1] for f in found)
+    if what == "absmax":  # sigma_max of a symmetric matrix: max(|lambda_min|, lambda_max)
+        return (max(max(f[1][0], -f[0][1]) for f in found),
+                max(max(abs(f[1][0]), abs(f[1][1]), abs(f[0][0]), abs(f[0][1])) for f in found))
     return max(f[1][0] for f in found), max(f[1][1] for f in found)
 
 
@@ -87,6 +93,7 @@ CASES = [  # (scene, what): lambda_min and lambda_max of M, sigma_max of QJ
     (robots.planar_2r(payload=1.0), "lmin"), (robots.planar_2r(payload=1.0), "lmax"),
     (robots.spatial_3r(), "lmin"), (robots.spatial_3r(), "lmax"), (robots.spatial_3r(), "smax"),
     (robots.panda(payload=2.0), "lmin"), (robots.panda(payload=2.0), "lmax"),
+    (robots.planar_2r(payload=1.0), "absmax"),  # Theorem 4's sigma_max(M(q, Thetadot))
 ]
 
 
@@ -98,6 +105,12 @@ def _compute(scene, what, rng):
         return lambda: configuration.mass_inf(chain, thetas, **kw), thetas
     if what == "lmax":
         return lambda: configuration.mass_sup(chain, thetas, **kw), thetas
+    if what == "absmax":  # the rates of the payload ramp's segment ends (bounds.time.parameter_vertices)
+        from inertiaproof.bounds.time import parameter_vertices
+
+        rates = parameter_vertices(scene.trajectory)[1]
+        return lambda: configuration.mass_sup(chain, rates, kind="absmax", name="sup sigma_max(M(q, Thetadot))",
+                                              **kw), rates
     return lambda: configuration.jacobian_sup(chain, **kw), thetas
 
 
