@@ -16,6 +16,15 @@ two facts:
 - lambda_max and sigma_max are convex, lambda_min concave, in the linear part
   A(c) + sum_j d_j dA/dq_j(c): their extremes over a box lie at its vertices.
 
+Up to ``VERTEX_LIMIT`` free coordinates the 2^d vertices are enumerated (the linear part exactly). Beyond, a
+box costs O(n) symmetric eigenproblems (:mod:`inertiaproof.bounds.taylor`: per-entry degrees and sizes, a
+second-order remainder, the linear part by matrix absolute values), so time and memory grow polynomially with
+the joints; the budget is a count of rounds scaled by the cost of a box, with a wall-clock guard, and where it
+runs out the bracket is wider, never missing. Every sup of lambda_max or |lambda|_max is also bounded by the
+spectral radius of entrywise bounds of |M_il(q)| (Perron-Frobenius; lengths, or the Wiener norm of M's exact
+Fourier coefficients), and every bracket adopts a sharper certified side only through
+:meth:`inertiaproof.bounds.extremes.Bracket.tighten`.
+
 Over time, Theta(t) of payloads and scalings lies on segments
 Theta_base + s Phi_load with s in the profile's range; spectral extremes that
 are concave or convex in Theta are then attained at the segment's ends (exact
@@ -36,16 +45,20 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .domain import bernstein_domain, certification_obstacle, derivative_factors, free_coordinates, search_box
 from .extremes import bracket_extreme
-from .spectral import CONVEX, spectral
+from .pivots import PIVOT_MIN_S, PivotFamily, pivot_bounds
+from .taylor import MassFamily, box_bounds, perron_bound
+from .spectral import CONVEX, Spectral, spectral
 
 __all__ = [
     "apriori_bound", "apriori_jacobian_blocks", "column_bounds", "configuration_bracket", "EPS", "jacobian_family",
     "jacobian_normality", "jacobian_sup", "lever_bounds", "mass_family", "mass_inf", "mass_sup", "ROUNDING",
-    "skew_partial_sup", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
+    "box_cost", "pivot_normality", "skew_partial_sup", "VERTEX_LIMIT", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
 ]
 
 
 EPS = np.finfo(float).eps
+PIVOT_COST = 10.0  # a round of pivot box bounds (20 bisection steps) against a 7-joint Taylor round (~0.3 s)
+VERTEX_LIMIT = 6  # free coordinates up to which the 2^d vertices of the linear part are enumerated (exact linear part)
 ROUNDING = 64.0  # rounding allowance of a computed eigenvalue, in units of eps * ||matrix||_F
 
 # -- matrix families A(q) with derivatives --------------------------------------
@@ -92,6 +105,55 @@ def vertex_bound(a, da, radii, free, kind):
 
 def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rng, value_kind=None,
                           square=False, progress=None, thetas=None):
+    """Bracket of sup (convex kinds) or inf (lmin) over the chain's configurations of kind(M(q, Theta_v)).
+
+    ``family`` is (evaluate, degree) from :func:`mass_family` (degree 2, with its ``thetas``); the value over a
+    stack of parameter sets is the worst over the stack. ``value_kind`` overrides how the observed side is
+    computed (e.g. 'smin' of QJ by SVD while the certified side bounds lmin of (QJ)^T QJ); ``square`` squares
+    observed singular values to match. The certified side is branch and bound with
+    :func:`inertiaproof.bounds.taylor.box_bounds` (polynomial in the number of joints per box).
+    """
+    evaluate, degree = family
+    sense = Spectral(kind).sense
+    pick = np.max if sense == "max" else np.min
+    obs_kind = value_kind or kind
+
+    source = evaluate if value_kind is None else jacobian_family(chain)[0]
+
+    def value(q):
+        v = spectral(source(q, derivatives=False), obs_kind)
+        return pick(v**2 if square else v, axis=-1)
+
+    lo, hi = search_box(chain)
+    free = free_coordinates(chain)
+    obstacle = certification_obstacle(chain)
+    if obstacle is None and (degree != 2 or thetas is None) and free.sum() > VERTEX_LIMIT:
+        obstacle = "no polynomial box bound for this family"
+    if obstacle is not None:
+        return bracket_extreme(value, None, lo, hi, sense=sense, quantity_name=quantity_name, samples=samples,
+                               refine_s=refine_s, rng=rng, free=free, note=obstacle)
+    if free.sum() <= VERTEX_LIMIT:
+        return _vertex_bracket(chain, family, kind, quantity_name=quantity_name, samples=samples, refine_s=refine_s,
+                               rng=rng, value_kind=value_kind, square=square, progress=progress, thetas=thetas)
+    apriori = apriori_bound(chain, thetas, "sup")
+    fam = MassFamily(chain, thetas)
+    weights = fam.factors.max(axis=(0, 1))  # split where the entries can move most
+
+    def box_bound(c, r):
+        return box_bounds(fam, kind, c, r)
+
+    note = ("second-order Taylor bound per box: entry sizes from lengths, Bernstein/Markov remainder, "
+            "congruence by the centre's Cholesky factor for lambda_min; rounding allowances stated in "
+            "inertiaproof.bounds.taylor")
+    result = bracket_extreme(value, box_bound, lo, hi, sense=sense, quantity_name=quantity_name, samples=samples,
+                             refine_s=refine_s, rng=rng, free=free, weights=weights, progress=progress, note=note,
+                             cost=box_cost(chain.n, len(fam.thetas)))
+    psd = bool(np.all(spectral(spatial_inertia(np.asarray(thetas, float)), "lmin") >= 0))
+    return _with_fallback(result, kind, apriori, psd, chain, thetas)
+
+
+def _vertex_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rng, value_kind=None,
+                          square=False, progress=None, thetas=None):
     """Bracket of sup (convex kinds) or inf (lmin, smin) over the chain's configurations of kind(A(q)).
 
     ``family`` is (evaluate, degree) from :func:`jacobian_family` or :func:`mass_family`;
@@ -101,7 +163,7 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
     squares observed singular values to match.
     """
     evaluate, degree = family
-    sense = "max" if kind in CONVEX else "min"
+    sense = Spectral(kind).sense
     pick = np.max if sense == "max" else np.min
     obs_kind = value_kind or kind
 
@@ -140,7 +202,7 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
     if sense == "min" or not same:
         sup = bracket_extreme(value_for_norm(evaluate, norm_kind), bound_with(None, norm_kind), dlo, dhi, sense="max",
                               quantity_name=f"sup ||A|| for {quantity_name}", samples=samples, refine_s=stage,
-                              rng=rng, free=free, weights=factors)
+                              rng=rng, free=free, weights=factors, cost=_legacy_cost(free))
         scale = min(sup.certified, apriori)
         note = f"Taylor remainder scaled by sup ||A|| <= {scale:.6g} over a full period (certified)"
         if not np.isfinite(scale):
@@ -150,29 +212,35 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
                                   kind, apriori, thetas is not None)
     result = bracket_extreme(value, bound_with(scale, kind), lo, hi, sense=sense, quantity_name=quantity_name,
                              samples=samples, refine_s=stage if scale is not None else refine_s, rng=rng, free=free,
-                             weights=factors, progress=progress, note=note)
-    if scale is not None and sense == "max" and scale < result.certified:
-        result.certified, result.note = scale, note.replace("Taylor remainder scaled by sup", "the sup over a period")
-        for point in result.convergence:
-            point[2] = min(point[2], scale)
+                             weights=factors, progress=progress, note=note, cost=_legacy_cost(free))
+    if scale is not None and sense == "max":
+        result.tighten(scale, "the sup over a period is sharper")
     psd = thetas is not None and bool(np.all(spectral(spatial_inertia(np.asarray(thetas, float)), "lmin") >= 0))
-    return _with_fallback(result, kind, apriori, psd)
+    return _with_fallback(result, kind, apriori, psd, chain, thetas)
 
 
-def _with_fallback(result, kind, apriori, psd):
-    """Where branch and bound found no better certified side: the a priori length bound (sup) or 0 (inf of a PSD form)."""
-    if kind == "lmin" and psd and result.certified is not None and result.certified < 0:
-        result.certified = None
-    if result.certified is not None and np.isfinite(result.certified):
-        return result
+def _legacy_cost(free):
+    """The vertex path's cost: 2^d vertices per box, 45 per round and second of budget (calibrated: refine_s is about
+    the seconds a bracket takes on 2 loaded cores)."""
+    d = int(np.sum(free))
+    return 2.0**d / 45.0 if d <= VERTEX_LIMIT else box_cost(len(free))
+
+
+def box_cost(n, stack=1):
+    """Relative cost of one box bound against a 7-joint chain with one parameter set (O(n^4) per box)."""
+    return max(1.0, stack * (n / 7.0) ** 4)
+
+
+def _with_fallback(result, kind, apriori, psd, chain=None, thetas=None):
+    """Where branch and bound certified less: the Perron bound of the entry sizes or the a priori length bound
+    (sup), or 0 (inf of a PSD form)."""
     if kind in CONVEX:
-        result.certified, result.note = apriori, (result.note + "; " if result.note else "") + \
-            "branch and bound did not finish: a priori bound from link lengths (Frobenius norm)"
+        result.tighten(apriori, "the a priori bound from link lengths (Frobenius norm) is sharper")
+        if thetas is not None and kind in ("lmax", "absmax") and certification_obstacle(chain) is None:
+            result.tighten(perron_bound(MassFamily(chain, thetas)),
+                           "spectral radius of the entrywise bounds |M_il(q)| <= S_il from lengths (Perron-Frobenius)")
     elif kind == "lmin" and psd:
-        result.certified, result.note = 0.0, (result.note + "; " if result.note else "") + \
-            "branch and bound did not finish: 0, as M = (QJ)^T Z QJ with Z >= 0 (key step, positivity of L)"
-    for point in result.convergence:
-        point[1 if result.sense == "min" else 2] = float(result.certified)
+        result.tighten(0.0, "0, as M = (QJ)^T Z QJ with Z >= 0 (key step, positivity of L)")
     return result
 
 
@@ -183,8 +251,9 @@ def value_for_norm(evaluate, kind):
 
 
 def lever_bounds(chain):
-    """Certified |z_l - p_k| (l >= k) for all q: the sum of the translations of the fixed transforms and of the slides
-    from joint k's axis to body l's origin (rotations keep lengths). Lower triangle of an n x n array; a slide
+    """Certified |u_k x (z_l - p_k)| <= |z_l - p_k| (l >= k) for all q: the sum of the translations of the fixed
+    transforms and of the slides from joint k's axis to body l's origin (rotations keep lengths), the first offset
+    of a turning joint counted by its part across the axis (:func:`_axis_distance`). Lower triangle of an n x n array; a slide
     without limits counts as 0 only as the first joint (it moves the joint points too): see certification_obstacle."""
     lengths = []
     for joint in chain.joints:
@@ -195,7 +264,22 @@ def lever_bounds(chain):
         for k in range(l + 1):
             out[l, k] = sum(lengths[m][1] + lengths[m][2] for m in range(k, l + 1)) + sum(
                 lengths[m][0] for m in range(k + 1, l + 1))
-    return out
+            if chain.joints[k].revolute:  # only the distance from joint k's axis counts: |u_k x (z_l - p_k)|
+                out[l, k] = min(out[l, k], _axis_distance(chain, k, l, lengths))
+    return out * (1 + 4 * chain.n * EPS)
+
+
+def _axis_distance(chain, k, l, lengths):
+    """A bound of the distance of body l's origin from joint k's axis for every q: the offset fixed to joint k's
+    turn (its after transform and joint k+1's before transform, in joint k's frame with the axis on z) counts by
+    its part across the axis; the later translations and slides by their lengths."""
+    z = chain.z_joints[k]
+    offset = z.after[:3, 3].copy()
+    if l > k:
+        offset = offset + z.after[:3, :3] @ chain.z_joints[k + 1].before[:3, 3]
+    rest = sum(lengths[m][1] + lengths[m][2] for m in range(k + 1, l + 1)) + sum(
+        lengths[m][0] for m in range(k + 2, l + 1))
+    return float(np.hypot(offset[0], offset[1])) + rest
 
 
 def column_bounds(chain):
@@ -293,42 +377,98 @@ def apriori_bound(chain, thetas, kind):
 # -- the ingredients over configurations ----------------------------------------------
 
 def jacobian_sup(chain, **kw):
-    """sup_q sigma_max(QJ) (SVD)."""
-    return configuration_bracket(chain, jacobian_family(chain), "smax", quantity_name="sup_q sigma_max(QJ)", **kw)
+    """sup_q sigma_max(QJ) (SVD). Beyond ``VERTEX_LIMIT`` free coordinates: the square root of the bracket of
+    sup_q lambda_max((QJ)^T QJ), the mass matrix of unit bodies (Z = I), whose box bounds are polynomial."""
+    if free_coordinates(chain).sum() <= VERTEX_LIMIT or certification_obstacle(chain) is not None:
+        return configuration_bracket(chain, jacobian_family(chain), "smax", quantity_name="sup_q sigma_max(QJ)", **kw)
+    unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
+    b = configuration_bracket(chain, mass_family(chain, unit), "lmax", value_kind="smax", square=True,
+                              quantity_name="sup_q sigma_max(QJ)", thetas=unit, **kw)
+    root = (lambda x: None if x is None else float(np.sqrt(max(x, 0.0))))
+    b.observed, b.certified = root(b.observed), root(b.certified)
+    b.convergence = [[t, root(lo), root(hi)] for t, lo, hi in b.convergence]
+    b.note += "; square roots of the bracket of sup_q lambda_max((QJ)^T QJ) (unit bodies)"
+    return b
 
 
 def jacobian_normality(chain, **kw):
     """inf_q sigma_min(QJ)^2 = inf_q lambda_min((QJ)^T QJ) (Definition 2): observed by SVD of QJ; the certified side is
-    the better of branch and bound and the chain's :func:`triangular_normality_floor`."""
+    the best of branch and bound (vertices; with a budget of PIVOT_MIN_S or more also the articulated-body pivots)
+    and the chain's :func:`triangular_normality_floor`."""
     unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
     result = configuration_bracket(chain, mass_family(chain, unit), "lmin", value_kind="smin", square=True,
                                    quantity_name="inf_q sigma_min(QJ)^2", thetas=unit, **kw)
-    floor = triangular_normality_floor(chain)
-    if floor > (result.certified if result.certified is not None else -np.inf):
-        result.certified = floor
-        result.note = (result.note + "; " if result.note else "") + (
-            "certified side from the block-triangular structure of QJ (unit twist of joint l in column l of body "
-            "l's block, lengths bound the rest): valid for every q")
-        for point in result.convergence:
-            point[1] = max(point[1] if point[1] is not None else -np.inf, floor)
+    result.tighten(triangular_normality_floor(chain),
+                   "certified side from the block-triangular structure of QJ (unit twist of joint l in column l of "
+                   "body l's block, lengths bound the rest): valid for every q")
+    refine_s = kw.get("refine_s", 0.0)
+    if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
+        result.tighten(pivot_normality(chain, refine_s, kw.get("samples", 2000)),
+                       "branch and bound with the articulated-body pivots of (QJ)^T QJ - gamma I on each box "
+                       "(inertiaproof.bounds.pivots)")
     return result
+
+
+def pivot_normality(chain, refine_s, samples, weights=None):
+    """A certified lower bound of inf_q lambda_min(sum_l mu_l QJ_l^T QJ_l) (min over the rows of ``weights`` (V, N),
+    mu = 1 when None: inf_q sigma_min(QJ)^2) by branch and bound with pivot bounds; -inf where none was found. Its
+    own seed, so the same chain and budget give the same number; cached by content."""
+    weights = np.ones((1, chain.bodies)) if weights is None else np.asarray(weights, float)
+    key = (tuple((j.before.tobytes(), j.after.tobytes(), j.revolute, j.coordinate.name, j.limits) for j in chain.joints),
+           refine_s, samples, weights.shape, weights.tobytes())
+    if key not in _PIVOT_CACHE:
+        if len(_PIVOT_CACHE) >= 32:
+            _PIVOT_CACHE.pop(next(iter(_PIVOT_CACHE)))
+        _PIVOT_CACHE[key] = _pivot_normality(chain, np.random.default_rng(0), refine_s, samples, weights)
+    return _PIVOT_CACHE[key]
+
+
+_PIVOT_CACHE = {}
+
+
+def _pivot_normality(chain, rng, refine_s, samples, weights):
+    unit = weights[..., None] * np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0])  # (V, N, 10): Z_l = mu_l I6
+    family = PivotFamily(chain, unit)
+
+    def value(q):
+        return spectral(composite.mass_matrix(chain, q[:, None], unit[None]), "lmin").min(-1)
+
+    def box_bound(c, r):
+        start = spectral(composite.mass_matrix(chain, c[:, None], unit[None]), "lmin")
+        return pivot_bounds(family, "lmin", c, r, start, steps=20)[0]
+
+    lo, hi = search_box(chain)
+    free = free_coordinates(chain)
+    # split where the turns lose most: their relative losses on a box of 0.3 rad about the centre
+    c, r = (0.5 * (lo + hi))[None], np.where(free, np.minimum(0.3, 0.5 * (hi - lo)), 0.0)[None]
+    start = spectral(composite.mass_matrix(chain, c[:, None], unit[None]), "lmin")
+    loss = pivot_bounds(family, "lmin", c, r, start, steps=5)[1][0]
+    weights = np.maximum(loss / max(loss.max(), 1e-300), 1e-3) if np.all(np.isfinite(loss)) and loss.max() > 0 else None
+    found = bracket_extreme(value, box_bound, lo, hi, sense="min", quantity_name="inf_q sigma_min(QJ)^2 (pivots)",
+                            samples=samples, refine_s=refine_s, rng=rng, free=free, cost=PIVOT_COST, weights=weights)
+    return -np.inf if found.certified is None else found.certified
 
 
 def mass_inf(chain, thetas, **kw):
     """inf over q and the parameter sets of lambda_min(M(q, Theta)); where branch and bound certifies less, the
     proof of Theorem 2 does: lambda_min(M) >= min_l lambda_min(Z(Phi_l)) inf_q sigma_min(QJ)^2 with the
-    :func:`triangular_normality_floor`."""
+    :func:`triangular_normality_floor` or (budget PIVOT_MIN_S or more) :func:`pivot_normality`."""
     result = configuration_bracket(chain, mass_family(chain, thetas), "lmin",
                                    quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
     z = spatial_inertia(np.asarray(thetas, float))
     z_min = float((spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")).min())  # less its rounding
-    floor = max(z_min, 0.0) * triangular_normality_floor(chain) * (1 - ROUNDING * EPS)
-    if floor > (result.certified if result.certified is not None else -np.inf):
-        result.certified = floor
-        result.note = (result.note + "; " if result.note else "") + (
-            "certified side min_l lambda_min(Z(Phi_l)) times the block-triangular floor of inf sigma_min(QJ)^2")
-        for point in result.convergence:
-            point[1] = max(point[1] if point[1] is not None else -np.inf, floor)
+    gamma = triangular_normality_floor(chain)
+    refine_s = kw.get("refine_s", 0.0)
+    if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
+        gamma = max(gamma, pivot_normality(chain, refine_s, kw.get("samples", 2000)))
+    floor = max(z_min, 0.0) * gamma * (1 - ROUNDING * EPS)
+    result.tighten(floor, "certified side min_l lambda_min(Z(Phi_l)) times a certified lower bound of "
+                          "inf sigma_min(QJ)^2 (block-triangular floor, or the pivots' branch and bound)")
+    if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
+        mu = spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")  # (V, N), rounded down: Z_l >= mu_l I
+        result.tighten(pivot_normality(chain, refine_s, kw.get("samples", 2000), mu),
+                       "M(q) >= sum_l mu_l QJ_l^T QJ_l with mu_l <= lambda_min(Z(Phi_l)) (key step, body by body), "
+                       "its inf certified by branch and bound with articulated-body pivots")
     return result
 
 
@@ -364,7 +504,7 @@ def skew_partial_sup(chain, *, samples, refine_s, rng, progress=None):
     usable = obstacle is None and same
     worst = bracket_extreme(lambda q: sigmas(q).max(1), max_bound if usable else None, lo, hi, sense="max",
                             quantity_name="max_p sup_q sigma_max(Y_p)", samples=samples, refine_s=refine_s / 2,
-                            rng=rng, free=free, weights=factors, progress=progress,
+                            rng=rng, free=free, weights=factors, progress=progress, cost=_legacy_cost(free),
                             note=obstacle or ("" if same else "joint limits inside a period: no certified side"))
     s = worst.certified
 
@@ -375,7 +515,7 @@ def skew_partial_sup(chain, *, samples, refine_s, rng, progress=None):
     rss = bracket_extreme(lambda q: np.sqrt((sigmas(q) ** 2).sum(1)),
                           rss_bound if usable and s is not None and np.isfinite(s) else None, lo, hi, sense="max",
                           quantity_name="sup_q (sum_p sigma_max(Y_p)^2)^(1/2)", samples=samples, refine_s=refine_s / 2,
-                          rng=rng, free=free, weights=factors, note=worst.note)
+                          rng=rng, free=free, weights=factors, note=worst.note, cost=_legacy_cost(free))
     return worst, rss
 
 

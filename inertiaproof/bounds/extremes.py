@@ -25,9 +25,10 @@ import numpy as np
 
 from inertiaproof.result import quantity
 
-__all__ = ["Bracket", "bracket_extreme", "LOCAL_ROUNDS_PER_SECOND", "local_search", "ROUNDS_PER_SECOND"]
+__all__ = ["Bracket", "bracket_extreme", "GUARD", "LOCAL_ROUNDS_PER_SECOND", "local_search", "ROUNDS_PER_SECOND"]
 
-ROUNDS_PER_SECOND = 600  # refinement rounds (times 2^d) per second of budget: a count, so that a seed gives the same bracket
+ROUNDS_PER_SECOND = 40  # refinement rounds (of 2 batch boxes, 7 joints) per second of budget: a count, so that a seed gives the same bracket
+GUARD = 4.0  # wall-clock guard of the refinement, in units of its budget
 LOCAL_ROUNDS_PER_SECOND = 200  # rounds of local search per second of budget, at most 40
 
 
@@ -57,6 +58,24 @@ class Bracket:
     @property
     def width(self):
         return self.upper - self.lower
+
+    def tighten(self, certified, how):
+        """Adopt another certified bound of the same extreme where it is sharper (a larger lower bound of an inf, a
+        smaller upper bound of a sup, or any where there was none): the one place a bracket is tightened. ``how``
+        joins the note; the convergence record's certified side follows. Returns whether it was adopted."""
+        if certified is None or np.isnan(certified):
+            return False
+        sign = 1.0 if self.sense == "min" else -1.0
+        current = self.certified if self.certified is not None and np.isfinite(self.certified) else -sign * np.inf
+        if not sign * float(certified) > sign * current:
+            return False
+        self.certified = float(certified)
+        self.note = (self.note + "; " if self.note else "") + how
+        side = 1 if self.sense == "min" else 2
+        for point in self.convergence:
+            old = point[side]
+            point[side] = float(certified) if old is None else (max(old, certified) if sign > 0 else min(old, certified))
+        return True
 
     def evidence(self):
         """The ``bracket`` evidence the report plots (inertiaproof.result)."""
@@ -97,14 +116,17 @@ def local_search(value, q, lo, hi, free, *, sign, rounds=40, step=0.25):
 
 
 def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, refine_s, rng, free=None,
-                    progress=None, rtol=1e-6, batch=64, max_boxes=400_000, weights=None, note=""):
+                    progress=None, rtol=1e-6, batch=64, max_boxes=200_000, weights=None, note="", cost=1.0):
     """Bracket inf (sense 'min') or sup ('max') of ``value`` over the box [lo, hi].
 
     ``value(q)`` maps configurations (K, n) to (K,). ``box_bound(centres, radii)``
     returns a certified lower (min) or upper (max) bound of ``value`` on each box,
     or is None when no certified bound is available. ``free`` marks the
     coordinates the function depends on (the others stay at the box centre).
-    ``weights`` scale the widths when choosing the coordinate to split.
+    ``weights`` scale the widths when choosing the coordinate to split. ``cost`` is the relative cost of a
+    box bound (1 for a 7-joint chain): the budget is ``refine_s * ROUNDS_PER_SECOND / cost`` rounds of
+    ``2 batch`` boxes, a count (the same bracket for a seed on any machine), with a wall-clock guard at
+    ``GUARD`` times ``refine_s`` (a loaded machine ends with a wider, still certified bracket).
     """
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     n = lo.size
@@ -140,8 +162,9 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
     record(certified)
     last_report = start
     rounds = 0
-    budget = max(1, int(refine_s * ROUNDS_PER_SECOND / 2.0 ** free.sum()))  # a box's vertices cost 2^d
-    while rounds < budget and len(bounds):
+    budget = max(1, int(refine_s * ROUNDS_PER_SECOND / cost))
+    guard = start + GUARD * refine_s + 1.0
+    while rounds < budget and len(bounds) and time.perf_counter() < guard:
         rounds += 1
         # boxes that cannot beat the observed value are done
         keep = bounds < sign * best
@@ -165,6 +188,7 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
         if sign * child_v[k] < sign * best:
             best, best_q = float(child_v[k]), child_c[k].copy()
         child_b = sign * box_bound(child_c, child_r)
+        child_b = np.maximum(child_b, np.concatenate([bounds[take], bounds[take]]))  # a child lies in its parent
         boxes += len(child_c)
         centres = np.concatenate([centres[rest], child_c])
         radii = np.concatenate([radii[rest], child_r])

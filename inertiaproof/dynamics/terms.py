@@ -38,7 +38,11 @@ def mass_matrix_partials(qj, dqj, theta):
     b = _blocks(qj)
     db = dqj.reshape(b.shape + (dqj.shape[-1],))
     zb = spatial_inertia(theta) @ b
-    half = np.einsum("...lrki,...lrj->...kji", db, zb)
+    flat = dqj.reshape(dqj.shape[:-2] + (-1,))  # (..., 6N, n k * n i)
+    z6 = zb.reshape(zb.shape[:-3] + (-1, zb.shape[-1]))  # (..., 6N, n j)
+    n = qj.shape[-1]
+    half = (np.swapaxes(flat, -1, -2) @ z6).reshape(flat.shape[:-2] + (n, n, n))  # [k, i, j], a BLAS product
+    half = np.swapaxes(half, -1, -2)  # [k, j, i]
     return half + np.swapaxes(half, -3, -2)
 
 

@@ -1,0 +1,231 @@
+"""Certified lambda_min / lambda_max of M(q, Theta) on a box from the pivots of the articulated-body factorisation
+(Loewner-monotone, O(n) 6 x 6 operations per box and trial value). Used for inf_q sigma_min(QJ)^2 (unit bodies),
+where it is well behaved, in profiles with a budget of at least ``PIVOT_MIN_S`` seconds per bracket.
+
+Measured (issue 12): on unit bodies (QJ^T QJ) Panda 0.521 at a point, 0.32 on a box of 0.1 rad in every joint,
+0.086 on 1 rad; UR5 0.3384 on 0.1 rad. With real inertias (Panda, 2 kg) it fails beyond ~0.03 rad: a Loewner lower
+bound of R(x)^T P R(x) over an interval of x must drop the heavy directions of an anisotropic articulated inertia
+to its light ones (the family has no better common lower bound). ``python -m inertiaproof.bounds.pivots`` prints
+the bound against the radius.
+
+M(q) + a I > 0 exactly when every pivot of its tip-first LDL^T factorisation is positive. In body coordinates
+(MassMatrix: M = sum_b QJ_b^T Z_b QJ_b, body twists V_b = Phi_b(q_b) V_(b-1) + s_b qdot_b, Phi_b the twist map of
+before_b Jz(q_b) after_b) the pivots are those of the articulated-body recursion with armature a:
+
+    A_(n-1) = Z_(n-1),  D_b = s_b^T A_b s_b + a,  P_b = A_b - A_b s_b s_b^T A_b / D_b,
+    A_(b-1) = Z_(b-1) + Phi_b^T P_b Phi_b.
+
+Every step is monotone in the Loewner order where the pivots are positive (P is a Schur complement; congruence
+keeps the order), so Loewner LOWER bounds L_b <= A_b(q) valid on the whole box give lower bounds of every
+pivot. The only box-dependent step is the turn (slide) of joint b: F(x) = Phi_b(x)^T P Phi_b(x) is a
+trigonometric polynomial of degree 2 in x (a polynomial of degree 2 for a slide); its five Fourier
+coefficients (from five samples, exact) give, for |x - c_b| <= r_b,
+
+    F(x) >= F(c_b) - (1 - cos r) pos(F_1c) - sin r |F_1s| - (1 - cos 2r) pos(F_2c) - sin 2r |F_2s|
+
+(angles clipped at pi/2 for sines, pi for cosines; |.| and pos(.) the matrix absolute value and positive part).
+So M(q) + a I > 0 on the box when all pivot bounds are positive: lambda_min(M) >= -a. The upper side
+(lambda_max) is the same test of -M + a I, i.e. bodies -Z. Bisection over a gives the bound.
+
+Rounding (stated): each level's Loewner bound is lowered by ``ROUNDING`` eps times the sum of the Frobenius
+norms of the matrices formed at that level (products, Fourier sums, absolute values) and each pivot bound by
+``ROUNDING`` eps (|s|^2 ||L||_F + |a|) (a posteriori bounds of the float operations, Weyl for the
+eigen-decompositions behind |.| and pos(.)).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from inertiaproof.dynamics.twists import twist_map
+from inertiaproof.model.inertia import spatial_inertia
+
+__all__ = ["PIVOT_MIN_S", "PivotFamily", "pivot_bounds", "pivot_test", "ROUNDING"]
+
+EPS = np.finfo(float).eps
+ROUNDING = 64.0
+PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot bound is run (deep; ci skips it)
+RIDGE = 1e-4  # relative ridge of the loss metric
+ANGLES = 2 * np.pi * np.arange(5) / 5
+
+
+def _jz(x, revolute):
+    t = np.eye(4)
+    if revolute:
+        c, s = np.cos(x), np.sin(x)
+        t[:2, :2] = [[c, -s], [s, c]]
+    else:
+        t[2, 3] = x
+    return t
+
+
+def _parts(a, h=None):
+    """(W, W+) with W >= A, W >= -A and W+ >= A, W+ >= 0 for symmetric A (..., 6, 6): the absolute value and the
+    positive part of A in the metric of H > 0 (H^(1/2) |H^(-1/2) A H^(-1/2)| H^(1/2); H = I when None), with
+    the eigen-decomposition's rounding added. Any H > 0 is valid; H near the matrix being bounded keeps the loss
+    relative to it in every direction."""
+    if h is None:
+        w, u = np.linalg.eigh(a)
+        root = None
+    else:
+        hw, hu = np.linalg.eigh(h)
+        hw = np.maximum(hw, 1e-300)
+        root = np.einsum("...ij,...j,...kj->...ik", hu, np.sqrt(hw), hu)
+        inv = np.einsum("...ij,...j,...kj->...ik", hu, 1 / np.sqrt(hw), hu)
+        w, u = np.linalg.eigh(inv @ a @ inv)
+    absolute = np.einsum("...ij,...j,...kj->...ik", u, np.abs(w), u)
+    positive = np.einsum("...ij,...j,...kj->...ik", u, np.maximum(w, 0), u)
+    if root is not None:
+        absolute, positive = root @ absolute @ root, root @ positive @ root
+        # W was built from a computed inverse root: check W -+ A >= 0 a posteriori and lift what is missing
+        for out, others in ((absolute, (a, -a)), (positive, (a, np.zeros_like(a)))):
+            gap = np.minimum(*(np.linalg.eigvalsh(out - o)[..., 0] - ROUNDING * EPS * np.linalg.norm(out - o, axis=(-2, -1))
+                               for o in others))
+            out += np.maximum(-gap, 0)[..., None, None] * np.eye(a.shape[-1])
+    slack = (ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + np.linalg.norm(absolute, axis=(-2, -1))))
+    slack = slack[..., None, None] * np.eye(a.shape[-1])
+    return absolute + slack, positive + slack
+
+
+class PivotFamily:
+    """The chain's fixed maps and body inertias (a stack of parameter sets) for :func:`pivot_bounds`."""
+
+    def __init__(self, chain, thetas):
+        self.chain = chain
+        self.z = spatial_inertia(np.asarray(thetas, float))  # (V, N, 6, 6)
+        self.twists = np.array([j.unit_twist for j in chain.z_joints])  # (n, 6)
+        self.revolute = [j.revolute for j in chain.z_joints]
+        self.after = [twist_map(j.after) for j in chain.z_joints]
+        self.before = [twist_map(j.before) for j in chain.z_joints]
+
+    def turn_maps(self, b, x):
+        """tm(Jz(x)) for x (K,): (K, 6, 6)."""
+        x = np.asarray(x, float)
+        out = np.zeros(x.shape + (6, 6))
+        if self.revolute[b]:  # blockdiag(Rz(x)^T, Rz(x)^T)
+            c, s = np.cos(x), np.sin(x)
+            for o in (0, 3):
+                out[:, o, o] = out[:, o + 1, o + 1] = c
+                out[:, o, o + 1], out[:, o + 1, o] = s, -s
+                out[:, o + 2, o + 2] = 1.0
+        else:  # [[I, -S(x e_z)], [0, I]]
+            out[:] = np.eye(6)
+            out[:, 0, 4], out[:, 1, 3] = x, -x
+        return out
+
+    def rotated_lower(self, b, p, c, r, relative=True):
+        """A Loewner lower bound over |x - c| <= r (K,) of Phi_b(x)^T p Phi_b(x), p (K, V, 6, 6); and its loss norm."""
+        q = np.einsum("ji,kvjl,lm->kvim", self.after[b], p, self.after[b])  # tm(after)^T p tm(after)
+        if self.revolute[b]:
+            samples = np.stack([self._turned(b, q, c + d) for d in ANGLES])  # (5, K, V, 6, 6)
+            cos1, sin1 = np.cos(ANGLES), np.sin(ANGLES)
+            cos2, sin2 = np.cos(2 * ANGLES), np.sin(2 * ANGLES)
+            f1c, f1s = (np.einsum("m,m...->...", 0.4 * w, samples) for w in (cos1, sin1))
+            f2c, f2s = (np.einsum("m,m...->...", 0.4 * w, samples) for w in (cos2, sin2))
+            rr = r[:, None, None, None]
+            a1, b1 = 1 - np.cos(np.minimum(rr, np.pi)), np.sin(np.minimum(rr, np.pi / 2))
+            a2, b2 = 1 - np.cos(np.minimum(2 * rr, np.pi)), np.sin(np.minimum(2 * rr, np.pi / 2))
+            h = self._metric(samples[0]) if relative else None
+            abs1, pos1 = _parts(f1c, h)
+            abs1s, _ = _parts(f1s, h)
+            _, pos2 = _parts(f2c, h)
+            abs2s, _ = _parts(f2s, h)
+            loss = a1 * pos1 + b1 * abs1s + a2 * pos2 + b2 * abs2s
+            centre = samples[0]
+            size = np.linalg.norm(samples, axis=(-2, -1)).sum(0)
+        else:
+            f0, fp, fm = (self._turned(b, q, c + d) for d in (0.0, 1.0, -1.0))
+            f1, f2 = 0.5 * (fp - fm), 0.5 * (fp + fm) - f0
+            rr = r[:, None, None, None]
+            h = self._metric(f0) if relative else None
+            abs1, _ = _parts(f1, h)
+            abs2, _ = _parts(f2, h)
+            loss = rr * abs1 + rr**2 * abs2
+            centre = f0
+            size = (np.linalg.norm(f0, axis=(-2, -1)) + np.linalg.norm(fp, axis=(-2, -1))
+                    + np.linalg.norm(fm, axis=(-2, -1))) * (1 + r[:, None]) ** 2
+        lower = centre - loss
+        lower = np.einsum("ji,kvjl,lm->kvim", self.before[b], lower, self.before[b])
+        norm_b = np.linalg.norm(self.before[b]) ** 2 * np.linalg.norm(self.after[b]) ** 2
+        slack = ROUNDING * EPS * norm_b * (size + np.linalg.norm(loss, axis=(-2, -1)))
+        return lower - slack[..., None, None] * np.eye(6), np.linalg.norm(loss, 2, axis=(-2, -1))
+
+    def _metric(self, f):
+        """The metric the turn's loss is measured in: the turned matrix at the centre, made definite."""
+        w = np.linalg.eigvalsh(f)
+        ridge = RIDGE * np.maximum(np.abs(w).max(-1), 1e-300) - np.minimum(w[..., 0], 0)
+        return f + ridge[..., None, None] * np.eye(6)
+
+    def _turned(self, b, q, x):
+        t = self.turn_maps(b, x)  # (K, 6, 6)
+        return np.einsum("kji,kvjl,klm->kvim", t, q, t)
+
+
+def pivot_test(family: PivotFamily, sign, armature, centres, radii):
+    """Whether sign * M(q) + a I > 0 on each box for every parameter set: (K, V) booleans, and per joint the
+    relative loss of its turn (K, n) (where splitting helps). ``armature`` (K, V)."""
+    z = sign * family.z  # (V, N, 6, 6)
+    k_count = len(centres)
+    n = family.chain.n
+    a = np.broadcast_to(z[None, :, n - 1], (k_count,) + z.shape[:1] + (6, 6)).copy()
+    ok = np.ones((k_count, z.shape[0]), bool)
+    losses = np.zeros((k_count, n))
+    for b in range(n - 1, -1, -1):
+        s = family.twists[b]
+        d = np.einsum("i,kvij,j->kv", s, a, s) + armature
+        d = d - ROUNDING * EPS * (np.dot(s, s) * np.linalg.norm(a, axis=(-2, -1)) + np.abs(armature))
+        ok &= d > 0
+        if b == 0:
+            break
+        safe = np.where(d > 0, d, 1.0)
+        u = np.einsum("kvij,j->kvi", a, s)
+        p = a - np.einsum("kvi,kvj->kvij", u, u) / safe[..., None, None]
+        p = p - (ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + (u * u).sum(-1) / safe))[..., None, None] * np.eye(6)
+        g, loss = family.rotated_lower(b, p, centres[:, b], radii[:, b], relative=sign > 0)
+        losses[:, b] = (loss / np.maximum(np.abs(safe), 1e-300)).max(1)
+        a = z[None, :, b - 1] + g
+    return ok, losses
+
+
+def pivot_bounds(family: PivotFamily, kind, centres, radii, start, *, steps=40):
+    """Certified bound of lambda_min ('lmin', a lower bound) or lambda_max ('lmax', an upper bound) of M on each
+    box, by bisection between a value ``start`` (K, V) that is attained (the centre's eigenvalue) and the
+    largest (lmin) or smallest (lmax) armature that passes :func:`pivot_test`. Returns ((K,) the worst over the
+    stack, -inf / inf where nothing passed), and per box the joints' losses (K, n)."""
+    sign = 1.0 if kind == "lmin" else -1.0
+    start = np.asarray(start, float)
+    span = np.maximum(np.abs(start), 1e-300)
+    # passing side: gamma = start - t * span for t in [0, 1] (lmin: gamma below the centre's lambda_min)
+    good = np.full(start.shape, np.nan)  # t of a passing gamma
+    losses = np.zeros((len(centres), family.chain.n))
+    lo_t, hi_t = np.zeros(start.shape), np.ones(start.shape)
+    ok, losses = pivot_test(family, sign, -(sign * (start - sign * hi_t * span)), centres, radii)
+    good = np.where(ok, hi_t, np.nan)
+    if not ok.any():
+        return np.full(len(centres), -np.inf if kind == "lmin" else np.inf), losses
+    for _ in range(steps):
+        mid = 0.5 * (lo_t + hi_t)
+        gamma = start - sign * mid * span
+        ok, _ = pivot_test(family, sign, -sign * gamma, centres, radii)
+        hi_t = np.where(ok, mid, hi_t)
+        lo_t = np.where(ok, lo_t, mid)
+        good = np.where(ok, mid, good)
+    gamma = np.where(np.isnan(good), -sign * np.inf, start - sign * np.nan_to_num(good) * span)
+    return (gamma.min(1) if kind == "lmin" else gamma.max(1)), losses
+
+
+if __name__ == "__main__":
+    from inertiaproof.bounds.configuration import mass_inf
+    from inertiaproof.bounds.time import parameter_vertices
+    from inertiaproof.dynamics import composite
+    from inertiaproof.scene import robots
+
+    scene = robots.panda(payload=2.0)
+    chain, stack = scene.chain, parameter_vertices(scene.trajectory)[0]
+    witness = mass_inf(chain, stack, samples=2000, refine_s=0.3, rng=np.random.default_rng(0)).witness
+    start = np.linalg.eigvalsh(composite.mass_matrix(chain, witness[None, None], stack[None]))[..., 0]
+    lo, hi = chain.coordinate_box()
+    for radius in (0.0, 0.01, 0.03, 0.1):
+        r = np.minimum(radius, 0.5 * (hi - lo))[None]
+        r[0, 0] = 0.0
+        print(radius, float(pivot_bounds(PivotFamily(chain, stack), "lmin", witness[None], r, start)[0][0]))
