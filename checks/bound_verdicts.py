@@ -25,7 +25,14 @@ samples (a one-sided estimate of the true extreme).
 from __future__ import annotations
 
 import numpy as np
-from inertiaproof.checks.pointwise import RESOLUTION, margins, point_counterexample, state_at
+from inertiaproof.checks.pointwise import (
+    CONSTANTS,
+    RESOLUTION,
+    SENSE,
+    named_margins,
+    point_counterexample,
+    state_at,
+)
 
 from inertiaproof.bounds.domain import free_coordinates, search_box
 from inertiaproof.bounds.extremes import Bracket, local_search
@@ -33,6 +40,7 @@ from inertiaproof.bounds.spectral import spectral
 from inertiaproof.bounds.time import parameter_vertices
 from inertiaproof.dynamics import composite
 from inertiaproof.dynamics.chain import Chain
+from inertiaproof.dynamics.trajectory_data import trajectory_to_data
 from inertiaproof.dynamics.terms import lumped_acceleration_force, lumped_velocity_matrix
 from inertiaproof.model.positive_map import key_step_certificate
 from inertiaproof.result import Result, Verdict, combine, quantity
@@ -65,27 +73,63 @@ def scene_samples(ctx, scene, salt, count=None):
     return q, t
 
 
-def pointwise_on_scene(check_id, ctx, scene, k):
-    """The proof's pointwise inequality at sampled (q, t) of a scene: evidence and the point closest to failing."""
+def pointwise_on_scene(check_id, ctx, scene, k, reported=None):
+    """The proof's pointwise inequality at sampled (q, t) of a scene, for every constant of the check as the code
+    computes it (times k), and the sampled left-hand sides against the constants the check reports for the scene
+    (``reported``: {name: value}, e.g. the paper's constant with certified ingredients and the sharpest certified
+    one): evidence and the point closest to failing. A reported constant beyond a sampled value is a
+    "bound-constant" counterexample, which the replay re-computes (the scene's constants with the current code)."""
     q, t = scene_samples(ctx, scene, check_id)
     state = state_at(scene.trajectory, t)
-    margin, resolution, lhs, rhs = margins(check_id, scene.chain, q, state, k)
+    margin, resolution, lhs, rhs, names = named_margins(check_id, scene.chain, q, state, k)
     compared = ~np.isnan(margin)
     if not compared.any():
         return {"violated": False, "counterexample": None,
-                "evidence": {"samples": quantity(len(q), "count", "random (q, t) pairs; both sides vanish at all")}}
+                "evidence": {"samples": quantity(len(q), "count", "random (q, t) pairs; both sides vanish at all"),
+                             **({"reported": _reported_evidence(reported)} if reported else {})}}
     i = int(np.nanargmin(margin + resolution))
-    point = (i, float(margin[i]), float(resolution[i]), float(lhs[i]), float(rhs[i]))
-    return {"violated": bool(margin[i] < -resolution[i]),
-            "counterexample": point_counterexample(check_id, scene.chain, q, state, k, point),
-            "evidence": {"smallest_margin": quantity(float(np.nanmin(margin)), "margin",
-                                                     "relative margin of the proof's pointwise inequality"),
-                         "resolution": quantity(float(resolution[i]), "tolerance",
-                                                "resolution at the point closest to failing"),
-                         "unresolved": quantity(int(np.sum(np.abs(margin[compared]) <= resolution[compared])), "count",
-                                                "points whose margin is within their resolution"),
-                         "samples": quantity(int(compared.sum()), "count",
-                                             "random (q, t) pairs compared (both sides vanish at the others)")}}
+    point = (i, float(margin[i]), float(resolution[i]), float(lhs[i]), float(rhs[i]), str(names[i]))
+    evidence = {"constants_tested": sorted(set(CONSTANTS[check_id])),
+                "smallest_margin": quantity(float(np.nanmin(margin)), "margin",
+                                            "relative margin of the proof's pointwise inequality (closest constant)"),
+                "resolution": quantity(float(resolution[i]), "tolerance", "resolution at the point closest to failing"),
+                "unresolved": quantity(int(np.sum(np.abs(margin[compared]) <= resolution[compared])), "count",
+                                       "points whose margin is within their resolution"),
+                "samples": quantity(int(compared.sum()), "count",
+                                    "random (q, t) pairs compared (both sides vanish at the others)")}
+    violated = bool(margin[i] < -resolution[i])
+    counterexample = point_counterexample(check_id, scene.chain, q, state, k, point)
+    against = {}
+    upper = SENSE[check_id] == "upper"
+    for name, value in (reported or {}).items():
+        value = float(value)
+        if not np.isfinite(value):
+            continue
+        scale = np.abs(lhs) + abs(value)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            m = (value - lhs) / scale if upper else (lhs - value) / scale
+            res = RESOLUTION + (resolution - RESOLUTION) * (np.abs(lhs) + np.abs(rhs)) / scale
+        j = int(np.nanargmin(np.where(compared, m + res, np.nan))) if compared.any() else 0
+        against[name] = quantity(float(m[j]), "margin", f"relative margin of every sampled left-hand side against the "
+                                 f"reported {name} constant {value:.6g}")
+        if m[j] < -res[j] and not violated:
+            violated = True
+            counterexample = {"kind": "bound-constant", "data": {
+                "id": check_id, "scene": scene.name, "description": scene.description, "constant": name,
+                "factor": float(k), "value": value, "lhs": float(lhs[j]), "margin": float(m[j]),
+                "resolution": float(res[j]), "chain": scene.chain.to_data(),
+                "trajectory": trajectory_to_data(scene.trajectory), "q": np.asarray(q[j]).tolist(), "t": float(t[j]),
+                "samples": ctx.profile.samples, "refine_s": ctx.profile.refine_s, "seed": ctx.seed}}
+    if against:
+        evidence["against_reported"] = against
+    if reported:
+        evidence["reported"] = _reported_evidence(reported)
+    return {"violated": violated, "counterexample": counterexample, "evidence": evidence}
+
+
+def _reported_evidence(reported):
+    return {name: quantity(float(v), "value", "constant the check reports for the scene (times the factor for "
+                           "the paper's)") for name, v in reported.items()}
 
 
 def judge(sense, lhs, constant_lower, constant_upper, *, proof_covers, pointwise_violated):

@@ -22,8 +22,10 @@ from inertiaproof.checks.bound_verdicts import (
     time_and_configuration_bracket,
     time_quantities,
 )
+from inertiaproof.checks.constant_hunt import with_reported_hunt
 from inertiaproof.checks.pointwise import with_hunt
 
+from inertiaproof.bounds import formulas
 from inertiaproof.bounds.configuration import jacobian_sup, mass_sup, skew_partial_sup
 from inertiaproof.bounds.time import lumped_velocity_bounds, parameter_vertices, time_extreme
 from inertiaproof.dynamics import composite
@@ -55,11 +57,11 @@ def rate_case(ctx, scene, k=1.0):
             lambda q: np.abs(np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], dots[None]))).max((-2, -1)),
             chain, "sup sigma_max(M(q, Thetadot(t)))", "max", ctx, scene,
             "moving mass: Thetadot(t) is not affine in the profile's rate, the extreme over t is sampled on 64 times"))
-    root = np.sqrt(69 * traj.bodies)
-    paper = root * mu["certified"] * sigma.upper**2
-    paper_observed = root * mu["observed"] * sigma.lower**2
-    universal = 2 * mu["certified"] * sigma.upper**2
-    structural = zdot["certified"] * sigma.upper**2
+    root = formulas.chi(1.0, 1.0, traj.bodies)  # the paper's factor sqrt(69 N)
+    paper = formulas.chi(mu["certified"], sigma.upper, traj.bodies)
+    paper_observed = formulas.chi(mu["observed"], sigma.lower, traj.bodies)
+    universal = formulas.chi_sharp(mu["certified"], sigma.upper)
+    structural = formulas.chi_z(zdot["certified"], sigma.upper)
     certified = min(universal, structural, lhs.upper)
     how = ("certified upper side of sup sigma_max(M(q, Thetadot)) by branch and bound" if lhs.upper <= min(
         universal, structural) else "max_l sup_t sigma_max(Z(Phidot_l)) S^2 (block-diagonal Z: no sqrt(N))"
@@ -75,8 +77,10 @@ def rate_case(ctx, scene, k=1.0):
                                                "lambda_max(L(I4)) = 2: sigma_max(Z(F)) <= 2 sigma_max(F), attained "
                                                "at F = I4; the block-diagonal stack needs no sqrt(N)"),
                          "ratio": quantity(root / 2, "ratio", "paper factor / sharp factor")}}
-    return case_result("Thm4", scene, "upper", lhs, (k * paper_observed, k * paper), k, 2 / root,
-                       pointwise_on_scene("Thm4", ctx, scene, k * root), constants, extra,
+    reported = {"paper": k * paper, "certified": certified}
+    return case_result("Thm4", scene, "upper", lhs, (k * paper_observed, k * paper), k,
+                       formulas.chi_sharp(1.0, 1.0) / root,
+                       pointwise_on_scene("Thm4", ctx, scene, k, reported), constants, extra,
                        replay={"thetas": parameter_stack(traj, True), "spectral": "absmax"})
 
 
@@ -85,7 +89,8 @@ def acceleration_case(ctx, scene, k=1.0):
     chain, traj = scene.chain, scene.trajectory
     sigma = cached(ctx, scene, "sigma", lambda: jacobian_sup(chain, **kw(ctx, scene, "sigma")))
     psi = lumped_velocity_bounds(traj)["psi_dot"]
-    paper, paper_observed = psi["certified"] * sigma.upper, psi["observed"] * sigma.lower
+    paper = formulas.acceleration(psi["certified"], sigma.upper)
+    paper_observed = formulas.acceleration(psi["observed"], sigma.lower)
 
     def value(q, t):
         return np.linalg.norm(np.einsum("kpi,kp->ki", chain.body_jacobian(q), traj.psi(t)[1]), axis=-1)
@@ -102,8 +107,9 @@ def acceleration_case(ctx, scene, k=1.0):
                                            "certified": quantity(psi["certified"], "upper_bound",
                                                                  "mass, path length and the profile's rate and acceleration")},
                              "sup_sigma_max_QJ": sigma.evidence()}, "worst_time": t_worst}
+    reported = {"paper": k * paper, "certified": min(lhs.upper, paper)}
     return case_result("EQ-acc", scene, "upper", lhs, (k * paper_observed, k * paper), k, 1.0,
-                       pointwise_on_scene("EQ-acc", ctx, scene, k), constants, extra,
+                       pointwise_on_scene("EQ-acc", ctx, scene, k, reported), constants, extra,
                        replay={"psi_dot": traj.psi(np.array(t_worst))[1]})
 
 
@@ -112,18 +118,18 @@ def lumped_velocity_case(ctx, scene, k=1.0):
     chain, traj = scene.chain, scene.trajectory
     worst, rss = cached(ctx, scene, "skew", lambda: skew_partial_sup(chain, **kw(ctx, scene, "skew")))
     psi = lumped_velocity_bounds(traj)["psi"]
-    root = np.sqrt(6 * traj.bodies)
+    rows = 6 * traj.bodies
 
     def value(q, t):
         return np.linalg.svd(lumped_velocity_matrix(chain.body_jacobian_derivative(q), traj.psi(t)[0]),
                              compute_uv=False)[..., 0]
 
-    sharp = psi["certified"] * rss.upper
+    sharp = formulas.lumped_velocity_sharp(psi["certified"], rss.upper)
     lhs, t_worst = time_and_configuration_bracket(
         value, ctx, scene, "sup sigma_max(H(q, Psi))",
         "certified side: Psi* (certified) times sup_q (sum_p sigma_max(Y_p)^2)^(1/2) (Cauchy-Schwarz at fixed q)", sharp)
-    paper = root * psi["certified"] * worst.upper
-    paper_observed = root * psi["observed"] * worst.lower
+    paper = formulas.lumped_velocity(psi["certified"], worst.upper, rows)
+    paper_observed = formulas.lumped_velocity(psi["observed"], worst.lower, rows)
     constants = constants_evidence(
         "upper", "sqrt(6N) Psi* max_p sup_q sigma_max(Y_p)", paper, paper_observed, min(sharp, lhs.upper),
         "Psi* sup_q (sum_p sigma_max(Y_p(q))^2)^(1/2) with certified sides: Cauchy-Schwarz before the max over p",
@@ -133,25 +139,31 @@ def lumped_velocity_case(ctx, scene, k=1.0):
                                                                 "mass, path length and the profile's rate")},
                              "max_p_sup_sigma_Y": worst.evidence(), "sup_rss_sigma_Y": rss.evidence()},
              "worst_time": t_worst}
+    reported = {"paper": k * paper, "certified": min(sharp, lhs.upper)}
     return case_result("Asm3/Thm5", scene, "upper", lhs, (k * paper_observed, k * paper), k, 1.0,
-                       pointwise_on_scene("Asm3/Thm5", ctx, scene, k), constants, extra,
+                       pointwise_on_scene("Asm3/Thm5", ctx, scene, k, reported), constants, extra,
                        replay={"psi": traj.psi(np.array(t_worst))[0]})
 
 
-def thm4_result(ctx, scenes=None, k=1.0, hunt_factor=2.0):
-    """The hunt tests the sharp factor 2 (stronger than the paper's sqrt(69 N)) on random chains."""
+def thm4_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
+    """Theorem 4 with the paper's chi multiplied by k; the hunt tests every constant as the code computes it
+    (formulas.chi, chi_sharp, chi_z: the sharp factor 2 is stronger than the paper's sqrt(69 N)) times hunt_factor."""
     scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.panda(payload=2.0), robots.planar_2r(payload=1.0)])
-    return with_hunt(ctx, run_scenes("Thm4", ctx, rate_case, scenes, k), hunt_factor, moving_mass=False)
+    result = with_hunt(ctx, run_scenes("Thm4", ctx, rate_case, scenes, k), hunt_factor, moving_mass=None)
+    return with_reported_hunt(ctx, result, moving_mass=None)
 
 
 def acc_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
     scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.trolley_2r(loop=True, mass=2.0)])
-    return with_hunt(ctx, run_scenes("EQ-acc", ctx, acceleration_case, scenes, k), hunt_factor, moving_mass=True)
+    result = with_hunt(ctx, run_scenes("EQ-acc", ctx, acceleration_case, scenes, k), hunt_factor, moving_mass=True)
+    return with_reported_hunt(ctx, result, moving_mass=True)
 
 
 def thm5_result(ctx, scenes=None, k=1.0, hunt_factor=1.0):
     scenes = scenes or ([ctx.scene] if ctx.scene is not None else [robots.trolley_2r(loop=True, mass=2.0)])
-    return with_hunt(ctx, run_scenes("Asm3/Thm5", ctx, lumped_velocity_case, scenes, k), hunt_factor, moving_mass=True)
+    result = with_hunt(ctx, run_scenes("Asm3/Thm5", ctx, lumped_velocity_case, scenes, k), hunt_factor,
+                       moving_mass=True)
+    return with_reported_hunt(ctx, result, moving_mass=True)
 
 
 @check("Thm4", needs={"chain", "time_varying"})

@@ -58,7 +58,7 @@ def _documents(out, only):
     has_adapt = "adapt" in only and (out / adapt.ADAPT).is_file()
     if "report" in only and (not (has_audit or has_adapt) or (out / "results.json").is_file()):
         doc = load.results(out)  # names what is missing when out holds none
-        yield "report", content.build(doc, load.data_files(out, doc), load.mutation(out))
+        yield "report", content.build(doc, load.data_files(out, doc), load.mutation(out), load.bracket_narrowing(out))
     if has_audit:
         yield "audit", audit.build(load.audit(out / load.AUDIT))
     if has_adapt:

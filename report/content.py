@@ -12,7 +12,7 @@ import re
 import shlex
 from dataclasses import dataclass
 
-from inertiaproof.report import datafiles, evidence
+from inertiaproof.report import datafiles, engineer, evidence, paper_names
 from inertiaproof.report import numbers as fmt
 from inertiaproof.report.model import (
     Badge,
@@ -49,9 +49,10 @@ class _Run:
     bounds_figure: object = None  # the constants overview, when there is one
 
 
-def build(doc, data=None, mutation=None):
+def build(doc, data=None, mutation=None, narrowing=None):
     """The Document of a results document and its data files ({artifact: rows or problem}); ``mutation`` is
-    (path, table or problem) of bench/mutation.py, shown as an appendix."""
+    (path, table or problem) of bench/mutation.py, shown as an appendix; ``narrowing`` bench/bracket_narrowing.py's
+    data, plotted in the section for a control engineer."""
     run = _Run(doc, data or {}, _keys(doc["checks"]), evidence.Figures())
     grouped = {}
     for r in doc["checks"]:
@@ -64,6 +65,9 @@ def build(doc, data=None, mutation=None):
     overview = _constants_overview(run)
     if overview:
         sections.append(overview)
+    engineering = engineer.section(doc, run.figs, narrowing)
+    if engineering:
+        sections.append(engineering)
     for number, name in catalog.SECTIONS.items():
         children = tuple(_result_section(run, e.id, e, grouped.get(e.id, []))
                          for e in catalog.ENTRIES if e.section == number)
@@ -160,7 +164,7 @@ def _glance(grouped, verdicts, beyond):
         entry = catalog.BY_ID.get(i)
         results = grouped.get(i, [])
         time = sum(fmt.to_float(r.get("runtime_s")) or 0.0 for r in results)
-        rows.append((cell(Link(i, _section_key(i), "code")), cell(entry.label if entry else "not in the catalog"),
+        rows.append((cell(Link(i, _section_key(i), "code")), cell(_printed(entry.label) if entry else "not in the catalog"),
                      cell(Badge(verdicts.get(i, NOT_RUN))), cell(code(str(len(results)))),
                      cell(code(fmt.seconds(time) if results else "-"))))
     columns = (Column("ID", 0.19), Column("paper", 0.43), Column("verdict", 0.16), Column("checks", 0.1, "r"),
@@ -196,6 +200,11 @@ def _replay(path):
     return f"inertiaproof replay {shlex.quote(str(path))}"
 
 
+def _printed(label):
+    """A catalog entry's paper reference as the paper prints it ("Eq. (68)", "Theorem 2"), not its LaTeX label."""
+    return paper_names.printed(label)
+
+
 def _constants_overview(run):
     points = []
     for r in run.doc["checks"]:
@@ -216,7 +225,7 @@ def _constants_overview(run):
 
 def _result_section(run, result_id, entry, results):
     verdict = combine(r["verdict"] for r in results).value if results else NOT_RUN
-    label = entry.label if entry else "not in the catalog"
+    label = _printed(entry.label) if entry else "not in the catalog"
     title = (Text(result_id, "code"), Text(f": {label} "), Badge(verdict))
     statement = entry.statement if entry else "a result this version of the report does not know."
     blocks = [Paragraph((Text("Statement: ", "strong"), Text(statement)))]

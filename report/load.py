@@ -21,6 +21,8 @@ AUDIT_SCHEMA = "inertiaproof.audit/1"
 MUTATION = "mutation.json"
 MUTATION_SCHEMA = "inertiaproof.mutation/1"
 CHECKOUT_MUTATION = Path(__file__).resolve().parent.parent / "bench" / "results" / MUTATION  # bench/mutation.py's
+NARROWING = "bracket_narrowing.json"
+CHECKOUT_NARROWING = Path(__file__).resolve().parent.parent / "bench" / "results" / NARROWING  # bench/bracket_narrowing.py's
 OPTIONAL = type(None)
 
 
@@ -145,6 +147,22 @@ def mutation(out_dir, fallback=CHECKOUT_MUTATION):
                 and all(isinstance(m, dict) for m in data["mutants"])):
             return path, f"{path}: not a mutation table (schema {MUTATION_SCHEMA})"
         return path, data
+    return None
+
+
+def bracket_narrowing(out_dir, fallback=CHECKOUT_NARROWING):
+    """bench/bracket_narrowing.py's data from DIR/bracket_narrowing.json, else from ``fallback`` (a source checkout's
+    bench/results/); None without one or for a file that is not one."""
+    for path in (Path(out_dir) / NARROWING, Path(fallback)):
+        if not path.is_file():
+            continue
+        try:
+            data = read_json(path)
+        except InputError:
+            return None
+        if isinstance(data, dict) and isinstance(data.get("brackets"), list):
+            return data
+        return None
     return None
 
 

@@ -12,6 +12,7 @@ import math
 
 __all__ = [
     "bracket", "CHAR", "constants", "DECADES", "DRAW", "draw", "hunt", "LEGEND", "LINE", "MAX_POINTS", "METADATA",
+    "narrowing",
     "PAD", "RED", "render", "series", "stability", "STYLE", "SUPERSCRIPT", "thin", "TICK", "WIDTH",
     "work_precision",
 ]
@@ -242,8 +243,30 @@ def stability(fig, data):
     _fit(fig, legend_above=True)
 
 
+def narrowing(fig, data):
+    """Relative bracket width against run time, one line per bracket, log-log where it spans decades."""
+    ax = fig.add_subplot()
+    for line in data["lines"]:
+        points = thin(sorted(line["points"]))
+        ax.plot([p[0] for p in points], [p[1] for p in points], marker="o", label=_short(line["label"], 60))
+    _scale(ax, "x", [p[0] for line in data["lines"] for p in line["points"]])
+    _scale(ax, "y", [p[1] for line in data["lines"] for p in line["points"]])
+    ax.set_xlabel("run time spent narrowing [s]")
+    ax.set_ylabel("(upper - lower) / |upper|")
+    rows = math.ceil(len(data["lines"]) / 2)
+    height = 2.6 + LINE * rows
+    fig.set_size_inches(WIDTH, height)
+    _fit(fig)
+    handles, labels = ax.get_legend_handles_labels()
+    if handles:  # below the axes, two columns: a dozen brackets do not fit inside
+        legend = LINE * rows + PAD
+        bottom = fig.subplotpars.bottom * height
+        fig.subplots_adjust(bottom=(bottom + legend) / height)
+        fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.0), ncols=2)
+
+
 DRAW = {"bracket": bracket, "constants": constants, "hunt": hunt, "series": series,
-        "work_precision": work_precision, "stability": stability}
+        "work_precision": work_precision, "stability": stability, "narrowing": narrowing}
 
 
 def _legend(ax, **kwargs):

@@ -167,11 +167,11 @@ def test_sharp_factor_two_of_thm4_is_attained_and_below_it_the_pointwise_bound_f
     state = {"theta": unit_body()[None, None], "theta_dot": phidot[None], "psi": np.zeros((1, 6)),
              "psi_dot": np.zeros((1, 6))}
     q = np.zeros((1, 1))
-    margin, resolution, lhs, rhs = margins("Thm4", chain, q, state, 2.0)
-    assert abs(lhs[0] - 2.0) < 1e-14 and abs(margin[0]) <= resolution[0] < 1e-8
-    margin, resolution, lhs, rhs = margins("Thm4", chain, q, state, 1.9)
+    margin, resolution, lhs, rhs = margins("Thm4", chain, q, state, 1.0, ["chi (certified, factor 2)"])
+    assert abs(lhs[0] - 2.0) < 1e-14 and abs(rhs[0] - 2.0) < 1e-14 and abs(margin[0]) <= resolution[0] < 1e-8
+    margin, resolution, lhs, rhs = margins("Thm4", chain, q, state, 0.95)
     assert margin[0] < -resolution[0]
-    cx = point_counterexample("Thm4", chain, q, state, 1.9, worst_point("Thm4", chain, q, state, 1.9))
+    cx = point_counterexample("Thm4", chain, q, state, 0.95, worst_point("Thm4", chain, q, state, 0.95))
     assert replay_point(cx["data"])[0] < 0
     assert REPLAYERS["bound-point"](cx["data"], ctx()).verdict == Verdict.VIOLATED
 

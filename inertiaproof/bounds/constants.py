@@ -7,6 +7,7 @@ import numpy as np
 from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
 from inertiaproof.model.positive_map import key_step_certificate
 
+from . import formulas
 from .configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
 from .extremes import Bracket
 from .spectral import spectral
@@ -52,7 +53,7 @@ def _bracket_data(b: Bracket):
 
 
 def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=None):
-    """Theorem 2: the paper's alpha1 = xi gamma and the sharpest certified constant.
+    """Theorem 2: the paper's alpha1 = xi gamma and the sharpest certified constant (formulas.alpha1, alpha1_z).
 
     ``xi`` is min_l inf_t lambda_min(f(Phi_l)) (a certified lower bound; for constant Phi exact), ``xi_observed``
     its observed value (default: xi), ``z_min`` a certified min_l inf_t lambda_min(Z(Phi_l)), ``gamma`` the
@@ -61,10 +62,11 @@ def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=No
     paper.value is the upper end (observed ingredients), an estimate, not the paper's constant itself.
     """
     xi_observed = xi if xi_observed is None else xi_observed
-    paper = {"value": xi_observed * gamma.upper, "lower": xi * max(gamma.lower, 0.0), "upper": xi_observed * gamma.upper,
+    observed_value = formulas.alpha1(xi_observed, gamma.upper)
+    paper = {"value": observed_value, "lower": formulas.alpha1(xi, max(gamma.lower, 0.0)), "upper": observed_value,
              "note": "min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ) lies in [lower, upper] (certified, "
                      "observed ingredients); value = upper, an upper estimate"}
-    structural = z_min * max(gamma.lower, 0.0)
+    structural = formulas.alpha1_z(z_min, max(gamma.lower, 0.0))
     direct = observed.lower if np.isfinite(observed.lower) else -np.inf
     certified = max(structural, direct, paper["lower"])
     how = ("certified lower side of inf lambda_min(M) (branch and bound, or the proof of Theorem 2 with the "
@@ -76,7 +78,7 @@ def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=No
 
 
 def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observed=None):
-    """Theorem 3: the paper's alpha2 = 2 zeta S^2 and the sharpest certified constant.
+    """Theorem 3: the paper's alpha2 = 2 zeta S^2 and the sharpest certified constant (formulas.alpha2, alpha2_z).
 
     ``zeta`` is max_l sup_t lambda_max(f(Phi_l)) (a certified upper bound), ``zeta_observed`` its observed value
     (default: zeta), ``z_max`` a certified max_l sup_t lambda_max(Z(Phi_l)), ``sigma`` the bracket of
@@ -84,11 +86,11 @@ def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observe
     [paper.lower, paper.upper]; paper.value is the lower end (observed ingredients), an estimate.
     """
     zeta_observed = zeta if zeta_observed is None else zeta_observed
-    paper = {"value": 2 * zeta_observed * sigma.lower**2, "lower": 2 * zeta_observed * sigma.lower**2,
-             "upper": 2 * zeta * sigma.upper**2,
+    observed_value = formulas.alpha2(zeta_observed, sigma.lower)
+    paper = {"value": observed_value, "lower": observed_value, "upper": formulas.alpha2(zeta, sigma.upper),
              "note": "2 max_l sup_t lambda_max(f(Phi_l)) sup_q sigma_max(QJ)^2 lies in [lower, upper] (observed, "
                      "certified ingredients); value = lower, a lower estimate"}
-    structural = z_max * sigma.upper**2
+    structural = formulas.alpha2_z(z_max, sigma.upper)
     direct = observed.upper
     certified = min(structural, direct, paper["upper"])
     how = ("certified upper side of sup lambda_max(M) by branch and bound (or from lengths)" if direct <= structural

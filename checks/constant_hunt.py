@@ -1,0 +1,141 @@
+"""The constants a check reports, hunted on random chains: the numbers themselves, not only their formulas.
+
+checks.pointwise tests each constant's formula at single (q, t). Here the whole computation a check runs on a
+scene (brackets over configurations, extremes over time, the formulas of inertiaproof.bounds.formulas, the
+choice of the sharpest certified constant) runs on random scenes: a random chain (1 to 8 joints, revolute and
+prismatic, random geometry) carrying a random consistent trajectory, with a light profile
+(``HUNT_SAMPLES`` configurations, ``HUNT_REFINE_S`` seconds of narrowing per bracket: the brackets are
+wider, the certified sides still certified). The check's own case function (e.g.
+checks.mass_matrix_bounds.upper_bound_case) computes the constants it reports for that scene (the paper's with
+certified ingredients and the sharpest certified one) and compares them with the left-hand side at random
+(q, t) of the scene (checks.bound_verdicts.pointwise_on_scene). A reported constant beyond a sampled value is a
+"bound-constant" counterexample: the chain, the trajectory, (q, t) and the light profile, which
+``inertiaproof replay`` runs through the case function again with the current code.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+from inertiaproof.checks.pointwise import (
+    EPS,
+    HUNT_JOINTS,
+    INGREDIENTS,
+    NO_SHRINK,
+    RESOLUTION,
+    ROUNDING,
+    SENSE,
+    hunt_cases,
+    state_at,
+)
+
+from inertiaproof.dynamics.chain import Chain
+from inertiaproof.dynamics.trajectory_data import trajectory_from_data
+from inertiaproof.result import Result, Verdict, quantity
+from inertiaproof.scene.format import Scene
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.hunt import hunt
+from inertiaproof.suite.registry import replayer
+
+__all__ = ["case_function", "HUNT_REFINE_S", "HUNT_SAMPLES", "HUNT_SHARE", "light_context", "replay_bound_constant",
+           "reported_hunt", "with_reported_hunt"]
+
+HUNT_SAMPLES = 200  # configurations per bracket and (q, t) pairs per comparison on a hunted scene
+HUNT_REFINE_S = 0.02  # seconds of narrowing per bracket on a hunted scene (a count of rounds: deterministic)
+HUNT_SHARE = {"Asm3/Thm5": 20}  # profile.examples // HUNT_SHARE scenes per check (default 12): 5 in ci, 166 in deep;
+# Theorem 5's brackets of dK_p/dq are the costly ones (3 in ci, 100 in deep). Each scene computes every bracket of
+# the check (0.1-0.7 s on 2 busy cores), so ci keeps this hunt small: the pointwise hunt draws 20 chains
+
+
+def case_function(check_id):
+    """The function a check runs on one scene: (ctx, scene, k) -> (verdict, why, evidence, counterexample)."""
+    from inertiaproof.checks.mass_matrix_bounds import lower_bound_case, upper_bound_case
+    from inertiaproof.checks.other_components import acceleration_case, lumped_velocity_case, rate_case
+
+    return {"Thm2": lower_bound_case, "Thm3": upper_bound_case, "Thm4": rate_case, "EQ-acc": acceleration_case,
+            "Asm3/Thm5": lumped_velocity_case}[check_id]
+
+
+def light_context(ctx, samples=HUNT_SAMPLES, refine_s=HUNT_REFINE_S, seed=None):
+    """A context with the run's seed and budget and a light profile for hunted scenes."""
+    return Context(replace(ctx.profile, samples=samples, refine_s=refine_s), seed=ctx.seed if seed is None else seed,
+                   budget=ctx.budget)
+
+
+def reported_hunt(check_id, ctx, moving_mass, examples=None):
+    """Hunt random scenes for one where a constant the check reports lies beyond a sampled left-hand side.
+
+    Returns the ``constant_hunt`` evidence and a replayable counterexample (None when none was found)."""
+    case = case_function(check_id)
+    light = light_context(ctx)
+    found_cx, tally = {}, {"compared": 0, "nothing to compare": 0}
+
+    def margin(example):
+        chain, traj, seed = example
+        scene = Scene(f"hunted-{seed}", chain, traj, description=f"random {chain.name}, {chain.n} joints")
+        verdict, _, evidence, cx = case(light, scene, 1.0)
+        if verdict == Verdict.VIOLATED:
+            found_cx[seed] = cx
+            return -1.0, 0.0
+        against = evidence["pointwise"].get("against_reported", {})
+        values = [float(v["value"]) for v in against.values()]
+        if not values:  # every reported constant infinite (no certified side), or both sides vanish everywhere
+            tally["nothing to compare"] += 1
+            return 1.0, RESOLUTION
+        tally["compared"] += 1
+        # the case judged every margin with its own resolution: one it did not call violated is no violation here
+        return max(min(values), -0.5 * RESOLUTION), RESOLUTION
+
+    examples = examples or max(ctx.profile.examples // HUNT_SHARE.get(check_id, 12), 3)
+    found = hunt(hunt_cases(moving_mass), margin, ctx, label=f"{check_id} reported constants", tolerance=RESOLUTION,
+                 max_examples=examples, phases=NO_SHRINK)
+    evidence = {**found.summary(),
+                "scenes_compared": quantity(tally["compared"], "count", "hunted scenes with a finite reported constant"),
+                "scenes_without_constant": quantity(tally["nothing to compare"], "count",
+                                                    "hunted scenes whose reported constants are all infinite (no "
+                                                    "certified side) or whose both sides vanish"),
+                "what": f"random scenes (chains of 1 to {HUNT_JOINTS} joints, revolute and prismatic, consistent "
+                        f"{ {True: 'moving masses', False: 'payload ramps', None: 'payload ramps or moving masses'}[moving_mass] }), each run through the check's own "
+                        f"case function with {HUNT_SAMPLES} samples and {HUNT_REFINE_S:g} s of narrowing per bracket; "
+                        "margin: the smallest relative margin of sampled left-hand sides against the constants it "
+                        "reports (paper's with certified ingredients, sharpest certified)"}
+    cx = found_cx.get(found.violation[2]) if found.violation is not None else None
+    return evidence, cx
+
+
+def with_reported_hunt(ctx, result, moving_mass, examples=None):
+    """Attach :func:`reported_hunt`; a found counterexample makes the result VIOLATED."""
+    evidence, cx = reported_hunt(result.id, ctx, moving_mass, examples)
+    result.evidence["constant_hunt"] = evidence
+    if cx is not None and result.verdict != Verdict.VIOLATED:
+        result.verdict = Verdict.VIOLATED
+        data = cx["data"]
+        what = data.get("constant", "its constant")
+        result.summary = (f"on a hunted random chain ({len(data['chain']['joints'])} joints) the reported {what} "
+                          f"constant fails: " + result.summary)
+        result.counterexample = cx
+    return result
+
+
+@replayer("bound-constant")
+def replay_bound_constant(data, ctx):
+    """Recompute the scene's reported constant with the current code (the check's case function, the saved light
+    profile and seed) and compare it with the left-hand side at the saved (q, t)."""
+    chain = Chain.from_data(data["chain"])
+    traj = trajectory_from_data(data["trajectory"])
+    scene = Scene(data["scene"], chain, traj, description=data.get("description", ""))
+    light = light_context(ctx, data["samples"], data["refine_s"], data["seed"])
+    _, _, evidence, _ = case_function(data["id"])(light, scene, data["factor"])
+    value = float(evidence["pointwise"]["reported"][data["constant"]]["value"])
+    lhs, _, size = INGREDIENTS[data["id"]](chain, np.asarray(data["q"], float)[None],
+                                           state_at(traj, np.array([data["t"]])))
+    lhs, size = float(lhs[0]), float(size[0])
+    scale = abs(lhs) + abs(value)
+    margin = ((value - lhs) if SENSE[data["id"]] == "upper" else (lhs - value)) / scale if scale else 0.0
+    resolution = RESOLUTION + ROUNDING * EPS * size / scale if scale else RESOLUTION
+    verdict = Verdict.VIOLATED if margin < -resolution else Verdict.HOLDS
+    return Result(data["id"], verdict, f"{data['constant']} constant recomputed for the saved scene: {value:.6g}; "
+                  f"left-hand side at the saved (q, t): {lhs:.6g}; relative margin {margin:.3g} (resolution "
+                  f"{resolution:.1g})", {"constant": quantity(value, "value"), "lhs": quantity(lhs, "value"),
+                                         "margin": quantity(margin, "margin")})

@@ -1,0 +1,164 @@
+"""The certified side of the configuration brackets re-checked in ball arithmetic (python-flint's arb; issue 12).
+
+Families: lambda_min and lambda_max of M(q, Theta) (Theorems 2, 3) on the planar 2R, spatial 3R and Panda arms,
+sigma_max(M(q, Thetadot)) (Theorem 4) on the 2R, sigma_max(QJ) (Lemma 2) on the 3R.
+
+The branch and bound of inertiaproof.bounds.configuration bounds a spectral function of M(q, Theta) (or QJ(q))
+over each box of configurations (``box_bound(centres, radii)``, handed to bracket_extreme). Here that very
+function is captured during a real bracket computation and evaluated on sampled small boxes; arb evaluates
+M(q) (tests/arb_oracle.py, written from the chain's definition, not from the package's kinematics) at points of
+each box with rigorous enclosures of its eigenvalues (acb_mat.eig of the midpoint plus Weyl's inequality for
+the radii). A certified lower bound of lambda_min over a box must lie below arb's upper end of lambda_min(M(q))
+at every point q of the box (an upper bound above arb's lower end of lambda_max, sigma_max), else it is
+provably wrong. The same holds for the bracket's final certified side over the whole domain. A box bound made
+too optimistic (the vertex bound moved inwards) is caught, so the re-check can fail.
+"""
+
+import numpy as np
+import pytest
+
+flint = pytest.importorskip("flint")
+
+from arb_oracle import arb_body_jacobian, arb_mass_matrix, ball, eigen_enclosures, mat  # noqa: E402
+
+from inertiaproof.bounds import configuration  # noqa: E402
+from inertiaproof.bounds.domain import free_coordinates, search_box  # noqa: E402
+from inertiaproof.model.inertia import spatial_inertia  # noqa: E402
+from inertiaproof.scene import robots  # noqa: E402
+
+BOXES = 6  # sampled boxes per family
+POINTS = 3  # random points per box besides its centre
+RADIUS = 0.002  # half-width of a sampled box, as a fraction of the domain's width: small, so the box bound is tight
+
+
+def _capture(monkeypatch, compute):
+    """Run ``compute()`` with bracket_extreme spied on: the result and every (quantity, box_bound, sense) it got."""
+    calls = []
+    real = configuration.bracket_extreme
+
+    def spy(value, box_bound, lo, hi, **kwargs):
+        calls.append((kwargs.get("quantity_name"), box_bound, kwargs.get("sense")))
+        return real(value, box_bound, lo, hi, **kwargs)
+
+    monkeypatch.setattr(configuration, "bracket_extreme", spy)
+    result = compute()
+    monkeypatch.setattr(configuration, "bracket_extreme", real)
+    final = [c for c in calls if c[0] == result.quantity and c[1] is not None]
+    assert final, f"no certified box bound was used for {result.quantity}"
+    return result, final[-1][1]
+
+
+def _arb_spectra(chain, q, thetas, what):
+    """Rigorous (low, high) of the quantity at the point q: lambda_min / lambda_max of M over the stack (worst),
+    or sigma_max of QJ."""
+    if what == "smax":
+        qj = mat(arb_body_jacobian(chain, q))
+        (_, _), (low, high) = eigen_enclosures(qj.transpose() * qj)
+        return np.sqrt(max(low, 0.0)) * (1 - 1e-15), np.sqrt(high) * (1 + 1e-15)
+    found = [eigen_enclosures(arb_mass_matrix(chain, q, spatial_inertia(theta))) for theta in thetas]
+    if what == "lmin":
+        return min(f[0][0] for f in found), min(f[0][1] for f in found)
+    if what == "absmax":  # sigma_max of a symmetric matrix: max(|lambda_min|, lambda_max)
+        return (max(max(f[1][0], -f[0][1]) for f in found),
+                max(max(abs(f[1][0]), abs(f[1][1]), abs(f[0][0]), abs(f[0][1])) for f in found))
+    return max(f[1][0] for f in found), max(f[1][1] for f in found)
+
+
+def _boxes(chain, rng):
+    lo, hi = search_box(chain)
+    width = hi - lo
+    centres = lo + width * (RADIUS + (1 - 2 * RADIUS) * rng.random((BOXES, chain.n)))
+    return centres, np.broadcast_to(RADIUS * width, centres.shape).copy()
+
+
+def recheck(chain, box_bound, what, thetas, rng):
+    """[(box bound, arb's rigorous end at the box's points)] for sampled boxes; the bound is wrong where it lies
+    beyond that end (above it for lmin, below for lmax and smax)."""
+    centres, radii = _boxes(chain, rng)
+    bounds = box_bound(centres, radii)
+    free = free_coordinates(chain)
+    out = []
+    for c, r, b in zip(centres, radii, bounds):
+        points = [c] + [c + np.where(free, r, 0.0) * rng.uniform(-1, 1, chain.n) for _ in range(POINTS)]
+        ends = [_arb_spectra(chain, [ball(x) for x in p], thetas, what) for p in points]
+        out.append((float(b), min(e[1] for e in ends) if what == "lmin" else max(e[0] for e in ends)))
+    return out
+
+
+def wrong(pairs, what):
+    return [(b, e) for b, e in pairs if (b > e if what == "lmin" else b < e)]
+
+
+CASES = [  # (scene, what): lambda_min and lambda_max of M, sigma_max of QJ
+    (robots.planar_2r(payload=1.0), "lmin"), (robots.planar_2r(payload=1.0), "lmax"),
+    (robots.spatial_3r(), "lmin"), (robots.spatial_3r(), "lmax"), (robots.spatial_3r(), "smax"),
+    (robots.panda(payload=2.0), "lmin"), (robots.panda(payload=2.0), "lmax"),
+    (robots.planar_2r(payload=1.0), "absmax"),  # Theorem 4's sigma_max(M(q, Thetadot))
+]
+
+
+def _compute(scene, what, rng):
+    chain = scene.chain
+    thetas = scene.trajectory.base[None]
+    kw = dict(samples=200, refine_s=0.05, rng=rng)
+    if what == "lmin":
+        return lambda: configuration.mass_inf(chain, thetas, **kw), thetas
+    if what == "lmax":
+        return lambda: configuration.mass_sup(chain, thetas, **kw), thetas
+    if what == "absmax":  # the rates of the payload ramp's segment ends (bounds.time.parameter_vertices)
+        from inertiaproof.bounds.time import parameter_vertices
+
+        rates = parameter_vertices(scene.trajectory)[1]
+        return lambda: configuration.mass_sup(chain, rates, kind="absmax", name="sup sigma_max(M(q, Thetadot))",
+                                              **kw), rates
+    return lambda: configuration.jacobian_sup(chain, **kw), thetas
+
+
+@pytest.mark.parametrize("scene, what", CASES, ids=[f"{s.name}-{w}" for s, w in CASES])
+def test_certified_box_bounds_agree_with_arb(scene, what, monkeypatch):
+    rng = np.random.default_rng(12)
+    compute, thetas = _compute(scene, what, rng)
+    result, box_bound = _capture(monkeypatch, compute)
+    pairs = recheck(scene.chain, box_bound, what, thetas, rng)
+    assert not wrong(pairs, what), wrong(pairs, what)
+    assert not final_side_wrong(scene, result, thetas, what, rng)
+
+
+def final_side_wrong(scene, result, thetas, what, rng, count=8):
+    """Points where arb proves the bracket's certified side over the whole domain wrong: its witness and ``count``
+    random configurations."""
+    lo, hi = search_box(scene.chain)
+    points = [np.asarray(result.witness, float)] + list(lo + (hi - lo) * rng.random((count, scene.chain.n)))
+    bad = []
+    for q in points:
+        low, high = _arb_spectra(scene.chain, [ball(x) for x in q], thetas, what)
+        if (result.certified > high) if what == "lmin" else (result.certified < low):
+            bad.append((q.tolist(), result.certified, (low, high)))
+    return bad
+
+
+@pytest.mark.parametrize("scene, what", [CASES[0], CASES[1]], ids=["2r-lmin", "2r-lmax"])
+def test_arb_recheck_catches_an_optimistic_certified_side(scene, what, monkeypatch):
+    """The bracket's certified side claimed 1% beyond the value its witness attains: arb sees it."""
+    rng = np.random.default_rng(12)
+    compute, thetas = _compute(scene, what, rng)
+    result = compute()
+    result.certified = result.observed * (1.01 if what == "lmin" else 0.99)
+    assert final_side_wrong(scene, result, thetas, what, rng)
+
+
+@pytest.mark.parametrize("scene, what", [CASES[0], CASES[3], CASES[4]], ids=["2r-lmin", "3r-lmax", "3r-smax"])
+def test_arb_recheck_catches_an_optimistic_box_bound(scene, what, monkeypatch):
+    """The vertex bound moved inwards by 30% of its size: box bounds claim more than M attains, and arb sees it."""
+    real = configuration.vertex_bound
+
+    def optimistic(a, da, radii, free, kind):
+        v = real(a, da, radii, free, kind)
+        return v - 0.3 * np.abs(v) if kind in configuration.CONVEX else v + 0.3 * np.abs(v)
+
+    monkeypatch.setattr(configuration, "vertex_bound", optimistic)
+    rng = np.random.default_rng(12)
+    compute, thetas = _compute(scene, what, rng)
+    _, box_bound = _capture(monkeypatch, compute)
+    pairs = recheck(scene.chain, box_bound, what, thetas, rng)
+    assert wrong(pairs, what), pairs
