@@ -133,8 +133,8 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
         return bracket_extreme(value, None, lo, hi, sense=sense, quantity_name=quantity_name, samples=samples,
                                refine_s=refine_s, rng=rng, free=free, note=obstacle)
     if free.sum() <= VERTEX_LIMIT:
-        return _vertex_bracket(chain, family, kind, quantity_name=quantity_name, samples=samples, refine_s=refine_s,
-                               rng=rng, value_kind=value_kind, square=square, progress=progress, thetas=thetas)
+        return _vertex_bracket(chain, family, kind, value, lo, hi, free, quantity_name=quantity_name, samples=samples,
+                               refine_s=refine_s, rng=rng, progress=progress, thetas=thetas)
     apriori = apriori_bound(chain, thetas, "sup")
     fam = MassFamily(chain, thetas)
     weights = fam.factors.max(axis=(0, 1))  # split where the entries can move most
@@ -152,33 +152,16 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
     return _with_fallback(result, kind, apriori, psd, chain, thetas)
 
 
-def _vertex_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rng, value_kind=None,
-                          square=False, progress=None, thetas=None):
-    """Bracket of sup (convex kinds) or inf (lmin, smin) over the chain's configurations of kind(A(q)).
+def _vertex_bracket(chain, family, kind, value, lo, hi, free, *, quantity_name, samples, refine_s, rng, progress=None,
+                    thetas=None):
+    """The certified side of :func:`configuration_bracket` for at most VERTEX_LIMIT free coordinates (no
+    certification obstacle): the extreme of the linear part at a box's vertices plus a Taylor remainder.
 
-    ``family`` is (evaluate, degree) from :func:`jacobian_family` or :func:`mass_family`;
-    the value over a stack of parameter sets is the worst over the stack.
-    ``value_kind`` overrides how the observed side is computed (e.g. 'smin' of
-    QJ by SVD while the certified side bounds lmin of (QJ)^T QJ); ``square``
-    squares observed singular values to match.
+    ``family`` is (evaluate, degree) from :func:`jacobian_family` or :func:`mass_family`; ``value`` the observed
+    side over configurations (K, n) -> (K,) on the search box [lo, hi].
     """
     evaluate, degree = family
     sense = Spectral(kind).sense
-    pick = np.max if sense == "max" else np.min
-    obs_kind = value_kind or kind
-
-    source = evaluate if value_kind is None else jacobian_family(chain)[0]
-
-    def value(q):
-        v = spectral(source(q, derivatives=False), obs_kind)
-        return pick(v**2 if square else v, axis=-1)
-
-    lo, hi = search_box(chain)
-    free = free_coordinates(chain)
-    obstacle = certification_obstacle(chain)
-    if obstacle is not None:
-        return bracket_extreme(value, None, lo, hi, sense=sense, quantity_name=quantity_name, samples=samples,
-                               refine_s=refine_s, rng=rng, free=free, note=obstacle)
     dlo, dhi = bernstein_domain(chain)
     factors = derivative_factors(chain, dlo, dhi, degree)
     apriori = apriori_bound(chain, thetas if degree == 2 else None, "sup")
