@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from hypothesis import Phase
 
+from inertiaproof.bounds import formulas
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup
 from inertiaproof.counterexamples.adaptive_runs import euclidean_runs
 from inertiaproof.dynamics import motion
@@ -304,7 +305,7 @@ def bound_case(chain, run, q_samples, gamma, sigma, xi=None, zeta=None):
         return out
     q = np.concatenate([run.y[:, None, :chain.n], np.broadcast_to(q_samples, (len(run.t),) + q_samples.shape)], 1)
     low, high = estimates.mass_matrix_spectrum(chain, q, theta_hat[:, None])
-    alpha1, alpha2 = xi * max(gamma, 0.0), 2 * zeta * sigma**2  # an uncertified sigma: alpha2 = inf, unchecked
+    alpha1, alpha2 = formulas.alpha1(xi, max(gamma, 0.0)), formulas.alpha2(zeta, sigma)  # sigma = inf: unchecked
     scale = np.maximum(high.max(-1), alpha2 if np.isfinite(alpha2) else 0.0)
     lower, upper = (low - alpha1) / scale[:, None], (alpha2 - high) / scale[:, None]
     margin = np.minimum(lower, upper)
