@@ -36,7 +36,7 @@ import time
 
 from inertiaproof.errors import InputError
 
-__all__ = ["DaskExecutor", "Executor", "INSTALL_HINT", "KINDS", "NOT_SHARDED", "executor_for", "Progress",
+__all__ = ["DaskExecutor", "Executor", "INSTALL_HINT", "KINDS", "executor_for", "Progress",
            "dask_installed", "default_workers"]
 
 KINDS = {  # kind of work: where it runs on a LocalCluster
@@ -44,14 +44,6 @@ KINDS = {  # kind of work: where it runs on a LocalCluster
     "audit": "processes",  # XML reading, SymPy-free but Python-bound; MuJoCo per file
     "symbolic": "processes",  # SymPy holds the GIL
     "boxes": "threads",  # batched NumPy of branch and bound (releases the GIL)
-}
-NOT_SHARDED = {  # work that could split but still runs whole inside its check (honest list, issue 16)
-    "branch-and-bound box batches": "bounds/configuration.py narrows one bracket at a time under a wall-clock budget",
-    "stability-study runs": "sim/study.py runs its ramps in one loop",
-    "adaptive runs": "the APP-* hunts stop after a wall-clock simulation budget: their shards would be timing-dependent",
-    "symbolic derivations": "symbolic/ derives the objects of one chain in one process (and caches them)",
-    "hunts whose margin records side data": "their margin appends to lists of the check; they run their shards in "
-                                            "the client (same split and seeds, so the same answers)",
 }
 INSTALL_HINT = "more than one worker needs Dask: pip install 'inertiaproof[distributed]'"
 
@@ -121,8 +113,7 @@ class Executor:
 
         ``on_result(i, result)`` runs in the caller as task i arrives; when ``stop(i, result)`` is true, the tasks
         after i are not needed: they are cancelled (or not started) and their places hold None."""
-        if kind not in KINDS:
-            raise KeyError(f"unknown kind of work {kind!r}; known: {', '.join(KINDS)}")
+        _known(kind)
         items = list(items)
         results = [None] * len(items)
         progress = Progress(len(items), label, say=self.say if len(items) > 1 else None)
@@ -224,8 +215,7 @@ class DaskExecutor(Executor):
         return f"{self.workers} workers on {where}"
 
     def map(self, fn, items, *, kind, label, on_result=None, stop=None):
-        if kind not in KINDS:
-            raise KeyError(f"unknown kind of work {kind!r}; known: {', '.join(KINDS)}")
+        _known(kind)
         from distributed import as_completed
 
         items = list(items)
@@ -285,6 +275,11 @@ class DaskExecutor(Executor):
             except Exception:
                 pass
         self._clients, self._clusters = {}, []
+
+
+def _known(kind):
+    if kind not in KINDS:
+        raise KeyError(f"unknown kind of work {kind!r}; known: {', '.join(KINDS)}")
 
 
 def _timed(fn, item):

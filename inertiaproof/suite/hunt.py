@@ -115,10 +115,10 @@ def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, **settings_o
     sizes = shard_sizes(examples, getattr(ctx.profile, "shard_examples", examples))
     shards = [Shard(label, i, len(sizes), n, shard_seed(ctx.seed, label, i, len(sizes))) for i, n in enumerate(sizes)]
     executor = getattr(ctx, "executor", None) or Executor()
-    task = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides, None)
-    collected = None  # closure cells of the margin that the shards add to (lists, dicts of counts)
+    here = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides, None)
+    task, collected = here, None  # collected: closure cells of the margin that the shards add to (lists, counts)
     if executor.workers != 1 or executor.scheduler is not None:
-        shipped, sent, collected = portable(strategy), margin, None
+        shipped, sent = portable(strategy), margin
         if pure is None and not is_pure(margin):
             collected = collectable(margin)
             sent = None if collected is None else detached(margin, collected)
@@ -127,9 +127,10 @@ def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, **settings_o
         task = functools.partial(_run_shard, shipped, sent, ctx.profile, tolerance, settings_overrides, collected)
         if shipped is None or sent is None or not executor.portable(task):
             # its margin writes into the check's own objects, or it cannot be sent: its shards run here
-            executor.log = [] if executor.log is None else executor.log
-            executor, executor.log, collected = Executor(), executor.log, None
-            task = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides, None)
+            log = executor.log if executor.log is not None else []
+            executor.log = log
+            executor, task, collected = Executor(), here, None
+            executor.log = log
     outputs = getattr(ctx, "outputs", None)
 
     def arrived(i, state):
@@ -194,9 +195,9 @@ def collectable(margin):
         if isinstance(value, list) or (isinstance(value, dict) and all(
                 isinstance(v, (int, float)) and not isinstance(v, bool) for v in value.values())):
             out.append(i)
-        elif not _immutable(value, lambda fn: is_pure(fn)):
+        elif not _immutable(value, is_pure):
             return None
-    if not all(_immutable(v, lambda fn: is_pure(fn)) for v in (margin.__defaults__ or ())):
+    if not all(_immutable(v, is_pure) for v in (margin.__defaults__ or ())):
         return None
     return out or None
 
