@@ -47,7 +47,7 @@ from .domain import bernstein_domain, certification_obstacle, derivative_factors
 from .extremes import bracket_extreme
 from .pivots import PIVOT_MIN_S, PivotFamily, pivot_bounds
 from .taylor import MassFamily, box_bounds, perron_bound
-from .spectral import CONVEX, Spectral, spectral
+from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
 
 __all__ = [
     "apriori_bound", "apriori_jacobian_blocks", "column_bounds", "configuration_bracket", "EPS", "jacobian_family",
@@ -56,10 +56,8 @@ __all__ = [
 ]
 
 
-EPS = np.finfo(float).eps
 PIVOT_COST = 10.0  # a round of pivot box bounds (20 bisection steps) against a 7-joint Taylor round (~0.3 s)
 VERTEX_LIMIT = 6  # free coordinates up to which the 2^d vertices of the linear part are enumerated (exact linear part)
-ROUNDING = 64.0  # rounding allowance of a computed eigenvalue, in units of eps * ||matrix||_F
 
 # -- matrix families A(q) with derivatives --------------------------------------
 

@@ -40,10 +40,10 @@ import numpy as np
 from inertiaproof.dynamics.twists import twist_map
 from inertiaproof.model.inertia import spatial_inertia
 
-__all__ = ["PIVOT_MIN_S", "PivotFamily", "pivot_bounds", "pivot_test", "ROUNDING"]
+from .spectral import EPS, ROUNDING
 
-EPS = np.finfo(float).eps
-ROUNDING = 64.0
+__all__ = ["PIVOT_MIN_S", "PivotFamily", "pivot_bounds", "pivot_test"]
+
 PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot bound is run (deep; ci skips it)
 RIDGE = 1e-4  # relative ridge of the loss metric
 ANGLES = 2 * np.pi * np.arange(5) / 5

@@ -7,7 +7,10 @@ from enum import Enum
 
 import numpy as np
 
-__all__ = ["CONVEX", "Spectral", "spectral"]
+__all__ = ["CONVEX", "EPS", "ROUNDING", "Spectral", "spectral"]
+
+EPS = np.finfo(float).eps
+ROUNDING = 64.0  # rounding allowance of a computed eigen- or singular value, in units of eps * ||matrix||_F
 
 
 class Spectral(str, Enum):

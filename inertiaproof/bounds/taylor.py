@@ -43,15 +43,14 @@ from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import spatial_inertia
 
 from .domain import bernstein_domain, certification_obstacle
+from .spectral import EPS, ROUNDING
 
 __all__ = [
     "box_bounds", "certified_box_bound", "ENTRY_ROUNDING", "entry_degrees", "entry_factors", "entry_sups",
     "FOURIER_LIMIT", "fourier_sups",
-    "MassFamily", "perron_bound", "ROUNDING",
+    "MassFamily", "perron_bound",
 ]
 
-EPS = np.finfo(float).eps
-ROUNDING = 64.0  # allowance of a computed eigenvalue, in units of eps * ||X||_F
 ENTRY_ROUNDING = 64.0  # allowance of a computed entry of M(c) or dM/dq(c), in units of n eps * S_il
 
 
