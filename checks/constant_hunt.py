@@ -19,14 +19,13 @@ from dataclasses import replace
 
 import numpy as np
 from inertiaproof.checks.pointwise import (
-    EPS,
     HUNT_JOINTS,
     INGREDIENTS,
     NO_SHRINK,
     RESOLUTION,
-    ROUNDING,
     SENSE,
     hunt_cases,
+    relative_margin,
     state_at,
 )
 
@@ -46,6 +45,8 @@ HUNT_REFINE_S = 0.02  # seconds of narrowing per bracket on a hunted scene (a co
 HUNT_SHARE = {"Asm3/Thm5": 20}  # profile.examples // HUNT_SHARE scenes per check (default 12): 5 in ci, 166 in deep;
 # Theorem 5's brackets of dK_p/dq are the costly ones (3 in ci, 100 in deep). Each scene computes every bracket of
 # the check (0.1-0.7 s on 2 busy cores), so ci keeps this hunt small: the pointwise hunt draws 20 chains
+
+LOADS = {True: "moving masses", False: "payload ramps", None: "payload ramps or moving masses"}
 
 
 def case_function(check_id):
@@ -96,7 +97,7 @@ def reported_hunt(check_id, ctx, moving_mass, examples=None):
                                                     "hunted scenes whose reported constants are all infinite (no "
                                                     "certified side) or whose both sides vanish"),
                 "what": f"random scenes (chains of 1 to {HUNT_JOINTS} joints, revolute and prismatic, consistent "
-                        f"{ {True: 'moving masses', False: 'payload ramps', None: 'payload ramps or moving masses'}[moving_mass] }), each run through the check's own "
+                        f"{LOADS[moving_mass]}), each run through the check's own "
                         f"case function with {HUNT_SAMPLES} samples and {HUNT_REFINE_S:g} s of narrowing per bracket; "
                         "margin: the smallest relative margin of sampled left-hand sides against the constants it "
                         "reports (paper's with certified ingredients, sharpest certified)"}
@@ -130,10 +131,10 @@ def replay_bound_constant(data, ctx):
     value = float(evidence["pointwise"]["reported"][data["constant"]]["value"])
     lhs, _, size = INGREDIENTS[data["id"]](chain, np.asarray(data["q"], float)[None],
                                            state_at(traj, np.array([data["t"]])))
-    lhs, size = float(lhs[0]), float(size[0])
-    scale = abs(lhs) + abs(value)
-    margin = ((value - lhs) if SENSE[data["id"]] == "upper" else (lhs - value)) / scale if scale else 0.0
-    resolution = RESOLUTION + ROUNDING * EPS * size / scale if scale else RESOLUTION
+    lhs = float(lhs[0])
+    margin, resolution = relative_margin(lhs, value, float(size[0]), SENSE[data["id"]])
+    if not np.isfinite(margin):  # both sides vanish: nothing to compare
+        margin, resolution = 0.0, RESOLUTION
     verdict = Verdict.VIOLATED if margin < -resolution else Verdict.HOLDS
     return Result(data["id"], verdict, f"{data['constant']} constant recomputed for the saved scene: {value:.6g}; "
                   f"left-hand side at the saved (q, t): {lhs:.6g}; relative margin {margin:.3g} (resolution "

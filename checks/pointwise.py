@@ -40,7 +40,7 @@ from inertiaproof.suite.registry import replayer
 
 __all__ = [
     "acc_ingredients", "CONSTANTS", "constant_margins", "EPS", "hunt_cases", "hunt_samples", "HUNT_JOINTS",
-    "HUNT_SHARE", "INGREDIENTS", "LEGACY", "margins", "named_margins", "NO_SHRINK", "point_counterexample", "POINTS",
+    "HUNT_SHARE", "INGREDIENTS", "LEGACY", "margins", "named_margins", "NO_SHRINK", "point_counterexample", "POINTS", "relative_margin",
     "replay_bound_point", "replay_point", "RESOLUTION", "ROUNDING", "run_hunt", "SENSE", "state_at",
     "thm2_ingredients", "thm3_ingredients", "thm4_ingredients", "thm5_ingredients", "with_hunt", "worst_point",
 ]
@@ -153,12 +153,17 @@ def constant_margins(check_id, chain, q, state, k=1.0, constants=None):
     for name in names:
         formula = LEGACY[check_id] if name == "legacy" else CONSTANTS[check_id][name]
         rhs = k * np.broadcast_to(formula(found), np.shape(lhs))
-        scale = np.abs(lhs) + np.abs(rhs)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            margin = (rhs - lhs) / scale if SENSE[check_id] == "upper" else (lhs - rhs) / scale
-            resolution = RESOLUTION + ROUNDING * EPS * (size + np.abs(rhs)) / scale
-        out[name] = (margin, resolution, lhs, rhs)
+        out[name] = (*relative_margin(lhs, rhs, size + np.abs(rhs), SENSE[check_id]), lhs, rhs)
     return out
+
+
+def relative_margin(lhs, rhs, size, sense):
+    """(margin, resolution): (rhs - lhs) / (|lhs| + |rhs|), sign flipped for a lower bound, and what rounding of
+    spectral values of matrices of magnitude ``size`` can do to it (NaN where both sides vanish)."""
+    scale = np.abs(lhs) + np.abs(rhs)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        margin = (rhs - lhs) / scale if sense == "upper" else (lhs - rhs) / scale
+        return margin, RESOLUTION + ROUNDING * EPS * size / scale
 
 
 def margins(check_id, chain, q, state, k=1.0, constants=None):
