@@ -12,9 +12,14 @@ from pathlib import Path
 from inertiaproof.errors import InputError
 from inertiaproof.result import Result
 
-__all__ = ["checked_outputs", "COUNTEREXAMPLE_SCHEMA", "Outputs", "unwritable"]
+__all__ = ["checked_outputs", "COUNTEREXAMPLE_SCHEMA", "journal_path", "Outputs", "unwritable"]
 
 COUNTEREXAMPLE_SCHEMA = "inertiaproof.counterexample/1"
+
+
+def journal_path(out_dir):
+    """Where the violations found by tasks are journaled as they arrive (see :meth:`Outputs.journal`)."""
+    return Path(out_dir) / "data" / "arrived-counterexamples.jsonl"
 
 
 @dataclass
@@ -39,7 +44,7 @@ class Outputs:
         to disk: a violation found by a task is on disk before the run goes on. Nothing without an output folder."""
         if self.out_dir is None:
             return None
-        path = Path(self.out_dir) / "data" / "arrived-counterexamples.jsonl"
+        path = journal_path(self.out_dir)
         path.parent.mkdir(parents=True, exist_ok=True)
         with path.open("a") as f:
             f.write(json.dumps(record, sort_keys=True, default=repr) + "\n")

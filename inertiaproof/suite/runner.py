@@ -39,7 +39,7 @@ from .context import Context
 from .discovery import load_checks
 from .environment import versions
 from .execution import Executor
-from .outputs import Outputs
+from .outputs import Outputs, journal_path
 from .profiles import PROFILES
 
 __all__ = [
@@ -114,7 +114,7 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
     if progress is not None and executor.say is None:
         executor.say = lambda message: say(f"      {message}")
     if out_dir is not None:  # the journal of violations as they arrive is this run's own
-        (Path(out_dir) / "data" / "arrived-counterexamples.jsonl").unlink(missing_ok=True)
+        journal_path(out_dir).unlink(missing_ok=True)
     run = Run(skipped=skipped)
     memo = {}
     start = time.perf_counter()
