@@ -100,6 +100,25 @@ def test_box_bounds_hold_on_samples_inside_each_box(scene, kind):
                 assert v.max() <= bound[k]
 
 
+def test_cached_coefficients_are_keyed_by_the_whole_chain():
+    """Two chains that differ only in one joint's axis share no cached Fourier coefficients (the cache key once left
+    the axis out: the second chain got the first one's entry sups)."""
+    from inertiaproof.dynamics.chain import Chain
+
+    sc = robots.panda()
+    theta = np.asarray(sc.trajectory.theta(np.array([0.0]))[0])
+    data = sc.chain.to_data()
+    data["joints"][2]["axis"] = [0.0, 1.0, 0.0]
+    other = Chain.from_data(data)
+    from inertiaproof.bounds import taylor
+
+    taylor._FOURIER_CACHE.clear()
+    alone = perron_bound(MassFamily(other, theta))
+    taylor._FOURIER_CACHE.clear()
+    perron_bound(MassFamily(sc.chain, theta))
+    assert perron_bound(MassFamily(other, theta)) == alone
+
+
 def test_certified_box_bound_is_the_batched_bound_on_one_box():
     scene = robots.panda(payload=2.0)
     thetas = _stack(scene)

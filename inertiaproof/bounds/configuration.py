@@ -43,7 +43,9 @@ import numpy as np
 from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import spatial_inertia
 
-from .domain import bernstein_domain, certification_obstacle, derivative_factors, free_coordinates, search_box
+from .domain import (
+    bernstein_domain, certification_obstacle, chain_key, content_memo, derivative_factors, free_coordinates, search_box,
+)
 from .extremes import bracket_extreme
 from .pivots import PIVOT_MIN_S, PivotFamily, pivot_bounds
 from .taylor import MassFamily, box_bounds, perron_bound
@@ -395,13 +397,9 @@ def pivot_normality(chain, refine_s, samples, weights=None):
     mu = 1 when None: inf_q sigma_min(QJ)^2) by branch and bound with pivot bounds; -inf where none was found. Its
     own seed, so the same chain and budget give the same number; cached by content."""
     weights = np.ones((1, chain.bodies)) if weights is None else np.asarray(weights, float)
-    key = (tuple((j.before.tobytes(), j.after.tobytes(), j.revolute, j.coordinate.name, j.limits) for j in chain.joints),
-           refine_s, samples, weights.shape, weights.tobytes())
-    if key not in _PIVOT_CACHE:
-        if len(_PIVOT_CACHE) >= 32:
-            _PIVOT_CACHE.pop(next(iter(_PIVOT_CACHE)))
-        _PIVOT_CACHE[key] = _pivot_normality(chain, np.random.default_rng(0), refine_s, samples, weights)
-    return _PIVOT_CACHE[key]
+    key = (chain_key(chain), refine_s, samples, weights.shape, weights.tobytes())
+    return content_memo(_PIVOT_CACHE, key,
+                        lambda: _pivot_normality(chain, np.random.default_rng(0), refine_s, samples, weights))
 
 
 _PIVOT_CACHE = {}

@@ -42,7 +42,7 @@ import numpy as np
 from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import spatial_inertia
 
-from .domain import bernstein_domain, certification_obstacle
+from .domain import bernstein_domain, certification_obstacle, chain_key, content_memo
 from .spectral import EPS, ROUNDING
 
 __all__ = [
@@ -123,13 +123,8 @@ def fourier_sups(chain, thetas, free):
     if m > FOURIER_LIMIT or not all(chain.joints[j].revolute for j in idx):
         return None
     thetas = np.asarray(thetas, float)
-    key = (tuple((j.before.tobytes(), j.after.tobytes(), j.revolute, j.coordinate.name) for j in chain.joints),
-           thetas.shape, thetas.tobytes(), np.asarray(free, bool).tobytes())
-    if key not in _FOURIER_CACHE:
-        if len(_FOURIER_CACHE) >= 32:
-            _FOURIER_CACHE.pop(next(iter(_FOURIER_CACHE)))
-        _FOURIER_CACHE[key] = _wiener(chain, thetas, idx)
-    return _FOURIER_CACHE[key].copy()
+    key = (chain_key(chain), thetas.shape, thetas.tobytes(), np.asarray(free, bool).tobytes())
+    return content_memo(_FOURIER_CACHE, key, lambda: _wiener(chain, thetas, idx)).copy()
 
 
 _FOURIER_CACHE = {}  # content-keyed (the chain's transforms, the parameters): the same inputs, the same answer
