@@ -42,7 +42,7 @@ import numpy as np
 from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import spatial_inertia
 
-from .domain import bernstein_domain, certification_obstacle, chain_key, content_memo
+from .domain import bernstein_domain, certification_obstacle, chain_key, content_memo, free_coordinates
 from .spectral import EPS, ROUNDING
 
 __all__ = [
@@ -84,9 +84,7 @@ def entry_sups(chain, thetas):
     linear, angular = column_bounds(chain)  # (bodies, joints)
     n = chain.n
     z = spatial_inertia(np.asarray(thetas, float))  # (V, N, 6, 6)
-    w, u = np.linalg.eigh(z)
-    za = np.einsum("...ij,...j,...kj->...ik", u, np.abs(w), u)  # |Z|
-    za = za + (ROUNDING * EPS * np.linalg.norm(z, axis=(-2, -1)))[..., None, None] * np.eye(6)
+    za = _psd_abs(z)  # |Z|, with its rounding allowance
     l_v = np.linalg.eigvalsh(za[..., :3, :3])[..., -1]  # (V, N)
     l_w = np.linalg.eigvalsh(za[..., 3:, 3:])[..., -1]
     n_vw = np.linalg.norm(za[..., :3, 3:], 2, axis=(-2, -1))
@@ -147,14 +145,13 @@ class MassFamily:
     """M(q, Theta_v) for a stack of parameter sets, with what its box bounds need (computed once)."""
 
     def __init__(self, chain, thetas):
-        if certification_obstacle(chain) is not None:
-            raise ValueError(certification_obstacle(chain))
+        obstacle = certification_obstacle(chain)
+        if obstacle is not None:
+            raise ValueError(obstacle)
         self.chain = chain
         self.thetas = np.asarray(thetas, float)
         self.factors = entry_factors(chain)  # (n, n, n)
         self.sups = entry_sups(chain, self.thetas)  # (V, n, n)
-        from .domain import free_coordinates
-
         wiener = fourier_sups(chain, self.thetas, free_coordinates(chain))
         if wiener is not None:
             self.sups = np.minimum(self.sups, wiener)
@@ -200,7 +197,6 @@ def _side(a, da, r, b_rem, t, sign):
     nc = t @ a @ tt
     nj = np.einsum("...ij,...jkp,...lk->...pil", t, da, t)  # (K, V, n_p, n, n)
     lin = (_psd_abs(nj) * r[:, None, :, None, None]).sum(2)
-    size = np.linalg.norm(t, axis=-1)  # ||T e_i|| is the column norm of T^T: rows of T
     col = np.linalg.norm(t, axis=-2)
     weights = [1.0 / np.maximum(col, 1e-300), np.ones_like(col)]
     best = None
@@ -208,13 +204,9 @@ def _side(a, da, r, b_rem, t, sign):
     for u in weights:
         d = np.einsum("...il,...l->...i", b_rem, u) / u  # E >= -diag(d)
         rem = np.einsum("...ij,...j,...kj->...ik", t, d, t)  # T diag(d) T^T
-        x = nc - sign * (lin + rem + np.linalg.norm(err, 2, axis=(-2, -1))[..., None, None] * np.eye(n)) \
-            if sign < 0 else nc + lin + rem + np.linalg.norm(err, axis=(-2, -1))[..., None, None] * np.eye(n)
-        if sign < 0:
-            x = nc - lin - rem - np.linalg.norm(err, axis=(-2, -1))[..., None, None] * np.eye(n)
-        val = _lambda(x, sign < 0)
+        shift = lin + rem + np.linalg.norm(err, axis=(-2, -1))[..., None, None] * np.eye(n)
+        val = _lambda(nc - shift if sign < 0 else nc + shift, sign < 0)
         best = val if best is None else (np.maximum(best, val) if sign < 0 else np.minimum(best, val))
-    del size
     return best
 
 
