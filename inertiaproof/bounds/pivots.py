@@ -49,16 +49,6 @@ RIDGE = 1e-4  # relative ridge of the loss metric
 ANGLES = 2 * np.pi * np.arange(5) / 5
 
 
-def _jz(x, revolute):
-    t = np.eye(4)
-    if revolute:
-        c, s = np.cos(x), np.sin(x)
-        t[:2, :2] = [[c, -s], [s, c]]
-    else:
-        t[2, 3] = x
-    return t
-
-
 def _parts(a, h=None):
     """(W, W+) with W >= A, W >= -A and W+ >= A, W+ >= 0 for symmetric A (..., 6, 6): the absolute value and the
     positive part of A in the metric of H > 0 (H^(1/2) |H^(-1/2) A H^(-1/2)| H^(1/2); H = I when None), with
@@ -196,11 +186,9 @@ def pivot_bounds(family: PivotFamily, kind, centres, radii, start, *, steps=40):
     start = np.asarray(start, float)
     span = np.maximum(np.abs(start), 1e-300)
     # passing side: gamma = start - t * span for t in [0, 1] (lmin: gamma below the centre's lambda_min)
-    good = np.full(start.shape, np.nan)  # t of a passing gamma
-    losses = np.zeros((len(centres), family.chain.n))
     lo_t, hi_t = np.zeros(start.shape), np.ones(start.shape)
     ok, losses = pivot_test(family, sign, -(sign * (start - sign * hi_t * span)), centres, radii)
-    good = np.where(ok, hi_t, np.nan)
+    good = np.where(ok, hi_t, np.nan)  # t of a passing gamma
     if not ok.any():
         return np.full(len(centres), -np.inf if kind == "lmin" else np.inf), losses
     for _ in range(steps):
