@@ -48,7 +48,7 @@ from inertiaproof.suite.registry import replayer
 
 __all__ = [
     "cached", "case_result", "constants_evidence", "judge", "key_step_evidence", "kw", "parameter_stack",
-    "pointwise_on_scene", "replay_bound_bracket", "replay_bracket", "run_scenes", "sampled_bracket",
+    "pointwise_on_scene", "replay_bound_bracket", "REPORTED_KINDS", "replay_bracket", "run_scenes", "sampled_bracket",
     "scene_samples", "shown", "time_and_configuration_bracket", "time_quantities",
 ]
 
@@ -127,9 +127,12 @@ def pointwise_on_scene(check_id, ctx, scene, k, reported=None):
     return {"violated": violated, "counterexample": counterexample, "evidence": evidence}
 
 
+REPORTED_KINDS = {"paper": "paper_constant", "certified": "certified_constant"}
+
+
 def _reported_evidence(reported):
-    return {name: quantity(float(v), "value", "constant the check reports for the scene (times the factor for "
-                           "the paper's)") for name, v in reported.items()}
+    return {name: quantity(float(v), REPORTED_KINDS.get(name, "value"), "constant the check reports for the scene "
+                           "(times the factor for the paper's)") for name, v in reported.items()}
 
 
 def judge(sense, lhs, constant_lower, constant_upper, *, proof_covers, pointwise_violated):

@@ -29,6 +29,7 @@ from inertiaproof.checks.pointwise import (
     state_at,
 )
 
+from inertiaproof.checks.bound_verdicts import REPORTED_KINDS
 from inertiaproof.dynamics.chain import Chain
 from inertiaproof.dynamics.trajectory_data import trajectory_from_data
 from inertiaproof.result import Result, Verdict, quantity
@@ -138,5 +139,6 @@ def replay_bound_constant(data, ctx):
     verdict = Verdict.VIOLATED if margin < -resolution else Verdict.HOLDS
     return Result(data["id"], verdict, f"{data['constant']} constant recomputed for the saved scene: {value:.6g}; "
                   f"left-hand side at the saved (q, t): {lhs:.6g}; relative margin {margin:.3g} (resolution "
-                  f"{resolution:.1g})", {"constant": quantity(value, "value"), "lhs": quantity(lhs, "value"),
-                                         "margin": quantity(margin, "margin")})
+                  f"{resolution:.1g})", {"constant": quantity(value, REPORTED_KINDS.get(data["constant"], "value")),
+                                         "lhs": quantity(lhs, "value"), "margin": quantity(margin, "margin"),
+                                         "resolution": quantity(resolution, "tolerance")})
