@@ -49,32 +49,39 @@ RIDGE = 1e-4  # relative ridge of the loss metric
 ANGLES = 2 * np.pi * np.arange(5) / 5
 
 
-def _parts(a, h=None):
-    """(W, W+) with W >= A, W >= -A and W+ >= A, W+ >= 0 for symmetric A (..., 6, 6): the absolute value and the
-    positive part of A in the metric of H > 0 (H^(1/2) |H^(-1/2) A H^(-1/2)| H^(1/2); H = I when None), with
-    the eigen-decomposition's rounding added. Any H > 0 is valid; H near the matrix being bounded keeps the loss
-    relative to it in every direction."""
+def _sym(u, w):
+    """u diag(w) u^T for stacks u (..., 6, 6), w (..., 6)."""
+    return (u * w[..., None, :]) @ np.swapaxes(u, -1, -2)
+
+
+def _bounding_parts(terms, kinds, h=None):
+    """For symmetric A_t (T, ..., 6, 6) (``terms``) a W_t with W_t >= A_t and W_t >= -A_t (kind 'abs': the
+    matrix absolute value) or W_t >= A_t and W_t >= 0 (kind 'pos': the positive part), in the metric of
+    H > 0 (H^(1/2) f(H^(-1/2) A H^(-1/2)) H^(1/2); H = I when None), with the eigen-decomposition's rounding
+    added. Any H > 0 is valid; H near the matrix being bounded keeps the loss relative to it in every direction.
+    One eigen-decomposition of H and one batched eigen-decomposition of all terms; with a metric, the two
+    inequalities of each W are checked a posteriori (computed eigenvalues less ROUNDING eps ||.||_F, Weyl) and
+    what is missing is added as a multiple of I. Also returns each term's spread in that metric (T, ...): the
+    largest |eigenvalue| of H^(-1/2) A H^(-1/2) (a heuristic only: the relative size of the loss)."""
+    terms = np.asarray(terms)
+    absolute = np.array([k == "abs" for k in kinds])[(slice(None),) + (None,) * (terms.ndim - 1)]
+    eye = np.eye(terms.shape[-1])
     if h is None:
-        w, u = np.linalg.eigh(a)
-        root = None
+        w, u = np.linalg.eigh(terms)
+        out = _sym(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0)))
     else:
         hw, hu = np.linalg.eigh(h)
         hw = np.maximum(hw, 1e-300)
-        root = np.einsum("...ij,...j,...kj->...ik", hu, np.sqrt(hw), hu)
-        inv = np.einsum("...ij,...j,...kj->...ik", hu, 1 / np.sqrt(hw), hu)
-        w, u = np.linalg.eigh(inv @ a @ inv)
-    absolute = np.einsum("...ij,...j,...kj->...ik", u, np.abs(w), u)
-    positive = np.einsum("...ij,...j,...kj->...ik", u, np.maximum(w, 0), u)
-    if root is not None:
-        absolute, positive = root @ absolute @ root, root @ positive @ root
-        # W was built from a computed inverse root: check W -+ A >= 0 a posteriori and lift what is missing
-        for out, others in ((absolute, (a, -a)), (positive, (a, np.zeros_like(a)))):
-            gap = np.minimum(*(np.linalg.eigvalsh(out - o)[..., 0] - ROUNDING * EPS * np.linalg.norm(out - o, axis=(-2, -1))
-                               for o in others))
-            out += np.maximum(-gap, 0)[..., None, None] * np.eye(a.shape[-1])
-    slack = (ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + np.linalg.norm(absolute, axis=(-2, -1))))
-    slack = slack[..., None, None] * np.eye(a.shape[-1])
-    return absolute + slack, positive + slack
+        root, inv = _sym(hu, np.sqrt(hw)), _sym(hu, 1 / np.sqrt(hw))
+        w, u = np.linalg.eigh(inv @ terms @ inv)
+        out = root @ _sym(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0))) @ root
+        # W was built from a computed inverse root: check W - A >= 0 and W + A >= 0 (abs) or W >= 0 (pos)
+        others = np.concatenate([out - terms, out + np.where(absolute, terms, 0.0)])
+        gap = np.linalg.eigvalsh(others)[..., 0] - ROUNDING * EPS * np.linalg.norm(others, axis=(-2, -1))
+        gap = np.minimum(gap[: len(terms)], gap[len(terms):])
+        out = out + np.maximum(-gap, 0)[..., None, None] * eye
+    slack = ROUNDING * EPS * (np.linalg.norm(terms, axis=(-2, -1)) + np.linalg.norm(out, axis=(-2, -1)))
+    return out + slack[..., None, None] * eye, np.abs(w).max(-1)
 
 
 class PivotFamily:
@@ -104,41 +111,71 @@ class PivotFamily:
         return out
 
     def rotated_lower(self, b, p, c, r, relative=True):
-        """A Loewner lower bound over |x - c| <= r (K,) of Phi_b(x)^T p Phi_b(x), p (K, V, 6, 6); and its loss norm."""
-        q = np.einsum("ji,kvjl,lm->kvim", self.after[b], p, self.after[b])  # tm(after)^T p tm(after)
+        """A Loewner lower bound over |x - c| <= r (K,) of Phi_b(x)^T p Phi_b(x), p (K, V, 6, 6); and its loss
+        relative to the centre's matrix (K, V; in the metric, a heuristic for where to split).
+
+        A turn: with d = x - c, F(c + d) - F(c) = sin d G1 - (1 - cos d) G2 + 2 (1 - cos d)^2 F2c
+        - 2 sin d (1 - cos d) F2s, G1 = F1s + 2 F2s (F'(c)), G2 = F1c + 4 F2c (from cos 2d - 1 = -4 (1 - cos d)
+        + 2 (1 - cos d)^2 and sin 2d = 2 sin d - 2 sin d (1 - cos d)), the Fourier coefficients taken about c;
+        with S = sin min(r, pi/2) >= |sin d| and E = 1 - cos min(r, pi) >= 1 - cos d >= 0 the loss is
+        S |G1| + E pos(G2) + 2 E^2 pos(-F2c) + 2 S E |F2s|. A slide: F(c + d) = F0 + d F1 + d^2 F2 exactly."""
+        after, before = self.after[b], self.before[b]
+        q = after.T @ p @ after  # tm(after)^T p tm(after)
+        rr = r[:, None, None, None]
         if self.revolute[b]:
             samples = np.stack([self._turned(b, q, c + d) for d in ANGLES])  # (5, K, V, 6, 6)
-            cos1, sin1 = np.cos(ANGLES), np.sin(ANGLES)
-            cos2, sin2 = np.cos(2 * ANGLES), np.sin(2 * ANGLES)
-            f1c, f1s = (np.einsum("m,m...->...", 0.4 * w, samples) for w in (cos1, sin1))
-            f2c, f2s = (np.einsum("m,m...->...", 0.4 * w, samples) for w in (cos2, sin2))
-            rr = r[:, None, None, None]
-            a1, b1 = 1 - np.cos(np.minimum(rr, np.pi)), np.sin(np.minimum(rr, np.pi / 2))
-            a2, b2 = 1 - np.cos(np.minimum(2 * rr, np.pi)), np.sin(np.minimum(2 * rr, np.pi / 2))
+            f1c, f1s, f2c, f2s = (np.tensordot(0.4 * w, samples, axes=1) for w in (
+                np.cos(ANGLES), np.sin(ANGLES), np.cos(2 * ANGLES), np.sin(2 * ANGLES)))
+            sin_r, cos_r = np.sin(np.minimum(rr, np.pi / 2)), 1 - np.cos(np.minimum(rr, np.pi))
             h = self._metric(samples[0]) if relative else None
-            abs1, pos1 = _parts(f1c, h)
-            abs1s, _ = _parts(f1s, h)
-            _, pos2 = _parts(f2c, h)
-            abs2s, _ = _parts(f2s, h)
-            loss = a1 * pos1 + b1 * abs1s + a2 * pos2 + b2 * abs2s
+            parts, spread = _bounding_parts(np.stack([f1s + 2 * f2s, f1c + 4 * f2c, -f2c, f2s]),
+                                            ("abs", "pos", "pos", "abs"), h)
+            weights = (sin_r, cos_r, 2 * cos_r**2, 2 * sin_r * cos_r)
             centre = samples[0]
-            size = np.linalg.norm(samples, axis=(-2, -1)).sum(0)
+            size = np.linalg.norm(samples, axis=(-2, -1)).sum(0) * (
+                1 + 3 * (sin_r + cos_r + 2 * cos_r**2 + 2 * sin_r * cos_r))[..., 0, 0]
         else:
             f0, fp, fm = (self._turned(b, q, c + d) for d in (0.0, 1.0, -1.0))
             f1, f2 = 0.5 * (fp - fm), 0.5 * (fp + fm) - f0
-            rr = r[:, None, None, None]
             h = self._metric(f0) if relative else None
-            abs1, _ = _parts(f1, h)
-            abs2, _ = _parts(f2, h)
-            loss = rr * abs1 + rr**2 * abs2
+            parts, spread = _bounding_parts(np.stack([f1, f2]), ("abs", "abs"), h)
+            weights = (rr, rr**2)
             centre = f0
             size = (np.linalg.norm(f0, axis=(-2, -1)) + np.linalg.norm(fp, axis=(-2, -1))
                     + np.linalg.norm(fm, axis=(-2, -1))) * (1 + r[:, None]) ** 2
-        lower = centre - loss
-        lower = np.einsum("ji,kvjl,lm->kvim", self.before[b], lower, self.before[b])
-        norm_b = np.linalg.norm(self.before[b]) ** 2 * np.linalg.norm(self.after[b]) ** 2
-        slack = ROUNDING * EPS * norm_b * (size + np.linalg.norm(loss, axis=(-2, -1)))
-        return lower - slack[..., None, None] * np.eye(6), np.linalg.norm(loss, 2, axis=(-2, -1))
+        loss = sum(w * part for w, part in zip(weights, parts))
+        relative = sum(w[..., 0, 0] * x for w, x in zip(weights, spread))  # the loss in the metric
+        if h is None:
+            relative = relative / np.maximum(np.linalg.norm(centre, axis=(-2, -1)), 1e-300)
+        lower = before.T @ (centre - loss) @ before
+        norm_b = np.linalg.norm(before) ** 2 * np.linalg.norm(after) ** 2
+        loss_norm = np.linalg.norm(loss, axis=(-2, -1))
+        slack = ROUNDING * EPS * norm_b * (size + loss_norm)
+        return lower - slack[..., None, None] * np.eye(6), relative
+
+    def rotated_form_lower(self, b, p, c, r, v):
+        """A lower bound over |x - c| <= r (K,) of v^T tm(before)^T Phi_b(x)^T p Phi_b(x) tm(before) v, p (K, V, 6, 6):
+        the same expansion as :meth:`rotated_lower` for the scalar trigonometric (a slide: algebraic)
+        polynomial, exact to the second order; used for the last turn, whose matrix is only seen along v. Also
+        returns the loss (K, V)."""
+        after, w = self.after[b], self.before[b] @ v
+        q = after.T @ p @ after
+        rr = r[:, None]
+        if self.revolute[b]:
+            samples = np.stack([(self._turned(b, q, c + d) @ w) @ w for d in ANGLES])  # (5, K, V)
+            f1c, f1s, f2c, f2s = (np.tensordot(0.4 * u, samples, axes=1) for u in (
+                np.cos(ANGLES), np.sin(ANGLES), np.cos(2 * ANGLES), np.sin(2 * ANGLES)))
+            sin_r, cos_r = np.sin(np.minimum(rr, np.pi / 2)), 1 - np.cos(np.minimum(rr, np.pi))
+            loss = (sin_r * np.abs(f1s + 2 * f2s) + cos_r * np.maximum(f1c + 4 * f2c, 0)
+                    + 2 * cos_r**2 * np.maximum(-f2c, 0) + 2 * sin_r * cos_r * np.abs(f2s))
+            size = np.abs(samples).sum(0) * (1 + 3 * (sin_r + cos_r + 2 * cos_r**2 + 2 * sin_r * cos_r))
+        else:
+            f0, fp, fm = ((self._turned(b, q, c + d) @ w) @ w for d in (0.0, 1.0, -1.0))
+            samples = np.stack([f0, fp, fm])
+            loss = rr * np.abs(0.5 * (fp - fm)) + rr**2 * np.abs(0.5 * (fp + fm) - f0)
+            size = np.abs(samples).sum(0) * (1 + rr) ** 2
+        norm_b = np.linalg.norm(after) ** 2 * float(w @ w)
+        return samples[0] - loss - ROUNDING * EPS * (norm_b * np.linalg.norm(q, axis=(-2, -1)) + size + loss), loss
 
     def _metric(self, f):
         """The metric the turn's loss is measured in: the turned matrix at the centre, made definite."""
@@ -147,8 +184,8 @@ class PivotFamily:
         return f + ridge[..., None, None] * np.eye(6)
 
     def _turned(self, b, q, x):
-        t = self.turn_maps(b, x)  # (K, 6, 6)
-        return np.einsum("kji,kvjl,klm->kvim", t, q, t)
+        t = self.turn_maps(b, x)[:, None]  # (K, 1, 6, 6)
+        return np.swapaxes(t, -1, -2) @ q @ t
 
 
 def pivot_test(family: PivotFamily, sign, armature, centres, radii):
@@ -162,17 +199,25 @@ def pivot_test(family: PivotFamily, sign, armature, centres, radii):
     losses = np.zeros((k_count, n))
     for b in range(n - 1, -1, -1):
         s = family.twists[b]
-        d = np.einsum("i,kvij,j->kv", s, a, s) + armature
+        u = a @ s
+        d = u @ s + armature
         d = d - ROUNDING * EPS * (np.dot(s, s) * np.linalg.norm(a, axis=(-2, -1)) + np.abs(armature))
         ok &= d > 0
         if b == 0:
             break
         safe = np.where(d > 0, d, 1.0)
-        u = np.einsum("kvij,j->kvi", a, s)
-        p = a - np.einsum("kvi,kvj->kvij", u, u) / safe[..., None, None]
+        p = a - u[..., :, None] * u[..., None, :] / safe[..., None, None]
         p = p - (ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + (u * u).sum(-1) / safe))[..., None, None] * np.eye(6)
+        if b == 1:  # the last turn is seen only along s_0: its scalar form
+            s0 = family.twists[0]
+            form, form_loss = family.rotated_form_lower(b, p, centres[:, b], radii[:, b], s0)
+            d0 = (z[:, 0] @ s0) @ s0 + form + armature
+            losses[:, b] = (form_loss / np.maximum(np.abs(d0), 1e-300)).max(1)
+            d0 = d0 - ROUNDING * EPS * (np.dot(s0, s0) * np.linalg.norm(z[:, 0], axis=(-2, -1)) + np.abs(form) + np.abs(armature))
+            ok &= d0 > 0
+            break
         g, loss = family.rotated_lower(b, p, centres[:, b], radii[:, b], relative=sign > 0)
-        losses[:, b] = (loss / np.maximum(np.abs(safe), 1e-300)).max(1)
+        losses[:, b] = loss.max(1)
         a = z[None, :, b - 1] + g
     return ok, losses
 
