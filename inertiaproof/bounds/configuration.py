@@ -47,7 +47,8 @@ from .domain import (
     bernstein_domain, certification_obstacle, chain_key, content_memo, derivative_factors, free_coordinates, search_box,
 )
 from .extremes import bracket_extreme
-from .pivots import PIVOT_MIN_S, PivotFamily, pivot_bounds
+from .pivot_search import ladder_budget, ladder_goal, pivot_ladder
+from .pivots import PIVOT_MIN_S, PivotFamily
 from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
 
@@ -58,7 +59,6 @@ __all__ = [
 ]
 
 
-PIVOT_COST = 10.0  # a round of pivot box bounds (20 bisection steps) against a 7-joint Taylor round (~0.3 s)
 VERTEX_LIMIT = 6  # free coordinates up to which the 2^d vertices of the linear part are enumerated (exact linear part)
 
 # -- matrix families A(q) with derivatives --------------------------------------
@@ -387,45 +387,45 @@ def jacobian_normality(chain, **kw):
     refine_s = kw.get("refine_s", 0.0)
     if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
         result.tighten(pivot_normality(chain, refine_s, kw.get("samples", 2000)),
-                       "branch and bound with the articulated-body pivots of (QJ)^T QJ - gamma I on each box "
-                       "(inertiaproof.bounds.pivots)")
+                       "a ladder of targets gamma, each proved by branch and bound with the articulated-body pivots "
+                       "of (QJ)^T QJ - gamma I on each box (inertiaproof.bounds.pivot_search)")
     return result
 
 
-def pivot_normality(chain, refine_s, samples, weights=None):
-    """A certified lower bound of inf_q lambda_min(sum_l mu_l QJ_l^T QJ_l) (min over the rows of ``weights`` (V, N),
-    mu = 1 when None: inf_q sigma_min(QJ)^2) by branch and bound with pivot bounds; -inf where none was found. Its
-    own seed, so the same chain and budget give the same number; cached by content."""
+def pivot_normality(chain, refine_s, samples, weights=None, stop=None):
+    """A certified lower bound of inf_q lambda_min(sum_l mu_l QJ_l^T QJ_l) (mu_l the smallest over the rows of
+    ``weights`` (V, N): the form is monotone in mu, so one form bounds the stack; mu = 1 when None: inf_q
+    sigma_min(QJ)^2) by a ladder of targets proved with the pivot test
+    (:func:`inertiaproof.bounds.pivot_search.pivot_ladder`); -inf where none was proved. The ladder stops once
+    its bound is ``stop`` or more (default: the form's own observed inf over :func:`ladder_goal`). Its own seed,
+    so the same chain and budget give the same number; cached by content."""
     weights = np.ones((1, chain.bodies)) if weights is None else np.asarray(weights, float)
-    key = (chain_key(chain), refine_s, samples, weights.shape, weights.tobytes())
+    weights = weights.min(0, keepdims=True)
+    key = (chain_key(chain), refine_s, samples, weights.shape, weights.tobytes(), stop)
     return content_memo(_PIVOT_CACHE, key,
-                        lambda: _pivot_normality(chain, np.random.default_rng(0), refine_s, samples, weights))
+                        lambda: _pivot_normality(chain, np.random.default_rng(0), refine_s, samples, weights, stop))
 
 
 _PIVOT_CACHE = {}
 
 
-def _pivot_normality(chain, rng, refine_s, samples, weights):
-    unit = weights[..., None] * np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0])  # (V, N, 10): Z_l = mu_l I6
+def _pivot_normality(chain, rng, refine_s, samples, weights, stop):
+    unit = weights[..., None] * np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0])  # (1, N, 10): Z_l = mu_l I6
     family = PivotFamily(chain, unit)
 
-    def value(q):
-        return spectral(composite.mass_matrix(chain, q[:, None], unit[None]), "lmin").min(-1)
-
-    def box_bound(c, r):
-        start = spectral(composite.mass_matrix(chain, c[:, None], unit[None]), "lmin")
-        return pivot_bounds(family, "lmin", c, r, start, steps=20)[0]
+    def values(q):
+        return spectral(composite.mass_matrix(chain, q[:, None], unit[None]), "lmin")  # (K, 1)
 
     lo, hi = search_box(chain)
     free = free_coordinates(chain)
-    # split where the turns lose most: their relative losses on a box of 0.3 rad about the centre
-    c, r = (0.5 * (lo + hi))[None], np.where(free, np.minimum(0.3, 0.5 * (hi - lo)), 0.0)[None]
-    start = spectral(composite.mass_matrix(chain, c[:, None], unit[None]), "lmin")
-    loss = pivot_bounds(family, "lmin", c, r, start, steps=5)[1][0]
-    weights = np.maximum(loss / max(loss.max(), 1e-300), 1e-3) if np.all(np.isfinite(loss)) and loss.max() > 0 else None
-    found = bracket_extreme(value, box_bound, lo, hi, sense="min", quantity_name="inf_q sigma_min(QJ)^2 (pivots)",
-                            samples=samples, refine_s=refine_s, rng=rng, free=free, cost=PIVOT_COST, weights=weights)
-    return -np.inf if found.certified is None else found.certified
+    found = bracket_extreme(lambda q: values(q).min(-1), None, lo, hi, sense="min",
+                            quantity_name="inf_q lambda_min of the unit form (pivots)", samples=samples,
+                            refine_s=refine_s, rng=rng, free=free)
+    goal = ladder_goal(refine_s)
+    boxes, guard_s = ladder_budget(refine_s)
+    gamma = pivot_ladder(family, values, found.observed, found.witness, lo, hi, free, max_boxes=boxes,
+                         guard_s=guard_s, stop=found.observed / goal if stop is None else stop)[0]
+    return gamma
 
 
 def mass_inf(chain, thetas, **kw):
@@ -445,9 +445,10 @@ def mass_inf(chain, thetas, **kw):
                           "inf sigma_min(QJ)^2 (block-triangular floor, or the pivots' branch and bound)")
     if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
         mu = spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")  # (V, N), rounded down: Z_l >= mu_l I
-        result.tighten(pivot_normality(chain, refine_s, kw.get("samples", 2000), mu),
+        stop = result.observed / ladder_goal(refine_s)
+        result.tighten(pivot_normality(chain, refine_s, kw.get("samples", 2000), mu, stop),
                        "M(q) >= sum_l mu_l QJ_l^T QJ_l with mu_l <= lambda_min(Z(Phi_l)) (key step, body by body), "
-                       "its inf certified by branch and bound with articulated-body pivots")
+                       "its inf certified by a ladder of targets proved with articulated-body pivots")
     return result
 
 

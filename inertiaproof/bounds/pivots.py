@@ -46,6 +46,7 @@ __all__ = ["PIVOT_MIN_S", "PivotFamily", "pivot_bounds", "pivot_test"]
 
 PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot bound is run (deep; ci skips it)
 RIDGE = 1e-4  # relative ridge of the loss metric
+SWITCH = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative (see _turn_terms)
 ANGLES = 2 * np.pi * np.arange(5) / 5
 
 
@@ -82,6 +83,22 @@ def _bounding_parts(terms, kinds, h=None):
         out = out + np.maximum(-gap, 0)[..., None, None] * eye
     slack = ROUNDING * EPS * (np.linalg.norm(terms, axis=(-2, -1)) + np.linalg.norm(out, axis=(-2, -1)))
     return out + slack[..., None, None] * eye, np.abs(w).max(-1)
+
+
+def _turn_terms(f1c, f1s, f2c, f2s, rr):
+    """The four terms T_k (kinds abs, pos, pos, abs) and weights w_k >= 0 with F(c + d) - F(c) >= -sum_k w_k W_k for
+    every |d| <= r, W_k >= +-T_k (abs) or W_k >= T_k, 0 (pos). Up to ``SWITCH`` rad about the centre's
+    derivative: sin d G1 - (1 - cos d) G2 + 2 (1 - cos d)^2 F2c - 2 sin d (1 - cos d) F2s with G1 = F1s + 2 F2s,
+    G2 = F1c + 4 F2c (weights S, E, 2 E^2, 2 S E; S = sin min(r, pi/2), E = 1 - cos min(r, pi)); beyond, term by
+    term: F1s sin d - F1c (1 - cos d) - F2c (1 - cos 2d) + F2s sin 2d (weights S, E, 1 - cos min(2r, pi),
+    sin min(2r, pi/2)), which loses less on wide intervals. The choice depends on r only."""
+    near = rr <= SWITCH
+    sin_r, cos_r = np.sin(np.minimum(rr, np.pi / 2)), 1 - np.cos(np.minimum(rr, np.pi))
+    sin_2r, cos_2r = np.sin(np.minimum(2 * rr, np.pi / 2)), 1 - np.cos(np.minimum(2 * rr, np.pi))
+    terms = np.stack([np.where(near, f1s + 2 * f2s, f1s), np.where(near, f1c + 4 * f2c, f1c),
+                      np.where(near, -f2c, f2c), f2s])
+    weights = (sin_r, cos_r, np.where(near, 2 * cos_r**2, cos_2r), np.where(near, 2 * sin_r * cos_r, sin_2r))
+    return terms, weights
 
 
 class PivotFamily:
@@ -126,14 +143,11 @@ class PivotFamily:
             samples = np.stack([self._turned(b, q, c + d) for d in ANGLES])  # (5, K, V, 6, 6)
             f1c, f1s, f2c, f2s = (np.tensordot(0.4 * w, samples, axes=1) for w in (
                 np.cos(ANGLES), np.sin(ANGLES), np.cos(2 * ANGLES), np.sin(2 * ANGLES)))
-            sin_r, cos_r = np.sin(np.minimum(rr, np.pi / 2)), 1 - np.cos(np.minimum(rr, np.pi))
+            terms, weights = _turn_terms(f1c, f1s, f2c, f2s, rr)
             h = self._metric(samples[0]) if relative else None
-            parts, spread = _bounding_parts(np.stack([f1s + 2 * f2s, f1c + 4 * f2c, -f2c, f2s]),
-                                            ("abs", "pos", "pos", "abs"), h)
-            weights = (sin_r, cos_r, 2 * cos_r**2, 2 * sin_r * cos_r)
+            parts, spread = _bounding_parts(terms, ("abs", "pos", "pos", "abs"), h)
             centre = samples[0]
-            size = np.linalg.norm(samples, axis=(-2, -1)).sum(0) * (
-                1 + 3 * (sin_r + cos_r + 2 * cos_r**2 + 2 * sin_r * cos_r))[..., 0, 0]
+            size = np.linalg.norm(samples, axis=(-2, -1)).sum(0) * (1 + 3 * sum(weights))[..., 0, 0]
         else:
             f0, fp, fm = (self._turned(b, q, c + d) for d in (0.0, 1.0, -1.0))
             f1, f2 = 0.5 * (fp - fm), 0.5 * (fp + fm) - f0
@@ -165,10 +179,10 @@ class PivotFamily:
             samples = np.stack([(self._turned(b, q, c + d) @ w) @ w for d in ANGLES])  # (5, K, V)
             f1c, f1s, f2c, f2s = (np.tensordot(0.4 * u, samples, axes=1) for u in (
                 np.cos(ANGLES), np.sin(ANGLES), np.cos(2 * ANGLES), np.sin(2 * ANGLES)))
-            sin_r, cos_r = np.sin(np.minimum(rr, np.pi / 2)), 1 - np.cos(np.minimum(rr, np.pi))
-            loss = (sin_r * np.abs(f1s + 2 * f2s) + cos_r * np.maximum(f1c + 4 * f2c, 0)
-                    + 2 * cos_r**2 * np.maximum(-f2c, 0) + 2 * sin_r * cos_r * np.abs(f2s))
-            size = np.abs(samples).sum(0) * (1 + 3 * (sin_r + cos_r + 2 * cos_r**2 + 2 * sin_r * cos_r))
+            terms, weights = _turn_terms(f1c, f1s, f2c, f2s, rr)
+            loss = (weights[0] * np.abs(terms[0]) + weights[1] * np.maximum(terms[1], 0)
+                    + weights[2] * np.maximum(terms[2], 0) + weights[3] * np.abs(terms[3]))
+            size = np.abs(samples).sum(0) * (1 + 3 * sum(weights))
         else:
             f0, fp, fm = ((self._turned(b, q, c + d) @ w) @ w for d in (0.0, 1.0, -1.0))
             samples = np.stack([f0, fp, fm])
