@@ -55,33 +55,45 @@ def _sym(u, w):
     return (u * w[..., None, :]) @ np.swapaxes(u, -1, -2)
 
 
-def _bounding_parts(terms, kinds, h=None):
+def _bounding_parts(terms, kinds, metric=None):
     """For symmetric A_t (T, ..., 6, 6) (``terms``) a W_t with W_t >= A_t and W_t >= -A_t (kind 'abs': the
     matrix absolute value) or W_t >= A_t and W_t >= 0 (kind 'pos': the positive part), in the metric of
-    H > 0 (H^(1/2) f(H^(-1/2) A H^(-1/2)) H^(1/2); H = I when None), with the eigen-decomposition's rounding
-    added. Any H > 0 is valid; H near the matrix being bounded keeps the loss relative to it in every direction.
-    One eigen-decomposition of H and one batched eigen-decomposition of all terms; with a metric, the two
-    inequalities of each W are checked a posteriori (computed eigenvalues less ROUNDING eps ||.||_F, Weyl) and
-    what is missing is added as a multiple of I. Also returns each term's spread in that metric (T, ...): the
-    largest |eigenvalue| of H^(-1/2) A H^(-1/2) (a heuristic only: the relative size of the loss)."""
+    H > 0 (H^(1/2) f(H^(-1/2) A H^(-1/2)) H^(1/2); H = I when None; ``metric`` is H's eigen-decomposition
+    (values (..., 6) > 0, vectors)). Any H > 0 is valid; H near the matrix being bounded keeps the loss relative
+    to it in every direction. Also returns each term's spread in that metric (T, ...): the largest |eigenvalue|
+    of H^(-1/2) A H^(-1/2) (a heuristic only: the relative size of the loss).
+
+    Rounding (Frobenius norms, all upper bounds of spectral norms): with R ~ H^(1/2) and T ~ H^(-1/2) the
+    computed roots (whatever they are; T invertible), X~ = fl(T A T) is within e2 = ROUNDING eps ||T||^2 ||A||
+    of X = T A T (Higham 3.5); Y = f(X~) from its eigen-decomposition, lifted by e1 = ROUNDING eps
+    (||X~|| + ||Y||) (Weyl), then by e2, satisfies Y >= +-X (or Y >= X, 0), so T^-1 Y T^-1 >= +-A exactly.
+    With rho >= ||R T - I|| (computed, plus ROUNDING eps ||R|| ||T||) and Delta = R - T^-1,
+    ||Delta|| <= rho ||R|| / (1 - rho), and fl(R Y R) is within ||Delta|| ||Y|| (2 ||R|| + ||Delta||)
+    + ROUNDING eps ||R||^2 ||Y|| of T^-1 Y T^-1: that much is added as a multiple of I (rho >= 1/2: +inf)."""
     terms = np.asarray(terms)
     absolute = np.array([k == "abs" for k in kinds])[(slice(None),) + (None,) * (terms.ndim - 1)]
     eye = np.eye(terms.shape[-1])
-    if h is None:
+    norm = (lambda x: np.linalg.norm(x, axis=(-2, -1)))
+    if metric is None:
         w, u = np.linalg.eigh(terms)
         out = _sym(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0)))
     else:
-        hw, hu = np.linalg.eigh(h)
+        hw, hu = metric
         hw = np.maximum(hw, 1e-300)
         root, inv = _sym(hu, np.sqrt(hw)), _sym(hu, 1 / np.sqrt(hw))
-        w, u = np.linalg.eigh(inv @ terms @ inv)
-        out = root @ _sym(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0))) @ root
-        # W was built from a computed inverse root: check W - A >= 0 and W + A >= 0 (abs) or W >= 0 (pos)
-        others = np.concatenate([out - terms, out + np.where(absolute, terms, 0.0)])
-        gap = np.linalg.eigvalsh(others)[..., 0] - ROUNDING * EPS * np.linalg.norm(others, axis=(-2, -1))
-        gap = np.minimum(gap[: len(terms)], gap[len(terms):])
-        out = out + np.maximum(-gap, 0)[..., None, None] * eye
-    slack = ROUNDING * EPS * (np.linalg.norm(terms, axis=(-2, -1)) + np.linalg.norm(out, axis=(-2, -1)))
+        x = inv @ terms @ inv
+        w, u = np.linalg.eigh(x)
+        y = _sym(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0)))
+        n_root, n_inv = norm(root), norm(inv)
+        lift = ROUNDING * EPS * (norm(x) + norm(y) + n_inv**2 * norm(terms))
+        y = y + lift[..., None, None] * eye
+        rho = norm(root @ inv - eye) + ROUNDING * EPS * n_root * n_inv
+        with np.errstate(divide="ignore", invalid="ignore"):
+            delta = np.where(rho < 0.5, rho * n_root / (1 - rho), np.inf)
+        n_y = norm(y)
+        lift = delta * n_y * (2 * n_root + delta) + ROUNDING * EPS * n_root**2 * n_y
+        out = root @ y @ root + lift[..., None, None] * eye
+    slack = ROUNDING * EPS * (norm(terms) + norm(out))
     return out + slack[..., None, None] * eye, np.abs(w).max(-1)
 
 
@@ -192,10 +204,12 @@ class PivotFamily:
         return samples[0] - loss - ROUNDING * EPS * (norm_b * np.linalg.norm(q, axis=(-2, -1)) + size + loss), loss
 
     def _metric(self, f):
-        """The metric the turn's loss is measured in: the turned matrix at the centre, made definite."""
-        w = np.linalg.eigvalsh(f)
+        """The metric the turn's loss is measured in: the turned matrix at the centre, made definite (a ridge
+        of RIDGE times its largest |eigenvalue| above its smallest eigenvalue, if negative), as its
+        eigen-decomposition (values, vectors). Any definite metric is valid (_bounding_parts)."""
+        w, u = np.linalg.eigh(f)
         ridge = RIDGE * np.maximum(np.abs(w).max(-1), 1e-300) - np.minimum(w[..., 0], 0)
-        return f + ridge[..., None, None] * np.eye(6)
+        return w + ridge[..., None], u
 
     def _turned(self, b, q, x):
         t = self.turn_maps(b, x)[:, None]  # (K, 1, 6, 6)
