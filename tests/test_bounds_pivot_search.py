@@ -133,7 +133,7 @@ def test_ladder_is_below_every_sampled_value(scene, form):
 def test_ladder_partition_covers_the_domain_and_forgetting_failed_boxes_is_caught(monkeypatch):
     """Every box of a proved partition passes gamma, and the boxes tile the domain (their volumes add up to
     the domain's, none sticks out). A _prove that drops failing boxes instead of halving them leaves a gap."""
-    scene = robots.ur5()
+    scene = robots.panda()
     chain = scene.chain
     _, thetas = _forms(scene)[0]
     family = PivotFamily(chain, thetas)
@@ -141,7 +141,7 @@ def test_ladder_partition_covers_the_domain_and_forgetting_failed_boxes_is_caugh
     free = free_coordinates(chain)
     centre, radius = (0.5 * (lo + hi))[None], np.where(free, 0.5 * (hi - lo), 0.0)[None]
     rho = np.ones(chain.n)
-    gamma = 0.22
+    gamma = 0.13
 
     def covers(partition):
         c, r = partition
