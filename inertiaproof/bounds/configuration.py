@@ -431,18 +431,17 @@ def _pivot_normality(chain, rng, refine_s, samples, weights, stop):
 def mass_inf(chain, thetas, **kw):
     """inf over q and the parameter sets of lambda_min(M(q, Theta)); where branch and bound certifies less, the
     proof of Theorem 2 does: lambda_min(M) >= min_l lambda_min(Z(Phi_l)) inf_q sigma_min(QJ)^2 with the
-    :func:`triangular_normality_floor` or (budget PIVOT_MIN_S or more) :func:`pivot_normality`."""
+    :func:`triangular_normality_floor`, and (budget PIVOT_MIN_S or more) body by body, M(q) >= sum_l mu_l
+    QJ_l^T QJ_l with mu_l <= lambda_min(Z(Phi_l)), whose inf :func:`pivot_normality` certifies (at least
+    min_l mu_l inf sigma_min(QJ)^2, so the unit form's ladder is not run here)."""
     result = configuration_bracket(chain, mass_family(chain, thetas), "lmin",
                                    quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
     z = spatial_inertia(np.asarray(thetas, float))
     z_min = float((spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")).min())  # less its rounding
-    gamma = triangular_normality_floor(chain)
-    refine_s = kw.get("refine_s", 0.0)
-    if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
-        gamma = max(gamma, pivot_normality(chain, refine_s, kw.get("samples", 2000)))
-    floor = max(z_min, 0.0) * gamma * (1 - ROUNDING * EPS)
+    floor = max(z_min, 0.0) * triangular_normality_floor(chain) * (1 - ROUNDING * EPS)
     result.tighten(floor, "certified side min_l lambda_min(Z(Phi_l)) times a certified lower bound of "
-                          "inf sigma_min(QJ)^2 (block-triangular floor, or the pivots' branch and bound)")
+                          "inf sigma_min(QJ)^2 (block-triangular floor)")
+    refine_s = kw.get("refine_s", 0.0)
     if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
         mu = spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")  # (V, N), rounded down: Z_l >= mu_l I
         stop = result.observed / ladder_goal(refine_s)
