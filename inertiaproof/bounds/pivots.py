@@ -1,12 +1,16 @@
 """Certified lambda_min / lambda_max of M(q, Theta) on a box from the pivots of the articulated-body factorisation
-(Loewner-monotone, O(n) 6 x 6 operations per box and trial value). Used for inf_q sigma_min(QJ)^2 (unit bodies),
-where it is well behaved, in profiles with a budget of at least ``PIVOT_MIN_S`` seconds per bracket.
+(Loewner-monotone, O(n) 6 x 6 operations per box and trial value). Used, through the ladder of
+:mod:`inertiaproof.bounds.pivot_search`, for inf_q sigma_min(QJ)^2 (unit bodies, Definition 2) and Theorem 2's
+inf lambda_min(M) >= inf lambda_min(sum_l mu_l QJ_l^T QJ_l) (isotropic bodies), where it is well behaved, in
+profiles with a budget of at least ``PIVOT_MIN_S`` seconds per bracket.
 
-Measured (issue 12): on unit bodies (QJ^T QJ) Panda 0.521 at a point, 0.32 on a box of 0.1 rad in every joint,
-0.086 on 1 rad; UR5 0.3384 on 0.1 rad. With real inertias (Panda, 2 kg) it fails beyond ~0.03 rad: a Loewner lower
-bound of R(x)^T P R(x) over an interval of x must drop the heavy directions of an anisotropic articulated inertia
-to its light ones (the family has no better common lower bound). ``python -m inertiaproof.bounds.pivots`` prints
-the bound against the radius.
+Measured (issue 12, Panda's sampled minimiser, bound / value at the centre for a box of the radius in every free
+joint): unit bodies 0.98 (0.01 rad), 0.90 (0.1 rad), 0.51 (0.3 rad); with real inertias (2 kg) 0.99 (0.03 rad),
+0.91 (0.1 rad), nothing at 0.3 rad (joint 6 alone: 0.97 at 0.1 rad; before the loss about the centre's derivative:
+0.93 at 0.03, nothing at 0.1). A Loewner lower bound of Phi(x)^T P Phi(x) over an interval of x must drop heavy
+directions of an anisotropic articulated inertia onto its light ones, which the real inertias' wrist (light
+eigenvalue 1e-3 of M against heavy 5) feels most. ``python -m inertiaproof.bounds.pivots`` prints the bound
+against the radius.
 
 M(q) + a I > 0 exactly when every pivot of its tip-first LDL^T factorisation is positive. In body coordinates
 (MassMatrix: M = sum_b QJ_b^T Z_b QJ_b, body twists V_b = Phi_b(q_b) V_(b-1) + s_b qdot_b, Phi_b the twist map of
@@ -19,18 +23,24 @@ Every step is monotone in the Loewner order where the pivots are positive (P is 
 keeps the order), so Loewner LOWER bounds L_b <= A_b(q) valid on the whole box give lower bounds of every
 pivot. The only box-dependent step is the turn (slide) of joint b: F(x) = Phi_b(x)^T P Phi_b(x) is a
 trigonometric polynomial of degree 2 in x (a polynomial of degree 2 for a slide); its five Fourier
-coefficients (from five samples, exact) give, for |x - c_b| <= r_b,
+coefficients about the centre (from five samples, exact) give, for d = x - c_b, |d| <= r_b, S = sin min(r, pi/2),
+E = 1 - cos min(r, pi) (:func:`_turn_terms`):
 
-    F(x) >= F(c_b) - (1 - cos r) pos(F_1c) - sin r |F_1s| - (1 - cos 2r) pos(F_2c) - sin 2r |F_2s|
+    up to SWITCH rad:  F(x) >= F(c_b) - S |F_1s + 2 F_2s| - E pos(F_1c + 4 F_2c) - 2 E^2 pos(-F_2c) - 2 S E |F_2s|
+    beyond:            F(x) >= F(c_b) - S |F_1s| - E pos(F_1c) - (1 - cos min(2r, pi)) pos(F_2c) - sin min(2r, pi/2) |F_2s|
 
-(angles clipped at pi/2 for sines, pi for cosines; |.| and pos(.) the matrix absolute value and positive part).
+(the first from sin 2d = 2 sin d - 2 sin d (1 - cos d), cos 2d - 1 = -4 (1 - cos d) + 2 (1 - cos d)^2: its first
+order term is the derivative F'(c) = F_1s + 2 F_2s, not the sum of the two harmonics' sizes; |.| and pos(.) the
+matrix absolute value and positive part in the metric of F(c_b) made definite). The last turn (joint 2) is seen
+only along s_1: its scalar form s_1^T F(x) s_1 is bounded the same way with scalars (exact to second order).
 So M(q) + a I > 0 on the box when all pivot bounds are positive: lambda_min(M) >= -a. The upper side
-(lambda_max) is the same test of -M + a I, i.e. bodies -Z. Bisection over a gives the bound.
+(lambda_max) is the same test of -M + a I, i.e. bodies -Z. Bisection over a gives the bound of a box.
 
-Rounding (stated): each level's Loewner bound is lowered by ``ROUNDING`` eps times the sum of the Frobenius
-norms of the matrices formed at that level (products, Fourier sums, absolute values) and each pivot bound by
-``ROUNDING`` eps (|s|^2 ||L||_F + |a|) (a posteriori bounds of the float operations, Weyl for the
-eigen-decompositions behind |.| and pos(.)).
+Rounding (stated): each level's Loewner bound is lowered by ``ROUNDING`` eps times the Frobenius norms of the
+matrices formed at that level (the five samples times 1 + 3 sum of the loss weights, for the Fourier sums, and the
+loss), each pivot bound by ``ROUNDING`` eps (|s|^2 ||L||_F + |a|), the scalar form by ``ROUNDING`` eps (its
+samples, the turned matrix, the loss); the absolute values and positive parts in a metric carry the residual of
+the computed roots of the metric (:func:`_bounding_parts`), Weyl for the eigen-decompositions.
 """
 
 from __future__ import annotations
@@ -42,9 +52,9 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .spectral import EPS, ROUNDING
 
-__all__ = ["PIVOT_MIN_S", "PivotFamily", "pivot_bounds", "pivot_test"]
+__all__ = ["PIVOT_MIN_S", "PivotFamily", "RIDGE", "SWITCH", "pivot_bounds", "pivot_test"]
 
-PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot bound is run (deep; ci skips it)
+PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot ladders run (ci and deep; audits skip them)
 RIDGE = 1e-4  # relative ridge of the loss metric
 SWITCH = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative (see _turn_terms)
 ANGLES = 2 * np.pi * np.arange(5) / 5
