@@ -123,8 +123,9 @@ def _ladder(scene, form, boxes=6000):
 @pytest.mark.parametrize("scene, form", [(robots.ur5(), 0), (robots.ur5(), 1), (robots.panda(payload=2.0), 0)],
                          ids=["ur5-unit", "ur5-weighted", "panda-unit"])
 def test_ladder_is_below_every_sampled_value(scene, form):
-    chain, thetas, (gamma, tested, size, ratio) = _ladder(scene, form)
+    chain, thetas, (gamma, tested, size, ratio, rungs) = _ladder(scene, form)
     assert gamma > 0 and ratio is not None and tested <= 6000 + pivot_search.CHUNK
+    assert sum(r[1] for r in rungs) == tested and [r[0] for r in rungs if r[2] is not None][-1] == ratio
     lo, hi = search_box(chain)
     q = lo + (hi - lo) * np.random.default_rng(41).random((30000, chain.n))
     assert _lmin(chain, thetas, q).min() >= gamma

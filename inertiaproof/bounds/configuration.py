@@ -386,24 +386,26 @@ def jacobian_normality(chain, **kw):
                    "body l's block, lengths bound the rest): valid for every q")
     refine_s = kw.get("refine_s", 0.0)
     if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
-        result.tighten(pivot_normality(chain, refine_s, kw.get("samples", 2000)),
-                       "a ladder of targets gamma, each proved by branch and bound with the articulated-body pivots "
-                       "of (QJ)^T QJ - gamma I on each box (inertiaproof.bounds.pivot_search)")
+        gamma, how = pivot_normality(chain, refine_s, kw.get("samples", 2000), detail=True)
+        result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body "
+                              f"pivots of (QJ)^T QJ - gamma I on each box (inertiaproof.bounds.pivot_search): {how}")
     return result
 
 
-def pivot_normality(chain, refine_s, samples, weights=None, stop=None):
+def pivot_normality(chain, refine_s, samples, weights=None, stop=None, detail=False):
     """A certified lower bound of inf_q lambda_min(sum_l mu_l QJ_l^T QJ_l) (mu_l the smallest over the rows of
     ``weights`` (V, N): the form is monotone in mu, so one form bounds the stack; mu = 1 when None: inf_q
     sigma_min(QJ)^2) by a ladder of targets proved with the pivot test
     (:func:`inertiaproof.bounds.pivot_search.pivot_ladder`); -inf where none was proved. The ladder stops once
     its bound is ``stop`` or more (default: the form's own observed inf over :func:`ladder_goal`). Its own seed,
-    so the same chain and budget give the same number; cached by content."""
+    so the same chain and budget give the same number; cached by content. ``detail``: (bound, a note on the
+    ladder: the rung proved, boxes tested, partition size)."""
     weights = np.ones((1, chain.bodies)) if weights is None else np.asarray(weights, float)
     weights = weights.min(0, keepdims=True)
     key = (chain_key(chain), refine_s, samples, weights.shape, weights.tobytes(), stop)
-    return content_memo(_PIVOT_CACHE, key,
-                        lambda: _pivot_normality(chain, np.random.default_rng(0), refine_s, samples, weights, stop))
+    found = content_memo(_PIVOT_CACHE, key,
+                         lambda: _pivot_normality(chain, np.random.default_rng(0), refine_s, samples, weights, stop))
+    return found if detail else found[0]
 
 
 _PIVOT_CACHE = {}
@@ -423,9 +425,12 @@ def _pivot_normality(chain, rng, refine_s, samples, weights, stop):
                             refine_s=refine_s, rng=rng, free=free)
     goal = ladder_goal(refine_s)
     boxes, guard_s = ladder_budget(refine_s)
-    gamma = pivot_ladder(family, values, found.observed, found.witness, lo, hi, free, max_boxes=boxes,
-                         guard_s=guard_s, stop=found.observed / goal if stop is None else stop)[0]
-    return gamma
+    gamma, tested, size, ratio, _ = pivot_ladder(family, values, found.observed, found.witness, lo, hi, free,
+                                                 max_boxes=boxes, guard_s=guard_s,
+                                                 stop=found.observed / goal if stop is None else stop)
+    note = ("no target proved" if ratio is None else
+            f"target {found.observed:.6g}/{ratio:g} proved on a partition of {size} boxes ({tested} boxes tested)")
+    return gamma, note
 
 
 def mass_inf(chain, thetas, **kw):
@@ -445,9 +450,10 @@ def mass_inf(chain, thetas, **kw):
     if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
         mu = spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")  # (V, N), rounded down: Z_l >= mu_l I
         stop = result.observed / ladder_goal(refine_s)
-        result.tighten(pivot_normality(chain, refine_s, kw.get("samples", 2000), mu, stop),
-                       "M(q) >= sum_l mu_l QJ_l^T QJ_l with mu_l <= lambda_min(Z(Phi_l)) (key step, body by body), "
-                       "its inf certified by a ladder of targets proved with articulated-body pivots")
+        gamma, how = pivot_normality(chain, refine_s, kw.get("samples", 2000), mu, stop, detail=True)
+        result.tighten(gamma, "M(q) >= sum_l mu_l QJ_l^T QJ_l with mu_l <= lambda_min(Z(Phi_l)) (key step, body by "
+                              "body), its inf certified by a ladder of targets proved with articulated-body pivots "
+                              f"(inertiaproof.bounds.pivot_search): {how}")
     return result
 
 

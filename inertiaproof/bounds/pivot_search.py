@@ -114,26 +114,27 @@ def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, g
     ``guard_s`` seconds: a certified lower bound of inf lambda_min(M(q, Theta_v)) over the box and the stack, or
     -inf when none was proved. ``observed`` must be attained (at ``witness``); ``value(q)`` (K, n) -> (K, V) the
     lambda_min per parameter set, for the calibration only. Returns (gamma, boxes tested, the partition's size,
-    ratio)."""
+    ratio, [(ratio, boxes tested, partition size or None where it ran out)] per rung tried)."""
     lo, hi, free = np.asarray(lo, float), np.asarray(hi, float), np.asarray(free, bool)
     if not observed > 0:
-        return -np.inf, 0, 0, None
+        return -np.inf, 0, 0, None, []
     deadline = time.perf_counter() + guard_s
     rng = np.random.default_rng(0)
     points = np.vstack([np.asarray(witness, float)[None],
                         np.where(free, lo + (hi - lo) * rng.random((CALIBRATION_POINTS - 1, len(lo))), 0.5 * (lo + hi))])
     rho = calibrated_radii(family, points, value(points), lo, hi, free)
     centres, radii = (0.5 * (lo + hi))[None], np.where(free, 0.5 * (hi - lo), 0.0)[None]
-    best, best_ratio, used, size, reached = -np.inf, None, 0, 0, False
+    best, best_ratio, used, size, reached, rungs = -np.inf, None, 0, 0, False, []
     for ratio in ladder:
         gamma = float(observed / ratio)
         if gamma <= floor:
             continue
         partition, tested = _prove(family, gamma, centres, radii, rho, max_boxes - used, deadline)
         used += tested
+        rungs.append((ratio, tested, None if partition is None else len(partition[0])))
         if partition is None:
             break
         (centres, radii), best, best_ratio, size = partition, gamma, ratio, len(partition[0])
         if best >= stop and not reached:  # the goal: go on only as far as a small extra budget takes the ladder
             reached, max_boxes = True, min(max_boxes, used + max_boxes // EXTRA)
-    return best, used, size, best_ratio
+    return best, used, size, best_ratio, rungs
