@@ -11,7 +11,8 @@ attained at a witness, so gamma <= observed), a box passes when :func:`pivot_tes
 target starts. The certified side is the last gamma for which every box of a partition of the domain passed:
 lambda_min(M(q)) >= gamma for every q of the domain and every parameter set. Nothing is sampled on the certified
 side; which coordinate is halved is a heuristic (any choice is sound): the one whose radius is largest against
-its calibrated radius (:func:`calibrated_radii`), so that boxes get fine only where the turns lose.
+its calibrated radius (:func:`calibrated_radii`), so that boxes get fine only where the turns lose; so is the
+ridge of the turns' loss metric (pivots.RIDGES: the one whose calibration boxes hold widest).
 
 The budget is a count of tested boxes (the same bracket on any machine for a seed) with a wall-clock guard; a
 ladder that runs out keeps its last proved target.
@@ -23,7 +24,7 @@ import time
 
 import numpy as np
 
-from .pivots import pivot_test
+from .pivots import RIDGES, pivot_test
 
 __all__ = ["CHUNK", "LADDER", "calibrated_radii", "ladder_budget", "ladder_goal", "pivot_ladder"]
 
@@ -31,7 +32,7 @@ LADDER = (64.0, 16.0, 8.0, 4.0, 2.8, 1.95, 1.6, 1.45, 1.35, 1.25, 1.18, 1.12, 1.
 CHUNK = 4096  # boxes per pivot test call
 GRID = np.geomspace(0.003, 3.0, 11)  # radii tried by the calibration
 BOXES = (40_000, 10_000)  # boxes a ladder may test: the first plus the second per second of a bracket's budget
-EXTRA = 16  # after the goal, a ladder goes on with 1/EXTRA of its budget
+EXTRA = 6  # after the goal, a ladder goes on with 1/EXTRA of its budget
 DEEP_S = 5.0  # budgets (seconds per bracket) from which a ladder goes on below the issue's 2x (the deep profile)
 CALIBRATION_POINTS = 8  # configurations the calibration looks at: the witness and seeded random ones
 
@@ -122,7 +123,14 @@ def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, g
     rng = np.random.default_rng(0)
     points = np.vstack([np.asarray(witness, float)[None],
                         np.where(free, lo + (hi - lo) * rng.random((CALIBRATION_POINTS - 1, len(lo))), 0.5 * (lo + hi))])
-    rho = calibrated_radii(family, points, value(points), lo, hi, free)
+    values = value(points)
+    best_score = -np.inf
+    for ridge in RIDGES:  # the metric whose calibration boxes hold widest (any metric is sound)
+        family.ridge = ridge
+        trial = calibrated_radii(family, points, values, lo, hi, free)
+        if np.log(trial).sum() > best_score:
+            best_score, rho, chosen = np.log(trial).sum(), trial, ridge
+    family.ridge = chosen
     centres, radii = (0.5 * (lo + hi))[None], np.where(free, 0.5 * (hi - lo), 0.0)[None]
     best, best_ratio, used, size, reached, rungs = -np.inf, None, 0, 0, False, []
     for ratio in ladder:

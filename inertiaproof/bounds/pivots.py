@@ -52,10 +52,11 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .spectral import EPS, ROUNDING
 
-__all__ = ["PIVOT_MIN_S", "PivotFamily", "RIDGE", "SWITCH", "pivot_bounds", "pivot_test"]
+__all__ = ["PIVOT_MIN_S", "PivotFamily", "RIDGE", "RIDGES", "SWITCH", "pivot_bounds", "pivot_test"]
 
 PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot ladders run (ci and deep; audits skip them)
-RIDGE = 1e-4  # relative ridge of the loss metric
+RIDGE = 1e-2  # relative ridge of the loss metric (default; the ladder picks one of RIDGES per form)
+RIDGES = (1e-3, 1e-2, 1e-1)  # measured (Panda): unit bodies best at 1e-2, the weighted form at 1e-1; 1e-4 needs 10-100x the boxes
 SWITCH = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative (see _turn_terms)
 ANGLES = 2 * np.pi * np.arange(5) / 5
 
@@ -126,8 +127,9 @@ def _turn_terms(f1c, f1s, f2c, f2s, rr):
 class PivotFamily:
     """The chain's fixed maps and body inertias (a stack of parameter sets) for :func:`pivot_bounds`."""
 
-    def __init__(self, chain, thetas):
+    def __init__(self, chain, thetas, ridge=RIDGE):
         self.chain = chain
+        self.ridge = ridge  # relative ridge of the turns' loss metric: any value is sound
         self.z = spatial_inertia(np.asarray(thetas, float))  # (V, N, 6, 6)
         self.twists = np.array([j.unit_twist for j in chain.z_joints])  # (n, 6)
         self.revolute = [j.revolute for j in chain.z_joints]
@@ -215,10 +217,10 @@ class PivotFamily:
 
     def _metric(self, f):
         """The metric the turn's loss is measured in: the turned matrix at the centre, made definite (a ridge
-        of RIDGE times its largest |eigenvalue| above its smallest eigenvalue, if negative), as its
+        of ``ridge`` times its largest |eigenvalue| above its smallest eigenvalue, if negative), as its
         eigen-decomposition (values, vectors). Any definite metric is valid (_bounding_parts)."""
         w, u = np.linalg.eigh(f)
-        ridge = RIDGE * np.maximum(np.abs(w).max(-1), 1e-300) - np.minimum(w[..., 0], 0)
+        ridge = self.ridge * np.maximum(np.abs(w).max(-1), 1e-300) - np.minimum(w[..., 0], 0)
         return w + ridge[..., None], u
 
     def _turned(self, b, q, x):
