@@ -142,7 +142,7 @@ def test_ladder_partition_covers_the_domain_and_forgetting_failed_boxes_is_caugh
     free = free_coordinates(chain)
     centre, radius = (0.5 * (lo + hi))[None], np.where(free, 0.5 * (hi - lo), 0.0)[None]
     rho = np.ones(chain.n)
-    gamma = 0.13
+    gamma = 0.33
 
     def covers(partition):
         c, r = partition
