@@ -34,9 +34,10 @@ from inertiaproof.dynamics import motion, regressors, terms
 from .adaptive import make_law
 from .control import controller, reference_motion
 
-__all__ = ["PLANTS", "Batch", "Gains", "Reference", "Run", "RunSpec", "scene_specs", "simulate"]
+__all__ = ["PLANTS", "Batch", "Gains", "Reference", "RK45_STABILITY", "Run", "RunSpec", "scene_specs", "simulate"]
 
 PLANTS = ("gre", "pagilla", "classical")
+RK45_STABILITY = 3.3  # RK45 (Dormand-Prince) is stable on the negative real axis for h |lambda| <= 3.306
 KEPT = {"gre": (1.0, 1.0), "pagilla": (1.0, 0.0), "classical": (0.0, 0.0)}  # (Thetadot, Psi) each plant keeps
 
 
@@ -190,6 +191,21 @@ class Batch:
             divergence[..., idx] = law.divergence(z[..., idx, :, :], p.theta[..., idx, :, :])
         return 0.5 * np.einsum("...i,...ij,...j->...", s, m, s) + divergence
 
+    def fastest_rate(self):
+        """Per run, the fastest damped mode at the start, 1/s: the largest eigenvalue of M(q0, Theta(t0))^-1 K_D.
+
+        A lower estimate of the closed loop's stiffness (the adaptation loop and C are left out): along s it decays
+        as exp(-M^-1 K_D t), and an explicit method must keep h times it inside its stability interval."""
+        q0 = self.split(self.initial_state())[0]
+        t0 = np.array([s.trajectory.span[0] for s in self.specs])
+        m = terms.mass_matrix(self.chain.body_jacobian(q0), self.parameters(t0).theta)
+        with np.errstate(all="ignore"):
+            try:
+                x = np.linalg.solve(np.linalg.cholesky(m), np.sqrt(self.kd)[..., None] * np.eye(self.n))
+            except np.linalg.LinAlgError:
+                return np.full(len(self.specs), np.inf)
+            return np.linalg.eigvalsh(x @ np.swapaxes(x, -1, -2))[..., -1]
+
     def initial_state(self):
         t0 = np.array([s.trajectory.span[0] for s in self.specs])
         q0, qd0, _ = self.reference(t0)
@@ -214,7 +230,7 @@ class Run:
 
     spec: RunSpec
     index: int  # in its batch
-    status: str  # ok, budget, error, nan, step collapse
+    status: str  # ok, budget, too stiff, error, nan, step collapse
     note: str
     seconds: float  # of the whole batch
     evaluations: int  # right-hand sides of the whole batch
@@ -231,7 +247,12 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
              forces=motion.generalized_forces):
     """Integrate the runs together over [t0, t0 + horizon] (t0 of the first run's trajectory) with RK45; returns
     (runs, batch). A batch that stops early (``budget``, ``nan``, ``step collapse``, ``error``) keeps the samples
-    it reached. The tolerance applies to the whole state (all runs): a run alone may be resolved better."""
+    it reached. The tolerance applies to the whole state (all runs): a run alone may be resolved better.
+
+    A batch is not started (``too stiff``, only its initial sample) when its fastest damped mode rho
+    (:meth:`Batch.fastest_rate`) keeps RK45 to steps h <= RK45_STABILITY / rho for about
+    6 horizon rho / RK45_STABILITY evaluations, more than ``max_evaluations``: it would stop at the budget with nothing
+    resolved (a 24-link snake: rho ~ 1e5 /s, ~3e5 evaluations). rho is taken at the start: an estimate."""
     batch = Batch(chain, specs, forces)
     t0 = specs[0].trajectory.span[0]
     t_eval = np.linspace(t0, t0 + horizon, samples)
@@ -240,8 +261,15 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     ys, reached = [y0], 1
     status, note = "ok", ""
     start = time.perf_counter()
+    rate = float(batch.fastest_rate().max())
+    need = 6 * horizon * rate / RK45_STABILITY
+    if not need <= max_evaluations:
+        status, note = "too stiff", (f"not started: the fastest damped mode at the start, lambda_max(M(q0, Theta(t0))^-1 "
+                                     f"K_D) = {rate:.3g} /s, keeps RK45 to steps <= {RK45_STABILITY / rate:.2g} s, about "
+                                     f"{need:.2g} evaluations over {horizon:g} s, more than the budget of "
+                                     f"{max_evaluations} (a stiff solver is needed)")
     with np.errstate(all="ignore"):
-        while solver.status == "running":
+        while solver.status == "running" and status == "ok":
             if batch.evaluations > max_evaluations or time.perf_counter() - start > max_seconds:
                 status, note = "budget", (f"stopped at t = {solver.t:.6g} after {batch.evaluations} evaluations "
                                           f"(budget {max_evaluations} evaluations or {max_seconds:g} s)")
