@@ -263,7 +263,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     start = time.perf_counter()
     rate = float(batch.fastest_rate().max())
     need = 6 * horizon * rate / RK45_STABILITY
-    if not need <= max_evaluations:
+    if np.isfinite(need) and need > max_evaluations:  # inf: M(q0) not positive definite, left to the integrator
         status, note = "too stiff", (f"not started: the fastest damped mode at the start, lambda_max(M(q0, Theta(t0))^-1 "
                                      f"K_D) = {rate:.3g} /s, keeps RK45 to steps <= {RK45_STABILITY / rate:.2g} s, about "
                                      f"{need:.2g} evaluations over {horizon:g} s, more than the budget of "
