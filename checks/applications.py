@@ -331,6 +331,12 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
     for key in keys:
         st = study(ctx, key)
         chain = scene_of(key).chain
+        stiff = [(r, run) for r, run in zip(st["recipes"], st["runs"]) if r.plant == "gre" and run.status == "too stiff"]
+        if stiff and len(stiff) == sum(r.plant == "gre" for r in st["recipes"]):  # no run to check: no brackets
+            for recipe, run in stiff:
+                cases[f"{key}, {recipe.law}, {recipe.timing[1]:g} s load"] = {
+                    "status": run.status, "applicable": False, "why": run.note}
+            continue
         gamma_b, sigma_b = qj_brackets(ctx, chain, key)
         gamma = gamma_b.lower if gamma_override is None else gamma_override
         sigma = sigma_b.upper if sigma_override is None else sigma_override
