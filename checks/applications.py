@@ -108,8 +108,8 @@ def _resolution(n):
 
 def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     """Simulate recipes of one chain and horizon together. When the batch stops early (one stiff run holds up all),
-    each run is simulated alone with its share of the budget, unless the batch was too stiff to start (its runs
-    share the chain and, in every caller, the gains: alone each is as stiff); a run whose Lyapunov balance error
+    each run is simulated alone with its share of the budget, unless the batch was not started (too stiff or
+    ill-conditioned: its runs share the chain and, in every caller, the gains); a run whose Lyapunov balance error
     exceeds BALANCE x rtol is simulated again at a tenth of the tolerance. Returns (runs, batches) in the recipes'
     order."""
     horizon = recipes[0].run_horizon()
@@ -117,7 +117,7 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     kw = dict(samples=_samples(s, horizon), max_evaluations=s.max_evaluations, max_seconds=s.max_seconds, forces=forces)
     runs, batch = tracking.simulate(chain, [r.spec() for r in recipes], horizon, rtol=s.rtol, **kw)
     batches = [batch] * len(runs)
-    if not batch_finished(runs) and len(runs) > 1 and runs[0].status != "too stiff":
+    if not batch_finished(runs) and len(runs) > 1 and runs[0].status not in tracking.NOT_STARTED:
         share = dict(kw, max_evaluations=s.max_evaluations // len(runs), max_seconds=s.max_seconds / len(runs))
         for i, spec in enumerate([r.spec for r in runs]):
             (runs[i],), batches[i] = tracking.simulate(chain, [spec], horizon, rtol=s.rtol, **share)
@@ -202,7 +202,7 @@ def robustness_result(ctx, keys, forces=motion.generalized_forces):
             elif x["balance_error"] > BALANCE * s.rtol:
                 verdicts.append(Verdict.VIOLATED)
                 unbalanced.append(x)
-        notes += list(dict.fromkeys(f"{key}: {run.note}" for run in st["runs"] if run.status == "too stiff"))
+        notes += list(dict.fromkeys(f"{key}: {run.note}" for run in st["runs"] if run.status in tracking.NOT_STARTED))
         rows += summaries
         if not st["moving"]:
             notes.append(f"{key}: no pagilla runs: with Psi = 0 Eq. (2) with F = M(q, Thetadot) is the generalized "
@@ -331,7 +331,8 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
     for key in keys:
         st = study(ctx, key)
         chain = scene_of(key).chain
-        stiff = [(r, run) for r, run in zip(st["recipes"], st["runs"]) if r.plant == "gre" and run.status == "too stiff"]
+        stiff = [(r, run) for r, run in zip(st["recipes"], st["runs"])
+                 if r.plant == "gre" and run.status in tracking.NOT_STARTED]
         if stiff and len(stiff) == sum(r.plant == "gre" for r in st["recipes"]):  # no run to check: no brackets
             for recipe, run in stiff:
                 cases[f"{key}, {recipe.law}, {recipe.timing[1]:g} s load"] = {
@@ -351,7 +352,7 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
             if recipe.plant != "gre" or run.t is None:
                 continue
             name = f"{key}, {recipe.law}, {recipe.timing[1]:g} s load"
-            if run.status == "too stiff":  # only its initial sample: nothing to check along a run
+            if run.status in tracking.NOT_STARTED:  # only its initial sample: nothing to check along a run
                 cases[name] = {"status": run.status, "applicable": False, "why": run.note}
                 continue
             xi = None if xi_override is None else xi_override(recipe, run, batch)
@@ -385,13 +386,13 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
     verdict = combine(verdicts)
     worst = min(applicable, key=lambda c: min(c["lower_margin"], c["upper_margin"])) if applicable else None
     natural = [c for name, c in cases.items() if ", natural," in name]
-    stiff = [c for c in cases.values() if c["status"] == "too stiff"]
+    stiff = [c for c in cases.values() if c["status"] in tracking.NOT_STARTED]
     summary = (f"{len(applicable)} of {len(cases)} runs uniformly consistent ({sum(c['applicable'] for c in natural)} "
                f"of the natural law's {len(natural)}): "
                + (f"smallest relative margin {min(worst['lower_margin'], worst['upper_margin']):.3g} "
                   f"(tightness alpha1 / inf lambda_min {worst['tightness_lower']:.2g}, "
                   f"sup lambda_max / alpha2 {worst['tightness_upper']:.2g})" if worst else "no run to check")
-               + (f"; {len(stiff)} runs too stiff for RK45, {stiff[0]['why']}" if stiff else ""))
+               + (f"; {len(stiff)} runs {stiff[0]['status']}, {stiff[0]['why']}" if stiff else ""))
     evidence = {"runs": rows, "qj_brackets": brackets, "figures": figures,
                 "smallest_margin": quantity(min((min(c["lower_margin"], c["upper_margin"]) for c in applicable),
                                                 default=np.nan), "margin",
@@ -476,7 +477,7 @@ def escape_margin(recipe, s, q_samples, forces=motion.generalized_forces, twin=n
             "witness": {"t": float(run.t[ti]), "q": at[ti].tolist()},
             "series": {"t": run.t.tolist(), "lambda_min_f_hat": f.tolist(), "inf_lambda_min_M_hat": low.tolist()}}
     out["resolution"] = _resolution(chain.n + 4)
-    out["stiff"] = next((r.note for r in runs if r.status == "too stiff"), "")  # not simulated: no margin
+    out["stiff"] = next((f"{r.status}, {r.note}" for r in runs if r.status in tracking.NOT_STARTED), "")  # no margin
     out["resolved"] = not out["stiff"] and all(r.balance_error <= BALANCE * s.rtol for r in runs if r.finished)
     return out
 
@@ -534,8 +535,8 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
         return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE,
                       f"no Slotine-Li run with an indefinite M(q, Theta_hat) in {len(seen)} runs on "
                       f"{', '.join(hunts)} (smallest relative lambda_min {worst}); the natural law stayed consistent "
-                      "in all" + (f"; {len(stiff)} of the runs too stiff for RK45 (no margin): {stiff[0]}" if stiff else ""),
-                      {"searched": searched, "too_stiff": len(stiff)})
+                      "in all" + (f"; {len(stiff)} of the runs not simulated (no margin): {stiff[0]}" if stiff else ""),
+                      {"searched": searched, "not_simulated": len(stiff)})
     found = {}
     for key, data in witnesses.items():
         path = ctx.save_counterexample(Result(
