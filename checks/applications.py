@@ -134,8 +134,11 @@ def batch_finished(runs):
 
 
 def study(ctx, key, forces=motion.generalized_forces):
-    """The robustness study of a scene, once per run (shared): recipes, runs and their batches, load durations."""
+    """The robustness study of a scene, once per run (shared): recipes, runs and their batches, load durations.
+    simulate_recipes spends up to 3 x max_seconds (the batch, the runs alone, a finer re-run), so max_seconds is
+    capped at a quarter of what the check's budget has left: the study ends inside it, with what it reached."""
     s = settings_for(ctx)
+    s = dataclasses.replace(s, max_seconds=min(s.max_seconds, ctx.budget.remaining() / 4))
 
     def compute():
         moving = scene_of(key).trajectory.internal_motion
