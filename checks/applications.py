@@ -221,7 +221,10 @@ def robustness_result(ctx, keys, forces=motion.generalized_forces):
     table = [{name: _rounded(x.get(key)) for name, key in TABLE} for x in rows]
     verdict = combine(verdicts) if verdicts else Verdict.HOLDS
     misled = _misled(rows)
-    summary = ("; ".join(misled) if misled else "no run finished") + (
+    not_started = [x for x in rows if x["status"] in tracking.NOT_STARTED]
+    summary = ("; ".join(misled) if misled else "no run finished" + (
+        f" ({len(not_started)} of {len(rows)} not started: {not_started[0]['status']}, see the notes)"
+        if not_started else "")) + (
         f"; {len(unbalanced)} runs do not close their Lyapunov balance" if unbalanced else "")
     evidence = {
         "table": table, "columns": LEGEND, "figures": figures, "notes": notes,
