@@ -48,7 +48,7 @@ from .domain import (
 )
 from .extremes import bracket_extreme
 from .pivot_search import ladder_budget, ladder_goal, pivot_ladder
-from .pivots import PIVOT_MIN_S, PivotFamily
+from .pivots import PIVOT_LIMIT, PIVOT_MIN_S, PivotFamily
 from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
 
@@ -374,6 +374,13 @@ def jacobian_sup(chain, **kw):
     return b
 
 
+def _ladders_run(chain, refine_s):
+    """Whether the pivot ladders run: a budget of PIVOT_MIN_S or more per bracket, a certified bracket possible and
+    at most PIVOT_LIMIT free coordinates (an arm and its gripper's joint)."""
+    return (refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None
+            and free_coordinates(chain).sum() <= PIVOT_LIMIT)
+
+
 def jacobian_normality(chain, **kw):
     """inf_q sigma_min(QJ)^2 = inf_q lambda_min((QJ)^T QJ) (Definition 2): observed by SVD of QJ; the certified side is
     the best of branch and bound (vertices; with a budget of PIVOT_MIN_S or more also the articulated-body pivots)
@@ -385,7 +392,7 @@ def jacobian_normality(chain, **kw):
                    "certified side from the block-triangular structure of QJ (unit twist of joint l in column l of "
                    "body l's block, lengths bound the rest): valid for every q")
     refine_s = kw.get("refine_s", 0.0)
-    if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
+    if _ladders_run(chain, refine_s):
         gamma, how = pivot_normality(chain, refine_s, kw.get("samples", 2000), detail=True)
         result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body "
                               f"pivots of (QJ)^T QJ - gamma I on each box (inertiaproof.bounds.pivot_search): {how}")
@@ -501,7 +508,7 @@ def mass_inf(chain, thetas, **kw):
     result.tighten(floor, "certified side min_l lambda_min(Z(Phi_l)) times a certified lower bound of "
                           "inf sigma_min(QJ)^2 (block-triangular floor)")
     refine_s = kw.get("refine_s", 0.0)
-    if refine_s >= PIVOT_MIN_S and certification_obstacle(chain) is None and free_coordinates(chain).sum() <= VERTEX_LIMIT:
+    if _ladders_run(chain, refine_s):
         mu = spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")  # (V, N), rounded down: Z_l >= mu_l I
         stop = result.observed / ladder_goal(refine_s)
         gamma, how = pivot_normality(chain, refine_s, kw.get("samples", 2000), mu, stop, detail=True)

@@ -52,9 +52,10 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .spectral import EPS, ROUNDING
 
-__all__ = ["PIVOT_MIN_S", "PivotFamily", "RIDGE", "RIDGES", "SWITCH", "pivot_bounds", "pivot_test"]
+__all__ = ["PIVOT_LIMIT", "PIVOT_MIN_S", "PivotFamily", "RIDGE", "RIDGES", "SWITCH", "pivot_bounds", "pivot_test"]
 
 PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot ladders run (ci and deep; audits skip them)
+PIVOT_LIMIT = 8  # free coordinates up to which the ladders run (a 7-joint arm and its gripper's slide)
 RIDGE = 1e-2  # relative ridge of the loss metric (default; the ladder picks one of RIDGES per form)
 RIDGES = (1e-3, 1e-2, 1e-1)  # measured (Panda): unit bodies best at 1e-2, the weighted form at 1e-1; 1e-4 needs 10-100x the boxes
 SWITCH = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative (see _turn_terms)

@@ -21,7 +21,7 @@ class Profile:
     moment_samples: int = 2**18  # Monte Carlo points per density (EQ-moments)
     bernstein_degree: int = 3  # highest Bernstein degree checked symbolically (EQ-moments)
     audit_samples: int = 512  # configurations per chain in an audit (a sweep audits dozens of chains)
-    audit_refine_s: float = 0.05  # seconds an audit's chain bracket may spend narrowing
+    audit_refine_s: float = 0.5  # seconds an audit's chain bracket may spend narrowing (from PIVOT_MIN_S the pivot ladders run)
     check_s: float = 45.0  # seconds one check may run (inertiaproof.budget): then it ends with what it has
     run_s: float = 300.0  # seconds a whole run may take: a check started late gets only what is left
     memory_mb: int = 4096  # memory one check may add to the process (its address space)
