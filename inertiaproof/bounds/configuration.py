@@ -47,13 +47,13 @@ from .domain import (
     bernstein_domain, certification_obstacle, chain_key, content_memo, derivative_factors, free_coordinates, search_box,
 )
 from .extremes import bracket_extreme
-from .fourier import FourierFamily, entry_sup_bounds, perron_of, remainder_radius
+from .fourier import FourierFamily, certified_entry_sups, perron_of
 from .pivots import PIVOT_MIN_S, PivotFamily, pivot_bounds
 from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
 
 __all__ = [
-    "apriori_bound", "apriori_jacobian_blocks", "ENTRY_ROUNDS_PER_SECOND", "fourier_sup_bracket", "column_bounds", "configuration_bracket", "EPS", "jacobian_family",
+    "apriori_bound", "apriori_jacobian_blocks", "FOURIER_PAIRS_S", "fourier_perron_bound", "column_bounds", "configuration_bracket", "EPS", "jacobian_family",
     "jacobian_normality", "jacobian_sup", "lever_bounds", "mass_family", "mass_inf", "mass_sup", "ROUNDING",
     "box_cost", "pivot_normality", "skew_partial_sup", "VERTEX_LIMIT", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
 ]
@@ -453,57 +453,44 @@ def mass_inf(chain, thetas, **kw):
 
 
 def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **kw):
-    """sup over q and the parameter sets of lambda_max (or sigma_max, kind='absmax') of M(q, Theta): with a Fourier
-    series of M (at most FOURIER_LIMIT free turning coordinates) by :func:`fourier_sup_bracket`, else by
-    :func:`configuration_bracket`."""
-    if certification_obstacle(chain) is None:
-        family = FourierFamily(chain, thetas)
-        if family.usable:
-            return fourier_sup_bracket(family, kind, quantity_name=name, **kw)
-    return configuration_bracket(chain, mass_family(chain, thetas), kind, quantity_name=name, thetas=thetas, **kw)
+    """sup over q and the parameter sets of lambda_max (or sigma_max, kind='absmax') of M(q, Theta): the bracket of
+    :func:`configuration_bracket`, whose certified side then adopts :func:`fourier_perron_bound` where sharper."""
+    result = configuration_bracket(chain, mass_family(chain, thetas), kind, quantity_name=name, thetas=thetas, **kw)
+    result.tighten(fourier_perron_bound(chain, thetas, kw.get("refine_s", 0.0)),
+                   "spectral radius of certified sups of |M_il(q)| over the search box from the exact Fourier "
+                   "coefficients, one or two coordinates on a grid over their joint limits (Perron-Frobenius; "
+                   "inertiaproof.bounds.fourier)")
+    return result
 
 
-def fourier_sup_bracket(family, kind, *, quantity_name, samples, refine_s, rng, progress=None, value_kind=None,
-                        square=False):
-    """Bracket of sup_q of lambda_max or sigma_max ('lmax', 'absmax') of M(q, Theta_v), worst over the stack, by
-    branch and bound with the Fourier-Taylor box bound (inertiaproof.bounds.fourier): per box the least of the
-    vertex bound of the linear part plus rho(B) (second-order remainder from the exact Fourier coefficients) and
-    the centre's value plus rho(B1) (mean value, Wiener norms of the partials); then the bracket adopts
-    rho(S) of certified entry sups over the search box (Perron-Frobenius) where sharper. ``value_kind`` and
-    ``square`` as in :func:`configuration_bracket` (sigma_max of QJ observed by SVD, unit bodies)."""
-    chain = family.chain
-    evaluate = mass_family(chain, family.thetas)[0]
-    source = evaluate if value_kind is None else jacobian_family(chain)[0]
-    free = family.free
-
-    def value(q):
-        v = spectral(source(q, derivatives=False), value_kind or kind)
-        return (v**2 if square else v).max(-1)
-
-    def box_bound(c, r):
-        a, da = evaluate(c)
-        second = vertex_bound(a, da, r, free, kind) + remainder_radius(family, r)
-        first = (spectral(a, kind) + perron_of(family.first_order(r)) + ROUNDING * EPS * np.linalg.norm(
-            a, axis=(-2, -1))).max(1)
-        return np.minimum(second, first) * (1 + 4 * EPS)
-
-    lo, hi = search_box(chain)
-    note = ("Fourier-Taylor bound per box (exact Fourier coefficients of M: second-order remainder rho(B) "
-            "beside the vertices of the linear part, or the mean value with Wiener norms of the partials); rounding "
-            "allowances stated in inertiaproof.bounds.fourier")
-    result = bracket_extreme(value, box_bound, lo, hi, sense="max", quantity_name=quantity_name, samples=samples,
-                             refine_s=refine_s, rng=rng, free=free, weights=family.weights, progress=progress,
-                             note=note, cost=_legacy_cost(free) * 2)
-    entry, _ = entry_sup_bounds(family, np.random.default_rng(12), rounds=max(1, int(refine_s * ENTRY_ROUNDS_PER_SECOND)),
-                                samples=samples)
-    result.tighten(perron_of(entry).max() * (1 + 4 * EPS),
-                   "spectral radius of certified sups of |M_il(q)| over the search box (Perron-Frobenius; "
-                   "entrywise branch and bound with the Fourier-Taylor bounds)")
-    return _with_fallback(result, kind, apriori_bound(chain, family.thetas, "sup"),
-                          bool(np.all(spectral(spatial_inertia(family.thetas), "lmin") >= 0)), chain, family.thetas)
+FOURIER_PAIRS_S = 0.25  # budget from which the pairs of coordinates are gridded too (head entries)
 
 
-ENTRY_ROUNDS_PER_SECOND = 40  # rounds of the entrywise branch and bound (64 boxes each) per second of budget
+def fourier_perron_bound(chain, thetas, refine_s=0.0):
+    """max_v rho(S_v) >= sup over the search box of |lambda|_max(M(q, Theta_v)), with S from
+    :func:`inertiaproof.bounds.fourier.certified_entry_sups` (pairs of coordinates from a budget of
+    ``FOURIER_PAIRS_S``, up to four coordinates in them with 5 s or more); None where M has no Fourier series.
+    Cached by content."""
+    if certification_obstacle(chain) is not None:
+        return None
+    pairs = 0 if refine_s < FOURIER_PAIRS_S else (4 if refine_s >= 5.0 else 3)
+    thetas = np.asarray(thetas, float)
+    key = (chain_key(chain), thetas.shape, thetas.tobytes(), pairs)
+    return content_memo(_PERRON_CACHE, key, lambda: _fourier_perron(chain, thetas, pairs))
+
+
+_PERRON_CACHE = {}
+
+
+def _fourier_perron(chain, thetas, pairs):
+    kept = []  # |M(q, -Theta)| = |M(q, Theta)| entrywise (M is linear in Theta): one of each pair +-Theta
+    for theta in thetas:
+        if not any(np.array_equal(theta, t) or np.array_equal(-theta, t) for t in kept):
+            kept.append(theta)
+    family = FourierFamily(chain, np.array(kept))
+    if not family.usable:
+        return None
+    return float(perron_of(certified_entry_sups(family, pairs)).max() * (1 + 4 * EPS))
 
 
 def skew_partials(dqj):

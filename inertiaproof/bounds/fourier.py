@@ -1,49 +1,50 @@
-"""Fourier-Taylor bounds of M(q, Theta) over boxes of configurations: the sup sides of Theorems 3 and 4 (and of
-sup sigma_max(QJ)^2 = sup lambda_max((QJ)^T QJ), unit bodies) for chains with at most ``FOURIER_LIMIT`` free
-turning coordinates (issue 12, "Certified brackets that close").
+"""Certified sups of |M_il(q, Theta)| over the search box from M's exact Fourier series, and their spectral radius:
+the sup sides of Theorems 3 and 4 (sup lambda_max(M(q, Theta)), sup sigma_max(M(q, Thetadot))) for chains with at
+most ``FOURIER_LIMIT`` free turning coordinates (issue 12, "Certified brackets that close").
 
 M is a finite Fourier series in the m free coordinates (MassMatrix: degree <= 2 per turning coordinate),
-M_il(q) = sum_k F_k,il e^(i k.q), k in {-2..2}^m, with F known exactly up to a stated allowance
-(:func:`inertiaproof.bounds.taylor.fourier_coefficients`). On a box c + d, |d_j| <= r_j:
+M_il(q) = sum_k F_k,il e^(i k.q), k in {-2..2}^m, with F exact up to a stated allowance delta
+(:func:`inertiaproof.bounds.taylor.fourier_coefficients`). Split the coordinates into a few B and the rest A:
 
-    M(c + d) = M(c) + sum_j d_j dM/dq_j(c) + E(d),
-    E_il(d) = sum_k F_k,il e^(i k.c) (e^(i k.d) - 1 - i k.d),   |E_il(d)| <= 1/2 r^T H_il r =: B_il,
-    H_il,jp = sum_k |k_j| |k_p| |F_k,il|                        (|e^(ix) - 1 - ix| <= x^2 / 2),
+    M_il(q) = sum_(k_A) e^(i k_A.q_A) g_(k_A),il(q_B),   g_(k_A)(q_B) = sum_(k_B) F_(k_A, k_B) e^(i k_B.q_B),
 
-so on the box
+so |M_il(q)| <= h_il(q_B) := sum_(k_A) |g_(k_A),il(q_B)| for every q_A (the Wiener norm in A only), and the sup
+over the box is at most the sup of h over the box's B-face. h is evaluated at the centres p of a grid of cells of
+half-widths eta_j over the joint limits of B; inside a cell |e^(i k_B.(q-p)) - 1| <= sum_(j in B) |k_j| eta_j, so
 
-- per entry: |M_il(q)| <= |M_il(c)| + sum_j r_j |dM_il/dq_j(c)| + B_il (:func:`entry_box_bounds`);
-- spectrally: lambda_max(M(q)) <= max over the box's vertices of lambda_max of the linear part + rho(B), and the
-  same for sigma_max = |lambda|_max (lambda_max and sigma_max are convex in the linear part; Weyl; ||E||_2 <=
-  rho(|E|) <= rho(B), Perron-Frobenius): :func:`remainder_radius`, added to the vertex bound by
-  :func:`inertiaproof.bounds.configuration.mass_sup`.
+    sup_box |M_il| <= max_grid h_il(p) + sum_(j in B) eta_j W_il,j,      W_il,j = sum_k |k_j| |F_k,il|
 
-:func:`entry_sup_bounds` runs a branch and bound shared by all entries over the search box (joint limits) for
-S_il >= sup_box |M_il(q)|; its spectral radius bounds sup lambda_max and sup sigma_max (Perron-Frobenius,
-:func:`perron_of`), much closer than the Wiener norms sum_k |F_k,il| over a whole period.
+(:func:`partial_wiener_sups`). Every B gives a valid bound; the least over the subsets tried is kept per entry.
+With B empty this is the Wiener norm over a whole period (taylor.fourier_sups); one or two coordinates see the
+joint limits and the phases between the harmonics of B. The spectral radius of S >= |M(q)| entrywise bounds
+lambda_max and sigma_max = |lambda|_max of M(q) for every q in the box (Perron-Frobenius, :func:`perron_of`).
 
-Rounding (stated): |F_k| carries the coefficient allowance delta in H; M(c) and r_j dM/dq_j(c) (complex step)
-carry ``ENTRY_ROUNDING`` n eps S_il (1 + rho_il) as in :func:`inertiaproof.bounds.taylor.box_bounds`; the sums
-of nonnegative terms are rounded up by a relative (5^m + 2 m + 8) eps; every eigenvalue is moved outwards by
-``ROUNDING`` eps ||.||_F.
+Rounding (stated): |F_k| carries delta (5^m delta added to every h); evaluating h adds at most (5^m + 64) eps
+times the Wiener norm sum_k |F_k,il| (exponentials to 2 eps, the sums over k_B and k_A of nonnegative terms); the
+grid's half-widths are widened by a relative 1e-12; every eigenvalue is moved outwards by ``ROUNDING`` eps ||.||_F.
+Polynomial: (cells) 5^m (V n^2) operations per subset.
 """
 
 from __future__ import annotations
 
-import numpy as np
+import itertools
 
-from inertiaproof.dynamics import composite
+import numpy as np
 
 from .domain import free_coordinates, search_box
 from .spectral import EPS, ROUNDING
-from .taylor import ENTRY_ROUNDING, MassFamily, fourier_coefficients
+from .taylor import fourier_coefficients
 
-__all__ = ["entry_box_bounds", "entry_sup_bounds", "FourierFamily", "perron_of", "remainder_radius"]
+__all__ = ["FourierFamily", "partial_wiener_sups", "perron_of", "SINGLE_CELLS", "PAIR_CELLS"]
+
+SINGLE_CELLS = 96  # grid cells along one coordinate B
+PAIR_CELLS = 48  # grid cells along each of two coordinates B
 
 
 class FourierFamily:
-    """M(q, Theta_v) of a stack (V, N, 10) with its Fourier curvature H (V, n, n, m, m) in the free coordinates;
-    ``usable`` False (and nothing else set) where no Fourier series is available."""
+    """M(q, Theta_v) of a stack (V, N, 10) as its Fourier series in the free coordinates: coefficients (5,)*m + (V,
+    n, n), their allowance delta and Wiener norms of the partials W (V, n, n, m); ``usable`` False (and nothing
+    else set) where no series is available (a free slide, more than FOURIER_LIMIT free coordinates)."""
 
     def __init__(self, chain, thetas):
         self.chain = chain
@@ -53,105 +54,117 @@ class FourierFamily:
         self.usable = found is not None
         if not self.usable:
             return
-        f, k, delta = found
+        f, k, self.delta = found
         self.idx = np.flatnonzero(self.free)
         m = len(self.idx)
+        self.count = len(f)  # 5^m
+        self.shape = f.shape[1:]  # (V, n, n)
+        self.tensor = f.reshape((5,) * m + (-1,))  # (5,)*m + (V n n,): axis j is frequency 0, 1, 2, -2, -1
+        size = np.abs(f).reshape(len(f), -1)
         ak = np.abs(k).astype(float)  # (5^m, m)
-        kk = (ak[:, :, None] * ak[:, None, :]).reshape(len(ak), -1)  # (5^m, m*m)
-        size = np.abs(f).reshape(len(f), -1)  # (5^m, V*n*n)
-        h = (kk.T @ size).reshape((m, m) + f.shape[1:]) + kk.sum(0).reshape(m, m)[..., None, None, None] * delta
-        self.curvature = np.moveaxis(h, (0, 1), (-2, -1)) * (1 + (len(f) + 8) * EPS)  # (V, n, n, m, m)
-        w = ak.T @ size + ak.sum(0)[:, None] * delta.reshape(1, -1)  # (m, V*n*n): Wiener norms of dM/dq_j
-        self.slopes = np.moveaxis(w.reshape((m,) + f.shape[1:]), 0, -1) * (1 + (len(f) + 8) * EPS)  # (V, n, n, m)
-        mass = MassFamily(chain, self.thetas)
-        self.sups, self.factors = mass.sups, mass.factors  # (V, n, n), (n, n, n)
-        self.weights = np.ones(chain.n)  # split where the curvature is largest (a coordinate's own second derivative)
-        diag = np.diagonal(self.curvature, axis1=-2, axis2=-1)  # (V, n, n, m)
-        self.weights[self.idx] = np.sqrt(np.max(np.linalg.eigvalsh(np.moveaxis(diag, -1, 1))[..., -1], 0)) + 1e-12
+        self.wiener = (size.sum(0).reshape(self.shape) + self.count * self.delta) * (1 + (self.count + 4) * EPS)
+        w = ak.T @ size + ak.sum(0)[:, None] * self.delta.reshape(1, -1)  # (m, V n n): Wiener norms of dM/dq_j
+        self.slopes = np.moveaxis(w.reshape((m,) + self.shape), 0, -1) * (1 + (self.count + 8) * EPS)
 
-    def centre(self, c):
-        """M(c) (K, V, n, n) and dM/dq(c) (K, V, n, n, n)."""
-        m = composite.mass_matrix(self.chain, c[:, None], self.thetas[None])
-        return m, composite.mass_matrix_partials(self.chain, c[:, None], self.thetas[None])
-
-    def entry_remainder(self, radii):
-        """B (K, V, n, n) >= |E_il| on boxes of radii (K, n), plus the rounding allowance of M(c) and r.dM/dq(c)."""
-        r = np.asarray(radii, float)[:, self.idx]  # (K, m)
-        m = r.shape[1]
-        rr = (r[:, :, None] * r[:, None, :]).reshape(len(r), -1)  # (K, m*m)
-        h = self.curvature.reshape(self.curvature.shape[:3] + (m * m,))  # (V, n, n, m*m)
-        b = 0.5 * np.einsum("kp,vilp->kvil", rr, h) * (1 + (m * m + 4) * EPS)
-        rho = np.einsum("ilj,kj->kil", self.factors, np.asarray(radii, float))[:, None]  # (K, 1, n, n)
-        n = self.chain.n
-        return b + ENTRY_ROUNDING * n * EPS * self.sups[None] * (1 + rho)
+    def head(self, fraction=0.2):
+        """The joints whose Perron-vector component of the Wiener norms is at least ``fraction`` of the largest:
+        the entries among them decide rho(S)."""
+        _, u = np.linalg.eigh(self.wiener)
+        u = np.abs(u[..., -1]).max(0)
+        return np.flatnonzero(u >= fraction * u.max())
 
 
-    def first_order(self, radii):
-        """B1 (K, V, n, n) >= |M_il(q) - M_il(c)| on boxes of radii (K, n) (mean value theorem with the Wiener norms
-        of dM_il/dq_j, valid for every q), plus the rounding allowance of M(c)."""
-        r = np.asarray(radii, float)[:, self.idx]
-        b = np.einsum("kj,vilj->kvil", r, self.slopes) * (1 + (r.shape[1] + 4) * EPS)
-        return b + ENTRY_ROUNDING * self.chain.n * EPS * self.sups[None]
+def partial_wiener_sups(family: FourierFamily, subset, cells, columns=None):
+    """S (V, n, n) >= sup over the search box of |M_il(q, Theta_v)| from the Fourier series, with the free
+    coordinates ``subset`` (indices into the free ones) on a grid of ``cells`` cells each over their joint limits
+    and the others by their Wiener norm (module docstring). ``columns`` (a mask (V, n, n)) restricts the work; the
+    other entries get the whole-period Wiener norm. M is real and symmetric, so only i <= l is computed and
+    g_(-k_A) = conj(g_(k_A)) (F_(-k) = conj(F_k)): half of the k_A, counted twice."""
+    lo, hi = search_box(family.chain)
+    m = len(family.idx)
+    upper = np.broadcast_to(np.triu(np.ones(family.shape[-2:], bool)), family.shape)
+    cols = (upper if columns is None else upper & np.asarray(columns, bool)).reshape(-1)
+    x = family.tensor[..., cols]
+    freq = np.array([0.0, 1.0, 2.0, -2.0, -1.0])
+    etas, factors = [], []
+    for b in subset:
+        j = family.idx[b]
+        width = (hi[j] - lo[j]) / cells
+        centres = lo[j] + (np.arange(cells) + 0.5) * width
+        etas.append(0.5 * width * (1 + 1e-12) + 1e-300)
+        factors.append(np.exp(1j * np.outer(centres, freq)))  # (cells, 5)
+    rest = [a for a in range(m) if a not in subset]
+    x = np.moveaxis(x, list(subset), list(range(len(subset))))  # (5,)*|B| + (5,)*|A| + (C,)
+    x = x.reshape((5,) * len(subset) + (-1, x.shape[-1]))  # (5,)*|B|, 5^|A|, C
+    half, weight = _half(len(rest))
+    x = x[..., half, :]
+    best = np.zeros(x.shape[-1])
+    if len(subset) == 0:
+        best = np.abs(x).T @ weight
+    elif len(subset) == 1:
+        for chunk in np.array_split(np.arange(cells), max(1, cells // 16)):
+            y = np.tensordot(factors[0][chunk], x, axes=(1, 0))  # (c, 5^|A| / 2, C)
+            best = np.maximum(best, np.tensordot(np.abs(y), weight, axes=(1, 0)).max(0))
+    else:
+        first = np.tensordot(factors[0], x, axes=(1, 0))  # (cells, 5, 5^|A| / 2, C)
+        for row in first:
+            y = np.tensordot(factors[1], row, axes=(1, 0))  # (cells, 5^|A| / 2, C)
+            best = np.maximum(best, np.tensordot(np.abs(y), weight, axes=(1, 0)).max(0))
+    slopes = family.slopes.reshape(-1, m)[cols]  # (C, m)
+    grid = sum(eta * slopes[:, b] for eta, b in zip(etas, subset)) if len(subset) else 0.0
+    wiener = family.wiener.reshape(-1)[cols]
+    bound = (best + family.count * family.delta.reshape(-1)[cols] + (family.count + 64) * EPS * wiener + grid)
+    out = family.wiener.reshape(-1).copy()
+    out[cols] = np.minimum(bound * (1 + 8 * EPS), wiener)
+    out = out.reshape(family.shape)
+    low = np.tril(np.ones(family.shape[-2:], bool), -1)
+    return np.where(low, np.swapaxes(out, -1, -2), out)
 
 
-def perron_of(b):
-    """rho(B) of symmetric nonnegative B (..., n, n), rounded up: a bound of ||E||_2 for every |E| <= B entrywise."""
-    return np.linalg.eigvalsh(b)[..., -1] + ROUNDING * EPS * np.linalg.norm(b, axis=(-2, -1))
+def _half(d):
+    """Indices of the k in {0, 1, 2, -2, -1}^d (FFT order, flattened) with k >= -k lexicographically, and their
+    weights: 1 for k = 0, 2 for the others (each stands for k and -k)."""
+    if d == 0:
+        return np.array([0]), np.array([1.0])
+    grid = np.stack(np.meshgrid(*([np.arange(5)] * d), indexing="ij"), -1).reshape(-1, d)
+    mirror = np.ravel_multi_index(((5 - grid) % 5).T, (5,) * d)
+    flat = np.arange(len(grid))
+    keep = flat <= mirror
+    return flat[keep], np.where(flat[keep] == mirror[keep], 1.0, 2.0)
 
 
-def remainder_radius(family: FourierFamily, radii):
-    """max_v rho(B_v) on each box (K,): the spectral norm of the Taylor remainder E is at most this."""
-    return perron_of(family.entry_remainder(radii)).max(1) * (1 + 4 * EPS)
+def perron_of(s):
+    """rho(S) of symmetric nonnegative S (..., n, n), rounded up: at least |lambda|_max of every symmetric matrix
+    bounded by S entrywise (Perron-Frobenius)."""
+    return np.linalg.eigvalsh(s)[..., -1] + ROUNDING * EPS * np.linalg.norm(s, axis=(-2, -1))
 
 
-def entry_box_bounds(family: FourierFamily, centres, radii):
-    """U (K, V, n, n) >= sup over the box of |M_il(q, Theta_v)|: the least of |M(c)| + sum_j r_j |dM/dq_j(c)| + B,
-    |M(c)| + B1 (:meth:`FourierFamily.first_order`) and the family's entry sups over a whole period (Wiener norm,
-    lengths)."""
-    c, r = np.asarray(centres, float), np.asarray(radii, float)
-    a, da = family.centre(c)
-    lin = np.einsum("kvilj,kj->kvil", np.abs(da), r)
-    taylor = (np.abs(a) + lin + family.entry_remainder(r)) * (1 + (2 * c.shape[1] + 8) * EPS)
-    first = (np.abs(a) + family.first_order(r)) * (1 + 4 * EPS)
-    return np.minimum(np.minimum(taylor, first), family.sups[None])  # the Wiener norm (or the lengths) bound every q
-
-
-def entry_sup_bounds(family: FourierFamily, rng, *, rounds, samples=2000, batch=64):
-    """(S, observed): S (V, n, n) >= sup over the search box of |M_il(q, Theta_v)|, certified, and the largest
-    sampled |M_il| (a true value, S >= observed). One branch and bound for all entries: a box stays while some
-    entry's bound on it exceeds that entry's best sampled value; the boxes that raise rho(S) most (Perron vector
-    weights) are split first, along the coordinate of largest curvature-weighted radius; ``rounds`` rounds."""
-    chain = family.chain
-    lo, hi = search_box(chain)
-    free = family.free
-    mid = 0.5 * (lo + hi)
-    q = np.where(free, lo + (hi - lo) * rng.random((samples, chain.n)), mid)
-    best = np.abs(composite.mass_matrix(chain, q[:, None], family.thetas[None])).max(0)  # (V, n, n)
-    centres, radii = mid[None].copy(), np.where(free, 0.5 * (hi - lo), 0.0)[None]
-    bounds = entry_box_bounds(family, centres, radii)
-    for _ in range(rounds):
-        s = np.maximum(best, bounds.max(0))
-        _, u = np.linalg.eigh(s)
-        u = np.abs(u[..., -1])  # (V, n): Perron vectors; d rho / d S_il = u_i u_l
-        gain = (np.maximum(bounds - best, 0) * (u[:, :, None] * u[:, None, :])).sum((2, 3)).max(1)  # (K,)
-        keep = (bounds > best).any((1, 2, 3))  # a box whose every bound is at most the entry's attained value is done
-        centres, radii, bounds, gain = centres[keep], radii[keep], bounds[keep], gain[keep]
-        if not len(gain):
-            break
-        take = np.argsort(-gain, kind="stable")[:batch]
-        rest = np.ones(len(gain), bool)
-        rest[take] = False
-        c, r = centres[take], radii[take]
-        axis = np.argmax(r * family.weights, 1)
-        half = r.copy()
-        half[np.arange(len(r)), axis] *= 0.5
-        shift = np.zeros_like(r)
-        shift[np.arange(len(r)), axis] = half[np.arange(len(r)), axis]
-        child_c, child_r = np.concatenate([c - shift, c + shift]), np.concatenate([half, half])
-        child_b = np.minimum(entry_box_bounds(family, child_c, child_r), np.concatenate([bounds[take]] * 2))
-        best = np.maximum(best, np.abs(composite.mass_matrix(chain, child_c[:, None], family.thetas[None])).max(0))
-        centres = np.concatenate([centres[rest], child_c])
-        radii = np.concatenate([radii[rest], child_r])
-        bounds = np.concatenate([bounds[rest], child_b])
-    s = best if not len(bounds) else np.maximum(best, bounds.max(0))
-    return s, best
+def certified_entry_sups(family: FourierFamily, pairs=3):
+    """S (V, n, n): the least over the subsets tried of :func:`partial_wiener_sups`: every single free coordinate
+    (all entries); then, parameter set by parameter set from the one of largest rho(S_v) while it can still raise
+    max_v rho(S_v), the pairs among the ``pairs`` coordinates whose single grids lowered rho(S) most (head entries
+    only, :meth:`FourierFamily.head`)."""
+    m = len(family.idx)
+    s = family.wiener.copy()
+    gains = []
+    for b in range(m):
+        single = partial_wiener_sups(family, (b,), SINGLE_CELLS)
+        gains.append(perron_of(single).max())
+        s = np.minimum(s, single)
+    if pairs < 2 or m < 2:
+        return s
+    head = family.head()
+    top = sorted(np.argsort(gains, kind="stable")[:pairs])
+    rho = perron_of(s)
+    done = np.zeros(len(rho), bool)
+    while not done.all():
+        v = int(np.argmax(np.where(done, -np.inf, rho)))
+        if done.any() and rho[v] <= rho[done].max():
+            break  # the parameter sets left cannot raise the max
+        mask = np.zeros(family.shape, bool)
+        mask[v, head[:, None], head[None, :]] = True
+        for subset in itertools.combinations(top, 2):
+            s = np.minimum(s, partial_wiener_sups(family, subset, PAIR_CELLS, mask))
+        rho[v] = perron_of(s[v])
+        done[v] = True
+    return s
