@@ -47,7 +47,7 @@ from .domain import (
     bernstein_domain, certification_obstacle, chain_key, content_memo, derivative_factors, free_coordinates, search_box,
 )
 from .extremes import bracket_extreme
-from .fourier import FourierFamily, certified_entry_sups, perron_of
+from .fourier import PAIR_CELLS, SINGLE_CELLS, FourierFamily, certified_entry_sups, perron_of
 from .pivots import PIVOT_MIN_S, PivotFamily, pivot_bounds
 from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
@@ -364,10 +364,15 @@ def jacobian_sup(chain, **kw):
     """sup_q sigma_max(QJ) (SVD). Beyond ``VERTEX_LIMIT`` free coordinates: the square root of the bracket of
     sup_q lambda_max((QJ)^T QJ), the mass matrix of unit bodies (Z = I), whose box bounds are polynomial."""
     if free_coordinates(chain).sum() <= VERTEX_LIMIT or certification_obstacle(chain) is not None:
-        return configuration_bracket(chain, jacobian_family(chain), "smax", quantity_name="sup_q sigma_max(QJ)", **kw)
+        b = configuration_bracket(chain, jacobian_family(chain), "smax", quantity_name="sup_q sigma_max(QJ)", **kw)
+        if certification_obstacle(chain) is None:
+            unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
+            _tighten_by_fourier(b, chain, unit, kw.get("refine_s", 0.0), square=False)
+        return b
     unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
     b = configuration_bracket(chain, mass_family(chain, unit), "lmax", value_kind="smax", square=True,
                               quantity_name="sup_q sigma_max(QJ)", thetas=unit, **kw)
+    _tighten_by_fourier(b, chain, unit, kw.get("refine_s", 0.0), square=True)
     root = (lambda x: None if x is None else float(np.sqrt(max(x, 0.0))))
     b.observed, b.certified = root(b.observed), root(b.certified)
     b.convergence = [[t, root(lo), root(hi)] for t, lo, hi in b.convergence]
@@ -456,33 +461,42 @@ def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **k
     """sup over q and the parameter sets of lambda_max (or sigma_max, kind='absmax') of M(q, Theta): the bracket of
     :func:`configuration_bracket`, whose certified side then adopts :func:`fourier_perron_bound` where sharper."""
     result = configuration_bracket(chain, mass_family(chain, thetas), kind, quantity_name=name, thetas=thetas, **kw)
-    result.tighten(fourier_perron_bound(chain, thetas, kw.get("refine_s", 0.0)),
-                   "spectral radius of certified sups of |M_il(q)| over the search box from the exact Fourier "
-                   "coefficients, one or two coordinates on a grid over their joint limits (Perron-Frobenius; "
-                   "inertiaproof.bounds.fourier)")
+    return _tighten_by_fourier(result, chain, thetas, kw.get("refine_s", 0.0), square=True)
+
+
+def _tighten_by_fourier(result, chain, thetas, refine_s, square):
+    """``result`` with its certified side tightened by :func:`fourier_perron_bound` (its square root when the
+    bracket is of sigma_max(QJ), ``square`` False: (QJ)^T QJ is M of unit bodies)."""
+    bound = fourier_perron_bound(chain, thetas, refine_s)
+    if bound is not None and not square:
+        bound = float(np.sqrt(bound) * (1 + 2 * EPS))
+    result.tighten(bound, "spectral radius of certified sups of |M_il(q)| over the search box from the exact Fourier "
+                          "coefficients, one or two coordinates on a grid over their joint limits (Perron-Frobenius; "
+                          "inertiaproof.bounds.fourier)" + ("" if square else ", unit bodies, square root"))
     return result
 
 
-FOURIER_PAIRS_S = 0.25  # budget from which the pairs of coordinates are gridded too (head entries)
+FOURIER_PAIRS_S = 0.25  # budget from which pairs of coordinates are gridded too (head entries)
+FOURIER_DEEP_S = 5.0  # budget from which four coordinates pair up, on grids twice as fine
 
 
 def fourier_perron_bound(chain, thetas, refine_s=0.0):
     """max_v rho(S_v) >= sup over the search box of |lambda|_max(M(q, Theta_v)), with S from
-    :func:`inertiaproof.bounds.fourier.certified_entry_sups` (pairs of coordinates from a budget of
-    ``FOURIER_PAIRS_S``, up to four coordinates in them with 5 s or more); None where M has no Fourier series.
-    Cached by content."""
+    :func:`inertiaproof.bounds.fourier.certified_entry_sups` (pairs of three coordinates from a budget of
+    ``FOURIER_PAIRS_S``; of four, on grids twice as fine, from ``FOURIER_DEEP_S``); None where M has no Fourier
+    series. Cached by content."""
     if certification_obstacle(chain) is not None:
         return None
-    pairs = 0 if refine_s < FOURIER_PAIRS_S else (4 if refine_s >= 5.0 else 3)
+    pairs, fine = (0, 1) if refine_s < FOURIER_PAIRS_S else ((4, 2) if refine_s >= FOURIER_DEEP_S else (3, 1))
     thetas = np.asarray(thetas, float)
-    key = (chain_key(chain), thetas.shape, thetas.tobytes(), pairs)
-    return content_memo(_PERRON_CACHE, key, lambda: _fourier_perron(chain, thetas, pairs))
+    key = (chain_key(chain), thetas.shape, thetas.tobytes(), pairs, fine)
+    return content_memo(_PERRON_CACHE, key, lambda: _fourier_perron(chain, thetas, pairs, fine))
 
 
 _PERRON_CACHE = {}
 
 
-def _fourier_perron(chain, thetas, pairs):
+def _fourier_perron(chain, thetas, pairs, fine):
     kept = []  # |M(q, -Theta)| = |M(q, Theta)| entrywise (M is linear in Theta): one of each pair +-Theta
     for theta in thetas:
         if not any(np.array_equal(theta, t) or np.array_equal(-theta, t) for t in kept):
@@ -490,7 +504,8 @@ def _fourier_perron(chain, thetas, pairs):
     family = FourierFamily(chain, np.array(kept))
     if not family.usable:
         return None
-    return float(perron_of(certified_entry_sups(family, pairs)).max() * (1 + 4 * EPS))
+    s = certified_entry_sups(family, pairs, fine * SINGLE_CELLS, fine * PAIR_CELLS)
+    return float(perron_of(s).max() * (1 + 4 * EPS))
 
 
 def skew_partials(dqj):

@@ -37,8 +37,8 @@ from .taylor import fourier_coefficients
 
 __all__ = ["FourierFamily", "partial_wiener_sups", "perron_of", "SINGLE_CELLS", "PAIR_CELLS"]
 
-SINGLE_CELLS = 96  # grid cells along one coordinate B
-PAIR_CELLS = 48  # grid cells along each of two coordinates B
+SINGLE_CELLS = 96  # grid cells along one coordinate B (the ci profile's; more with a larger budget)
+PAIR_CELLS = 96  # grid cells along each of two coordinates B
 
 
 class FourierFamily:
@@ -95,21 +95,25 @@ def partial_wiener_sups(family: FourierFamily, subset, cells, columns=None):
         factors.append(np.exp(1j * np.outer(centres, freq)))  # (cells, 5)
     rest = [a for a in range(m) if a not in subset]
     x = np.moveaxis(x, list(subset), list(range(len(subset))))  # (5,)*|B| + (5,)*|A| + (C,)
-    x = x.reshape((5,) * len(subset) + (-1, x.shape[-1]))  # (5,)*|B|, 5^|A|, C
+    x = x.reshape((5 ** len(subset), -1, x.shape[-1]))  # 5^|B|, 5^|A|, C
     half, weight = _half(len(rest))
-    x = x[..., half, :]
-    best = np.zeros(x.shape[-1])
+    x = np.ascontiguousarray(np.swapaxes(x[:, half, :], 1, 2)).reshape(len(x), -1)  # 5^|B|, C * 5^|A| / 2
+    columns_out = len(weight)
+    best = np.zeros(x.shape[-1] // columns_out)
     if len(subset) == 0:
-        best = np.abs(x).T @ weight
-    elif len(subset) == 1:
-        for chunk in np.array_split(np.arange(cells), max(1, cells // 16)):
-            y = np.tensordot(factors[0][chunk], x, axes=(1, 0))  # (c, 5^|A| / 2, C)
-            best = np.maximum(best, np.tensordot(np.abs(y), weight, axes=(1, 0)).max(0))
+        best = np.abs(x[0]).reshape(-1, columns_out) @ weight
     else:
-        first = np.tensordot(factors[0], x, axes=(1, 0))  # (cells, 5, 5^|A| / 2, C)
-        for row in first:
-            y = np.tensordot(factors[1], row, axes=(1, 0))  # (cells, 5^|A| / 2, C)
-            best = np.maximum(best, np.tensordot(np.abs(y), weight, axes=(1, 0)).max(0))
+        size = x.shape[1]
+        if len(subset) == 1:
+            blocks = (factors[0] @ x)[None]  # (1, cells, C * 5^|A| / 2)
+        else:  # separable: first along the first coordinate of B, then the second, a block of rows at a time
+            first = np.moveaxis((factors[0] @ x.reshape(5, 5 * size)).reshape(-1, 5, size), 1, 0)  # (5, cells, N)
+            step = max(1, int(4e6 // (size * len(factors[1]))))
+            blocks = ((factors[1] @ first[:, a:a + step].reshape(5, -1)).reshape(len(factors[1]), -1, size)
+                      for a in range(0, first.shape[1], step))
+        for y in blocks:
+            h = np.abs(y).reshape(-1, best.size, columns_out) @ weight  # (rows, C)
+            best = np.maximum(best, h.max(0))
     slopes = family.slopes.reshape(-1, m)[cols]  # (C, m)
     grid = sum(eta * slopes[:, b] for eta, b in zip(etas, subset)) if len(subset) else 0.0
     wiener = family.wiener.reshape(-1)[cols]
@@ -139,16 +143,19 @@ def perron_of(s):
     return np.linalg.eigvalsh(s)[..., -1] + ROUNDING * EPS * np.linalg.norm(s, axis=(-2, -1))
 
 
-def certified_entry_sups(family: FourierFamily, pairs=3):
+def certified_entry_sups(family: FourierFamily, pairs=3, single_cells=None, pair_cells=None):
     """S (V, n, n): the least over the subsets tried of :func:`partial_wiener_sups`: every single free coordinate
     (all entries); then, parameter set by parameter set from the one of largest rho(S_v) while it can still raise
     max_v rho(S_v), the pairs among the ``pairs`` coordinates whose single grids lowered rho(S) most (head entries
-    only, :meth:`FourierFamily.head`)."""
+    only, :meth:`FourierFamily.head`). Grids of ``single_cells`` and ``pair_cells`` cells (default
+    ``SINGLE_CELLS``, ``PAIR_CELLS``)."""
+    single_cells = SINGLE_CELLS if single_cells is None else single_cells
+    pair_cells = PAIR_CELLS if pair_cells is None else pair_cells
     m = len(family.idx)
     s = family.wiener.copy()
     gains = []
     for b in range(m):
-        single = partial_wiener_sups(family, (b,), SINGLE_CELLS)
+        single = partial_wiener_sups(family, (b,), single_cells)
         gains.append(perron_of(single).max())
         s = np.minimum(s, single)
     if pairs < 2 or m < 2:
@@ -164,7 +171,7 @@ def certified_entry_sups(family: FourierFamily, pairs=3):
         mask = np.zeros(family.shape, bool)
         mask[v, head[:, None], head[None, :]] = True
         for subset in itertools.combinations(top, 2):
-            s = np.minimum(s, partial_wiener_sups(family, subset, PAIR_CELLS, mask))
+            s = np.minimum(s, partial_wiener_sups(family, subset, pair_cells, mask))
         rho[v] = perron_of(s[v])
         done[v] = True
     return s
