@@ -22,8 +22,10 @@ second-order remainder, the linear part by matrix absolute values), so time and 
 the joints; the budget is a count of rounds scaled by the cost of a box, with a wall-clock guard, and where it
 runs out the bracket is wider, never missing. Every sup of lambda_max or |lambda|_max is also bounded by the
 spectral radius of entrywise bounds of |M_il(q)| (Perron-Frobenius; lengths, or the Wiener norm of M's exact
-Fourier coefficients), and every bracket adopts a sharper certified side only through
-:meth:`inertiaproof.bounds.extremes.Bracket.tighten`.
+Fourier coefficients); with a Fourier series (at most FOURIER_LIMIT free turning joints) :func:`mass_sup` and
+:func:`jacobian_sup` also adopt the spectral radius of certified sups of |M_il| over the search box, one or two
+coordinates on a grid over their joint limits (:mod:`inertiaproof.bounds.fourier`, :func:`fourier_perron_bound`).
+Every bracket adopts a sharper certified side only through :meth:`inertiaproof.bounds.extremes.Bracket.tighten`.
 
 Over time, Theta(t) of payloads and scalings lies on segments
 Theta_base + s Phi_load with s in the profile's range; spectral extremes that

@@ -35,7 +35,7 @@ from .domain import free_coordinates, search_box
 from .spectral import EPS, ROUNDING
 from .taylor import fourier_coefficients
 
-__all__ = ["FourierFamily", "partial_wiener_sups", "perron_of", "SINGLE_CELLS", "PAIR_CELLS"]
+__all__ = ["certified_entry_sups", "FourierFamily", "PAIR_CELLS", "partial_wiener_sups", "perron_of", "SINGLE_CELLS"]
 
 SINGLE_CELLS = 96  # grid cells along one coordinate B (the ci profile's; more with a larger budget)
 PAIR_CELLS = 96  # grid cells along each of two coordinates B
