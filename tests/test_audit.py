@@ -194,6 +194,7 @@ def test_exit_0_when_every_moving_link_is_consistent(tmp_path, capsys):
     path = write(tmp_path, two_link_arm(tool=massless_tool))
     code, out, _ = _run(capsys, path)
     assert code == 0 and "massless frame, not a body: not judged" in out and "M(q) singular: never" in out
+    assert "links: 2 consistent, 0 degenerate, 0 inconsistent, 0 invalid; 2 not judged" in out  # base, tool
 
 
 def test_exit_1_with_sign_and_repair_for_an_inconsistent_link(tmp_path, capsys):

@@ -95,3 +95,22 @@ def test_wrong_energy_and_cheapest():
     assert study.cheapest(rows, 1e-6, "s")[0] == "B"
     assert study.cheapest(rows, 1e-8, "s") == ("A", 4)
     assert study.cheapest(rows, 1e-9, "s") is None
+
+
+def _study(residuals, reference):
+    """A study of one method: {rtol: balance residual} and the reference (rtol, residual)."""
+    runs = [(simulate.Run("DOP853", rtol, "ok", 0.1, 10, 100, balance_error=b), 0.0) for rtol, b in residuals.items()]
+    return study.Study("s", 1.0, simulate.Run("DOP853", reference[0], "ok", 1.0, 100, 1000, balance_error=reference[1]),
+                       runs=runs)
+
+
+def test_balance_holds_where_the_residual_follows_the_tolerance_and_the_reference_levels_off():
+    """Deep profile, planar 2R (measured): DOP853 2.6e-5 at rtol 1e-3 ... 2.5e-10 at 1e-10; the reference at rtol
+    1e-12 levels off at 1.15e-10 (115 x its rtol)."""
+    measured = {1e-3: 2.61e-5, 1e-6: 1.56e-6, 1e-8: 2.63e-8, 1e-10: 2.54e-10}
+    verdict, coarse, fine, why = _study(measured, (1e-12, 1.15e-10)).balance_verdict()
+    assert verdict == Verdict.HOLDS and fine == 2.54e-10 and "levels off at 1.15e-10" in why
+    level = {rtol: 3e-6 for rtol in measured}  # a broken balance: the same residual at every tolerance
+    assert _study(level, (1e-12, 2.9e-6)).balance_verdict()[0] == Verdict.VIOLATED
+    assert _study(measured, (1e-12, 1e-9)).balance_verdict()[0] == Verdict.HOLDS  # the 1e-10 run still decides
+    assert _study({1e-3: 2.61e-5, 1e-6: 5e-4}, (1e-12, 1.15e-10)).balance_verdict()[0] == Verdict.INCONCLUSIVE

@@ -106,7 +106,8 @@ def format_file(path, f):
 
 def totals(summary):
     """The audit's counts (its ``summary``) after the number of files, e.g. "43 consistent, ...; signs: ..."."""
-    links = ", ".join(f"{n} {label}" for label, n in summary["links"].items())
+    links = ", ".join(f"{n} {label}" for label, n in summary["links"].items() if label != "not_judged")
+    links += f"; {summary['links'].get('not_judged', 0)} not judged (fixed base, massless or joint frames)"
     signs = ", ".join(f"{k} {v}" for k, v in sorted(summary["signs"].items())) or "none"
     return (f"{summary['files_consistent']} consistent, {summary['files_not_consistent']} not consistent, "
             f"{summary['unreadable']} unreadable; links: {links}; moving links or bodies not consistent: "
