@@ -468,7 +468,10 @@ def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **k
 
 def _tighten_by_fourier(result, chain, thetas, refine_s, square):
     """``result`` with its certified side tightened by :func:`fourier_perron_bound` (its square root when the
-    bracket is of sigma_max(QJ), ``square`` False: (QJ)^T QJ is M of unit bodies)."""
+    bracket is of sigma_max(QJ), ``square`` False: (QJ)^T QJ is M of unit bodies; there pairs of coordinates only
+    from a budget of ``FOURIER_DEEP_S``, single ones already close most of the bracket)."""
+    if not square and refine_s < FOURIER_DEEP_S:
+        refine_s = min(refine_s, 0.5 * FOURIER_PAIRS_S)
     bound = fourier_perron_bound(chain, thetas, refine_s)
     if bound is not None and not square:
         bound = float(np.sqrt(bound) * (1 + 2 * EPS))
