@@ -98,31 +98,63 @@ def partial_wiener_sups(family: FourierFamily, subset, cells, columns=None):
     x = x.reshape((5 ** len(subset), -1, x.shape[-1]))  # 5^|B|, 5^|A|, C
     half, weight = _half(len(rest))
     x = np.ascontiguousarray(np.swapaxes(x[:, half, :], 1, 2)).reshape(len(x), -1)  # 5^|B|, C * 5^|A| / 2
-    columns_out = len(weight)
-    best = np.zeros(x.shape[-1] // columns_out)
-    if len(subset) == 0:
-        best = np.abs(x[0]).reshape(-1, columns_out) @ weight
-    else:
-        size = x.shape[1]
-        if len(subset) == 1:
-            blocks = (factors[0] @ x)[None]  # (1, cells, C * 5^|A| / 2)
-        else:  # separable: first along the first coordinate of B, then the second, a block of rows at a time
-            first = np.moveaxis((factors[0] @ x.reshape(5, 5 * size)).reshape(-1, 5, size), 1, 0)  # (5, cells, N)
-            step = max(1, int(4e6 // (size * len(factors[1]))))
-            blocks = ((factors[1] @ first[:, a:a + step].reshape(5, -1)).reshape(len(factors[1]), -1, size)
-                      for a in range(0, first.shape[1], step))
-        for y in blocks:
-            h = np.abs(y).reshape(-1, best.size, columns_out) @ weight  # (rows, C)
-            best = np.maximum(best, h.max(0))
     slopes = family.slopes.reshape(-1, m)[cols]  # (C, m)
-    grid = sum(eta * slopes[:, b] for eta, b in zip(etas, subset)) if len(subset) else 0.0
+    ncols = x.shape[-1] // len(weight)
+    if len(subset) == 0:
+        covered = np.abs(x[0]).reshape(ncols, -1) @ weight
+    elif len(subset) == 1:
+        h = _h(x, factors[0], ncols, weight)  # (cells, C)
+        covered = h.max(0) + etas[0] * slopes[:, subset[0]]
+    else:
+        covered = _pair_grid(x, factors, etas, [lo[family.idx[b]] for b in subset], cells,
+                             [slopes[:, b] for b in subset], ncols, weight)
     wiener = family.wiener.reshape(-1)[cols]
-    bound = (best + family.count * family.delta.reshape(-1)[cols] + (family.count + 64) * EPS * wiener + grid)
+    bound = (covered + family.count * family.delta.reshape(-1)[cols] + (family.count + 64) * EPS * wiener)
     out = family.wiener.reshape(-1).copy()
     out[cols] = np.minimum(bound * (1 + 8 * EPS), wiener)
     out = out.reshape(family.shape)
     low = np.tril(np.ones(family.shape[-2:], bool), -1)
     return np.where(low, np.swapaxes(out, -1, -2), out)
+
+
+def _h(x, e, ncols, weight):
+    """h (P, C) = sum over the half of the k_A of weight |g_(k_A)| at P points, e (P, 5^|B|) = e^(i k_B.p)."""
+    step = max(1, int(2e6 // x.shape[1]))
+    return np.concatenate([np.abs(e[a:a + step] @ x).reshape(-1, ncols, len(weight)) @ weight
+                           for a in range(0, len(e), step)])
+
+
+def _pair_grid(x, factors, etas, lows, cells, slopes, ncols, weight):
+    """max over the cells x cells grid of two coordinates of h(p) + eta . W (the module's bound), in two levels:
+    h at the centres of a grid three times coarser bounds each coarse cell by h + eta_coarse . W; a coarse cell is
+    split into its 3 x 3 fine cells only where, for some entry, that exceeds the largest coarse h plus the fine
+    remainder (else its coarse bound is kept: every point lies in a kept coarse cell or a fine cell).
+    Without a coarse grid (cells not a multiple of 3 of at least 24) every fine cell is evaluated."""
+    fine = [eta * s for eta, s in zip(etas, slopes)]
+    rem_f = fine[0] + fine[1]
+    if cells % 3 or cells < 24:
+        e = (factors[0][:, None, :, None] * factors[1][None, :, None, :]).reshape(-1, 25)
+        return _h(x, e, ncols, weight).max(0) + rem_f
+    freq = np.array([0.0, 1.0, 2.0, -2.0, -1.0])
+    coarse = cells // 3
+    width = [6 * eta / (1 + 1e-12) for eta in etas]  # coarse widths: three fine cells
+    centres = [lo + (np.arange(coarse) + 0.5) * w for lo, w in zip(lows, width)]
+    ca, cb = np.meshgrid(centres[0], centres[1], indexing="ij")
+    ca, cb = ca.reshape(-1), cb.reshape(-1)
+
+    def expo(a, b):
+        return (np.exp(1j * np.outer(a, freq))[:, :, None] * np.exp(1j * np.outer(b, freq))[:, None, :]).reshape(-1, 25)
+
+    hc = _h(x, expo(ca, cb), ncols, weight)  # (coarse^2, C)
+    bc = hc + 3 * rem_f  # coarse half-widths are three fine ones
+    split = (bc > hc.max(0) + rem_f).any(1)
+    covered = bc[~split].max(0) if (~split).any() else np.zeros(hc.shape[1])
+    if split.any():
+        offsets = np.array([-1.0, 0.0, 1.0])
+        fa = (ca[split][:, None, None] + offsets[None, :, None] * width[0] / 3).repeat(3, 2).reshape(-1)
+        fb = (cb[split][:, None, None] + offsets[None, None, :] * width[1] / 3).repeat(3, 1).reshape(-1)
+        covered = np.maximum(covered, _h(x, expo(fa, fb), ncols, weight).max(0) + rem_f)
+    return covered
 
 
 def _half(d):
