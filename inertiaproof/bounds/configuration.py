@@ -55,7 +55,8 @@ from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
 
 __all__ = [
-    "apriori_bound", "apriori_jacobian_blocks", "FOURIER_PAIRS_S", "fourier_perron_bound", "column_bounds", "configuration_bracket", "EPS", "jacobian_family",
+    "apriori_bound", "apriori_jacobian_blocks", "column_bounds", "configuration_bracket", "EPS", "FOURIER_DEEP_S",
+    "FOURIER_PAIRS_S", "fourier_perron_bound", "jacobian_family",
     "jacobian_normality", "jacobian_sup", "lever_bounds", "mass_family", "mass_inf", "mass_sup", "ROUNDING",
     "box_cost", "pivot_normality", "skew_partial_sup", "VERTEX_LIMIT", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
 ]
