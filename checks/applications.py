@@ -108,14 +108,16 @@ def _resolution(n):
 
 def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     """Simulate recipes of one chain and horizon together. When the batch stops early (one stiff run holds up all),
-    each run is simulated alone with its share of the budget; a run whose Lyapunov balance error exceeds
-    BALANCE x rtol is simulated again at a tenth of the tolerance. Returns (runs, batches) in the recipes' order."""
+    each run is simulated alone with its share of the budget, unless the batch was not started (too stiff or
+    ill-conditioned: its runs share the chain and, in every caller, the gains); a run whose Lyapunov balance error
+    exceeds BALANCE x rtol is simulated again at a tenth of the tolerance. Returns (runs, batches) in the recipes'
+    order."""
     horizon = recipes[0].run_horizon()
     chain = recipes[0].chain()
     kw = dict(samples=_samples(s, horizon), max_evaluations=s.max_evaluations, max_seconds=s.max_seconds, forces=forces)
     runs, batch = tracking.simulate(chain, [r.spec() for r in recipes], horizon, rtol=s.rtol, **kw)
     batches = [batch] * len(runs)
-    if not batch_finished(runs) and len(runs) > 1:
+    if not batch_finished(runs) and len(runs) > 1 and runs[0].status not in tracking.NOT_STARTED:
         share = dict(kw, max_evaluations=s.max_evaluations // len(runs), max_seconds=s.max_seconds / len(runs))
         for i, spec in enumerate([r.spec for r in runs]):
             (runs[i],), batches[i] = tracking.simulate(chain, [spec], horizon, rtol=s.rtol, **share)
@@ -132,8 +134,11 @@ def batch_finished(runs):
 
 
 def study(ctx, key, forces=motion.generalized_forces):
-    """The robustness study of a scene, once per run (shared): recipes, runs and their batches, load durations."""
+    """The robustness study of a scene, once per run (shared): recipes, runs and their batches, load durations.
+    simulate_recipes spends up to 3 x max_seconds (the batch, the runs alone, a finer re-run), so max_seconds is
+    capped at a quarter of what the check's budget has left: the study ends inside it, with what it reached."""
     s = settings_for(ctx)
+    s = dataclasses.replace(s, max_seconds=min(s.max_seconds, ctx.budget.remaining() / 4))
 
     def compute():
         moving = scene_of(key).trajectory.internal_motion
@@ -200,6 +205,7 @@ def robustness_result(ctx, keys, forces=motion.generalized_forces):
             elif x["balance_error"] > BALANCE * s.rtol:
                 verdicts.append(Verdict.VIOLATED)
                 unbalanced.append(x)
+        notes += list(dict.fromkeys(f"{key}: {run.note}" for run in st["runs"] if run.status in tracking.NOT_STARTED))
         rows += summaries
         if not st["moving"]:
             notes.append(f"{key}: no pagilla runs: with Psi = 0 Eq. (2) with F = M(q, Thetadot) is the generalized "
@@ -215,7 +221,10 @@ def robustness_result(ctx, keys, forces=motion.generalized_forces):
     table = [{name: _rounded(x.get(key)) for name, key in TABLE} for x in rows]
     verdict = combine(verdicts) if verdicts else Verdict.HOLDS
     misled = _misled(rows)
-    summary = ("; ".join(misled) if misled else "no run finished") + (
+    not_started = [x for x in rows if x["status"] in tracking.NOT_STARTED]
+    summary = ("; ".join(misled) if misled else "no run finished" + (
+        f" ({len(not_started)} of {len(rows)} not started: {not_started[0]['status']}, see the notes)"
+        if not_started else "")) + (
         f"; {len(unbalanced)} runs do not close their Lyapunov balance" if unbalanced else "")
     evidence = {
         "table": table, "columns": LEGEND, "figures": figures, "notes": notes,
@@ -328,6 +337,13 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
     for key in keys:
         st = study(ctx, key)
         chain = scene_of(key).chain
+        stiff = [(r, run) for r, run in zip(st["recipes"], st["runs"])
+                 if r.plant == "gre" and run.status in tracking.NOT_STARTED]
+        if stiff and len(stiff) == sum(r.plant == "gre" for r in st["recipes"]):  # no run to check: no brackets
+            for recipe, run in stiff:
+                cases[f"{key}, {recipe.law}, {recipe.timing[1]:g} s load"] = {
+                    "status": run.status, "applicable": False, "why": run.note}
+            continue
         gamma_b, sigma_b = qj_brackets(ctx, chain, key)
         gamma = gamma_b.lower if gamma_override is None else gamma_override
         sigma = sigma_b.upper if sigma_override is None else sigma_override
@@ -341,9 +357,12 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
         for recipe, run, batch in zip(st["recipes"], st["runs"], st["batches"]):
             if recipe.plant != "gre" or run.t is None:
                 continue
+            name = f"{key}, {recipe.law}, {recipe.timing[1]:g} s load"
+            if run.status in tracking.NOT_STARTED:  # only its initial sample: nothing to check along a run
+                cases[name] = {"status": run.status, "applicable": False, "why": run.note}
+                continue
             xi = None if xi_override is None else xi_override(recipe, run, batch)
             case = bound_case(chain, run, q_samples, gamma, sigma, xi=xi)
-            name = f"{key}, {recipe.law}, {recipe.timing[1]:g} s load"
             series = case.pop("series", None)
             cases[name] = case
             if not case["applicable"]:
@@ -373,11 +392,13 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
     verdict = combine(verdicts)
     worst = min(applicable, key=lambda c: min(c["lower_margin"], c["upper_margin"])) if applicable else None
     natural = [c for name, c in cases.items() if ", natural," in name]
+    stiff = [c for c in cases.values() if c["status"] in tracking.NOT_STARTED]
     summary = (f"{len(applicable)} of {len(cases)} runs uniformly consistent ({sum(c['applicable'] for c in natural)} "
                f"of the natural law's {len(natural)}): "
                + (f"smallest relative margin {min(worst['lower_margin'], worst['upper_margin']):.3g} "
                   f"(tightness alpha1 / inf lambda_min {worst['tightness_lower']:.2g}, "
-                  f"sup lambda_max / alpha2 {worst['tightness_upper']:.2g})" if worst else "no run to check"))
+                  f"sup lambda_max / alpha2 {worst['tightness_upper']:.2g})" if worst else "no run to check")
+               + (f"; {len(stiff)} runs {stiff[0]['status']}, {stiff[0]['why']}" if stiff else ""))
     evidence = {"runs": rows, "qj_brackets": brackets, "figures": figures,
                 "smallest_margin": quantity(min((min(c["lower_margin"], c["upper_margin"]) for c in applicable),
                                                 default=np.nan), "margin",
@@ -462,7 +483,8 @@ def escape_margin(recipe, s, q_samples, forces=motion.generalized_forces, twin=n
             "witness": {"t": float(run.t[ti]), "q": at[ti].tolist()},
             "series": {"t": run.t.tolist(), "lambda_min_f_hat": f.tolist(), "inf_lambda_min_M_hat": low.tolist()}}
     out["resolution"] = _resolution(chain.n + 4)
-    out["resolved"] = all(r.balance_error <= BALANCE * s.rtol for r in runs if r.finished)
+    out["stiff"] = next((f"{r.status}, {r.note}" for r in runs if r.status in tracking.NOT_STARTED), "")  # no margin
+    out["resolved"] = not out["stiff"] and all(r.balance_error <= BALANCE * s.rtol for r in runs if r.finished)
     return out
 
 
@@ -477,18 +499,24 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
     """One hunt per scene of ``hunts`` ({scene: Hypothesis examples, None: the profile's}); all stop simulating
     after the profile's hunt_seconds. ``twin`` gives the law compared with Slotine-Li (a test passes a wrong one)."""
     s = settings_for(ctx)
-    deadline = time.perf_counter() + s.hunt_seconds
+    # the hunt stops starting runs at hunt_seconds or at 3/4 of what the check's budget has left, whichever is first,
+    # and no run may outlast that (a run's batch, its retries and a finer re-run: a third each)
+    deadline = time.perf_counter() + min(s.hunt_seconds, 0.75 * ctx.budget.remaining())
     phases = (Phase.explicit, Phase.reuse, Phase.generate, Phase.target) + ((Phase.shrink,) if s.shrink else ())
-    seen, failures, scenes, witnesses = {}, [], {}, {}
+    seen, failures, scenes, witnesses, stiff = {}, [], {}, {}, []
     for key, examples in hunts.items():
         q_samples = estimates.configurations(scene_of(key).chain, s.configurations, ctx.rng(f"{key}:APP escape q"))
 
         def margin(recipe):
             if recipe not in seen:  # Hypothesis replays a failing example once more
-                if time.perf_counter() > deadline:
+                left = deadline - time.perf_counter()
+                if left <= 0:
                     return np.nan
-                seen[recipe] = escape_margin(recipe, s, q_samples, twin=twin)
-                if _natural_fails(seen[recipe]):
+                capped = dataclasses.replace(s, max_seconds=min(s.max_seconds, left / 3))
+                seen[recipe] = escape_margin(recipe, capped, q_samples, twin=twin)
+                if seen[recipe]["stiff"]:
+                    stiff.append(seen[recipe]["stiff"])
+                elif _natural_fails(seen[recipe]):
                     failures.append(seen[recipe])
             data = seen[recipe]
             return (data["laws"]["euclidean"]["margin"], data["resolution"]) if data["resolved"] else np.nan
@@ -513,7 +541,8 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
         return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE,
                       f"no Slotine-Li run with an indefinite M(q, Theta_hat) in {len(seen)} runs on "
                       f"{', '.join(hunts)} (smallest relative lambda_min {worst}); the natural law stayed consistent "
-                      "in all", {"searched": searched})
+                      "in all" + (f"; {len(stiff)} of the runs not simulated (no margin): {stiff[0]}" if stiff else ""),
+                      {"searched": searched, "not_simulated": len(stiff)})
     found = {}
     for key, data in witnesses.items():
         path = ctx.save_counterexample(Result(

@@ -1,6 +1,7 @@
 """Adaptive laws (inertiaproof.sim.adaptive), the closed loop on three plants (tracking), runs as data (recipe)."""
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,6 +12,8 @@ from inertiaproof.dynamics import motion
 from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse
 from inertiaproof.sim import adaptive, estimates, tracking
 from inertiaproof.sim.recipe import Recipe
+
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
 
 LAWS = [adaptive.SlotineLi(0.7), adaptive.NaturalAdaptation(3.0)]
 
@@ -131,3 +134,34 @@ def test_recipes_are_plain_data_and_share_their_objects():
     assert a.trajectory is b.trajectory and a.law is b.law and a.law.gain == 3.0
     assert np.allclose(a.theta_hat0[1], 2.0 * a.trajectory.theta(np.array(0.0))[0][1])
     assert a.trajectory.loads[0].path.profile.duration == 0.4
+
+
+def test_a_batch_too_stiff_for_rk45_is_not_started():
+    """The 24-link snake's K_D = kd diag(M) against its M: lambda_max(M^-1 K_D) ~ 1e5 /s, so RK45 would need ~2e5
+    evaluations over 1 s, more than 10 x a budget of 2000; the batch says so at once instead of spending its budget; a 2R run
+    with the same budget starts."""
+    from scipy.linalg import eigh
+
+    from inertiaproof.dynamics import terms
+
+    snake = Recipe(str(SCENES / "many_links_24.toml"), "slotine-li", horizon=1.0)
+    batch = tracking.Batch(snake.chain(), [snake.spec()])
+    q0 = batch.split(batch.initial_state())[0][0]
+    m = terms.mass_matrix(snake.chain().body_jacobian(q0), batch.parameters(0.0).theta[0])
+    rho = batch.fastest_rate()[0]
+    assert rho == pytest.approx(eigh(np.diag(batch.kd[0]), m, eigvals_only=True).max(), rel=1e-8) and rho > 1e4
+    (run,), batch = tracking.simulate(snake.chain(), [snake.spec()], 1.0, samples=11, max_evaluations=2_000)
+    assert run.status == "too stiff" and not run.finished and "stiff solver" in run.note
+    assert batch.evaluations <= 2 and len(run.t) == 1
+    small = Recipe("planar-2r-payload", "natural", horizon=0.2)
+    (run,), _ = tracking.simulate(small.chain(), [small.spec()], 0.2, samples=5, max_evaluations=2_000)
+    assert run.status == "ok"
+
+
+def test_a_batch_with_a_numerically_singular_mass_matrix_is_not_started():
+    """extreme_lengths.toml (links of 1 km, 1 m, 1 mm): cond(M(q0)) ~ 1e20, beyond simulate.MAX_CONDITION, the
+    criterion of the stability and loading studies; the run says so instead of integrating digits that are lost."""
+    recipe = Recipe(str(SCENES / "extreme_lengths.toml"), "natural", horizon=0.5)
+    (run,), batch = tracking.simulate(recipe.chain(), [recipe.spec()], 0.5, samples=5)
+    assert run.status == "ill-conditioned" and run.status in tracking.NOT_STARTED and "cond(M" in run.note
+    assert batch.evaluations <= 2 and len(run.t) == 1

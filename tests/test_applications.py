@@ -151,3 +151,14 @@ def test_the_adaptive_table_of_a_scene():
     assert scene.adaptive.gain("natural") == 200.0 and scene.adaptive.lam == 5.0
     with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.estimate: must be a list of 7 numbers"):
         parse_scene(text.replace("estimate = 1.0", "estimate = [1.0, 2.0]"), "panda.toml")
+
+
+def test_a_scene_too_stiff_for_rk45_is_inconclusive_with_the_reason(app_ctx):
+    """The 24-link snake is too stiff for RK45 within the ci budget: the robustness study and the estimate bounds end
+    INCONCLUSIVE saying so (quickly, not at the check's deadline), never HOLDS on runs that were not simulated."""
+    key = str(SCENES / "many_links_24.toml")
+    robust = app.robustness_result(app_ctx, [key])
+    assert robust.verdict == Verdict.INCONCLUSIVE and "not started: too stiff" in robust.summary
+    assert any("stiff solver" in note for note in robust.evidence["notes"])
+    bounds = app.estimate_bounds_result(app_ctx, [key])
+    assert bounds.verdict == Verdict.INCONCLUSIVE and "too stiff" in bounds.summary and "stiff solver" in bounds.summary

@@ -8,6 +8,7 @@ import sys
 import threading
 import time
 
+import numpy as np
 import pytest
 from hypothesis import strategies as st
 
@@ -175,3 +176,10 @@ def test_timing_fields_are_the_listed_ones():
                                                       "other": {"y_label": "lambda", "lines": {"d": [[1, 5.0]]}}}}]}
     assert without_timings(doc) == {"checks": [{"evidence": {"value": 3.0, "series": {"y_label": "seconds"},
                                                              "other": {"y_label": "lambda", "lines": {"d": [[1, 5.0]]}}}}]}
+
+
+def test_a_hunt_whose_examples_are_all_discarded_counts_none():
+    """A margin of nan discards its example (assume); when every one is discarded the hunt ends with none counted
+    instead of Hypothesis' Unsatisfiable."""
+    h = hunt(st.integers(0, 10), lambda x: np.nan, Context(SMALL, seed=2), label="all discarded", max_examples=5)
+    assert h.examples == 0 and h.violation is None

@@ -82,3 +82,19 @@ def test_mass_window_and_stiff_scenes():
     assert capture.steps_for((1.0, 1.5), 1e3, (4, 64), 128) == 512
     too_stiff = capture.study(scene.chain, scene.trajectory, control, (4, 8), 16, max_steps=8)
     assert too_stiff.verdict == Verdict.INCONCLUSIVE and "too stiff" in too_stiff.why
+
+
+def test_feedforward_in_chunks_is_the_whole_grid(monkeypatch):
+    """FeedforwardPD.feedforward in chunks of FEEDFORWARD_CHUNK times (the loading study's memory) is the same as
+    at once, for any shape of times."""
+    from inertiaproof.sim import control as control_module
+
+    scene = robots.planar_2r(2.0)
+    pd = control_module.FeedforwardPD(scene.chain, controller(scene.chain, scene.trajectory, scene.control))
+    times = np.linspace(0.0, 1.0, 21).reshape(7, 3)
+    whole = pd.feedforward(times)
+    monkeypatch.setattr(control_module, "FEEDFORWARD_CHUNK", 4)
+    tol = 1e-12 * np.abs(whole).max()
+    assert whole.shape == (7, 3, scene.chain.n) and np.allclose(pd.feedforward(times), whole, rtol=0, atol=tol)
+    single = pd.feedforward(np.array(times[2, 1]))
+    assert single.shape == (scene.chain.n,) and np.allclose(single, whole[2, 1], rtol=0, atol=tol)

@@ -113,3 +113,24 @@ def test_terms_default_to_the_model():
 
     terms = Terms()
     assert terms.coriolis is model.coriolis and terms.lumped is model.lumped_velocity_matrix
+
+
+@pytest.mark.parametrize("name", ["panda", "non-normal-2r", "passenger-platform"])
+def test_coriolis_force_is_the_christoffel_form(name):
+    """terms.coriolis_force (C qd in O(N n^2), used by generalized_forces) against C of the Christoffel symbols of
+    dM/dq, batched and single; the comparison tells C from its transpose."""
+    from inertiaproof.dynamics import motion, terms
+
+    chain = robots.BUILTIN[name]().chain
+    rng = np.random.default_rng(3)
+    q, qd = rng.uniform(-1, 1, (2, 5, chain.n))
+    theta = np.stack([random_phi(chain.n) for _ in range(5)])
+    kin = motion.kinematics(chain, q)
+    c = terms.coriolis(terms.mass_matrix_partials(kin.qj, kin.dqj, theta), qd)
+    ref = (c @ qd[..., None])[..., 0]
+    fast = terms.coriolis_force(kin.qj, kin.dqj, theta, qd)
+    scale = np.abs(ref).max()
+    assert np.abs(fast - ref).max() <= 1e-12 * scale
+    assert np.allclose(terms.coriolis_force(kin.qj[0], kin.dqj[0], theta[0], qd[0]), fast[0], rtol=0, atol=1e-12 * scale)
+    transposed = (np.swapaxes(c, -1, -2) @ qd[..., None])[..., 0]
+    assert np.abs(transposed - fast).max() > 1e-6 * scale

@@ -1,12 +1,16 @@
 """Certified lambda_min / lambda_max of M(q, Theta) on a box from the pivots of the articulated-body factorisation
-(Loewner-monotone, O(n) 6 x 6 operations per box and trial value). Used for inf_q sigma_min(QJ)^2 (unit bodies),
-where it is well behaved, in profiles with a budget of at least ``PIVOT_MIN_S`` seconds per bracket.
+(Loewner-monotone, O(n) 6 x 6 operations per box and trial value). Used, through the ladder of
+:mod:`inertiaproof.bounds.pivot_search`, for inf_q sigma_min(QJ)^2 (unit bodies, Definition 2) and Theorem 2's
+inf lambda_min(M) >= inf lambda_min(sum_l mu_l QJ_l^T QJ_l) (isotropic bodies), where it is well behaved, in
+profiles with a budget of at least ``PIVOT_MIN_S`` seconds per bracket.
 
-Measured (issue 12): on unit bodies (QJ^T QJ) Panda 0.521 at a point, 0.32 on a box of 0.1 rad in every joint,
-0.086 on 1 rad; UR5 0.3384 on 0.1 rad. With real inertias (Panda, 2 kg) it fails beyond ~0.03 rad: a Loewner lower
-bound of R(x)^T P R(x) over an interval of x must drop the heavy directions of an anisotropic articulated inertia
-to its light ones (the family has no better common lower bound). ``python -m inertiaproof.bounds.pivots`` prints
-the bound against the radius.
+Measured (issue 12, Panda's sampled minimiser, bound / value at the centre for a box of the radius in every free
+joint): unit bodies 0.98 (0.01 rad), 0.90 (0.1 rad), 0.51 (0.3 rad); with real inertias (2 kg) 0.99 (0.03 rad),
+0.91 (0.1 rad), nothing at 0.3 rad (joint 6 alone: 0.97 at 0.1 rad; before the loss about the centre's derivative:
+0.93 at 0.03, nothing at 0.1). A Loewner lower bound of Phi(x)^T P Phi(x) over an interval of x must drop heavy
+directions of an anisotropic articulated inertia onto its light ones, which the real inertias' wrist (light
+eigenvalue 1e-3 of M against heavy 5) feels most. ``python -m inertiaproof.bounds.pivots`` prints the bound
+against the radius.
 
 M(q) + a I > 0 exactly when every pivot of its tip-first LDL^T factorisation is positive. In body coordinates
 (MassMatrix: M = sum_b QJ_b^T Z_b QJ_b, body twists V_b = Phi_b(q_b) V_(b-1) + s_b qdot_b, Phi_b the twist map of
@@ -19,18 +23,24 @@ Every step is monotone in the Loewner order where the pivots are positive (P is 
 keeps the order), so Loewner LOWER bounds L_b <= A_b(q) valid on the whole box give lower bounds of every
 pivot. The only box-dependent step is the turn (slide) of joint b: F(x) = Phi_b(x)^T P Phi_b(x) is a
 trigonometric polynomial of degree 2 in x (a polynomial of degree 2 for a slide); its five Fourier
-coefficients (from five samples, exact) give, for |x - c_b| <= r_b,
+coefficients about the centre (from five samples, exact) give, for d = x - c_b, |d| <= r_b, S = sin min(r, pi/2),
+E = 1 - cos min(r, pi) (:func:`_turn_terms`):
 
-    F(x) >= F(c_b) - (1 - cos r) pos(F_1c) - sin r |F_1s| - (1 - cos 2r) pos(F_2c) - sin 2r |F_2s|
+    up to SWITCH rad:  F(x) >= F(c_b) - S |F_1s + 2 F_2s| - E pos(F_1c + 4 F_2c) - 2 E^2 pos(-F_2c) - 2 S E |F_2s|
+    beyond:            F(x) >= F(c_b) - S |F_1s| - E pos(F_1c) - (1 - cos min(2r, pi)) pos(F_2c) - sin min(2r, pi/2) |F_2s|
 
-(angles clipped at pi/2 for sines, pi for cosines; |.| and pos(.) the matrix absolute value and positive part).
+(the first from sin 2d = 2 sin d - 2 sin d (1 - cos d), cos 2d - 1 = -4 (1 - cos d) + 2 (1 - cos d)^2: its first
+order term is the derivative F'(c) = F_1s + 2 F_2s, not the sum of the two harmonics' sizes; |.| and pos(.) the
+matrix absolute value and positive part in the metric of F(c_b) made definite). The last turn (joint 2) is seen
+only along s_1: its scalar form s_1^T F(x) s_1 is bounded the same way with scalars (exact to second order).
 So M(q) + a I > 0 on the box when all pivot bounds are positive: lambda_min(M) >= -a. The upper side
-(lambda_max) is the same test of -M + a I, i.e. bodies -Z. Bisection over a gives the bound.
+(lambda_max) is the same test of -M + a I, i.e. bodies -Z. Bisection over a gives the bound of a box.
 
-Rounding (stated): each level's Loewner bound is lowered by ``ROUNDING`` eps times the sum of the Frobenius
-norms of the matrices formed at that level (products, Fourier sums, absolute values) and each pivot bound by
-``ROUNDING`` eps (|s|^2 ||L||_F + |a|) (a posteriori bounds of the float operations, Weyl for the
-eigen-decompositions behind |.| and pos(.)).
+Rounding (stated): each level's Loewner bound is lowered by ``ROUNDING`` eps times the Frobenius norms of the
+matrices formed at that level (the five samples times 1 + 3 sum of the loss weights, for the Fourier sums, and the
+loss), each pivot bound by ``ROUNDING`` eps (|s|^2 ||L||_F + |a|), the scalar form by ``ROUNDING`` eps (its
+samples, the turned matrix, the loss); the absolute values and positive parts in a metric carry the residual of
+the computed roots of the metric (:func:`_bounding_parts`), Weyl for the eigen-decompositions.
 """
 
 from __future__ import annotations
@@ -42,46 +52,84 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .spectral import EPS, ROUNDING
 
-__all__ = ["PIVOT_MIN_S", "PivotFamily", "pivot_bounds", "pivot_test"]
+__all__ = ["PIVOT_MIN_S", "PivotFamily", "RIDGE", "RIDGES", "SWITCH", "pivot_bounds", "pivot_test"]
 
-PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot bound is run (deep; ci skips it)
-RIDGE = 1e-4  # relative ridge of the loss metric
+PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot ladders run (ci and deep; audits skip them)
+RIDGE = 1e-2  # relative ridge of the loss metric (default; the ladder picks one of RIDGES per form)
+RIDGES = (1e-3, 1e-2, 1e-1)  # measured (Panda): unit bodies best at 1e-2, the weighted form at 1e-1; 1e-4 needs 10-100x the boxes
+SWITCH = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative (see _turn_terms)
 ANGLES = 2 * np.pi * np.arange(5) / 5
 
 
-def _parts(a, h=None):
-    """(W, W+) with W >= A, W >= -A and W+ >= A, W+ >= 0 for symmetric A (..., 6, 6): the absolute value and the
-    positive part of A in the metric of H > 0 (H^(1/2) |H^(-1/2) A H^(-1/2)| H^(1/2); H = I when None), with
-    the eigen-decomposition's rounding added. Any H > 0 is valid; H near the matrix being bounded keeps the loss
-    relative to it in every direction."""
-    if h is None:
-        w, u = np.linalg.eigh(a)
-        root = None
+def _sym(u, w):
+    """u diag(w) u^T for stacks u (..., 6, 6), w (..., 6)."""
+    return (u * w[..., None, :]) @ np.swapaxes(u, -1, -2)
+
+
+def _bounding_parts(terms, kinds, metric=None):
+    """For symmetric A_t (T, ..., 6, 6) (``terms``) a W_t with W_t >= A_t and W_t >= -A_t (kind 'abs': the
+    matrix absolute value) or W_t >= A_t and W_t >= 0 (kind 'pos': the positive part), in the metric of
+    H > 0 (H^(1/2) f(H^(-1/2) A H^(-1/2)) H^(1/2); H = I when None; ``metric`` is H's eigen-decomposition
+    (values (..., 6) > 0, vectors)). Any H > 0 is valid; H near the matrix being bounded keeps the loss relative
+    to it in every direction. Also returns each term's spread in that metric (T, ...): the largest |eigenvalue|
+    of H^(-1/2) A H^(-1/2) (a heuristic only: the relative size of the loss).
+
+    Rounding (Frobenius norms, all upper bounds of spectral norms): with R ~ H^(1/2) and T ~ H^(-1/2) the
+    computed roots (whatever they are; T invertible), X~ = fl(T A T) is within e2 = ROUNDING eps ||T||^2 ||A||
+    of X = T A T (Higham 3.5); Y = f(X~) from its eigen-decomposition, lifted by e1 = ROUNDING eps
+    (||X~|| + ||Y||) (Weyl), then by e2, satisfies Y >= +-X (or Y >= X, 0), so T^-1 Y T^-1 >= +-A exactly.
+    With rho >= ||R T - I|| (computed, plus ROUNDING eps ||R|| ||T||) and Delta = R - T^-1,
+    ||Delta|| <= rho ||R|| / (1 - rho), and fl(R Y R) is within ||Delta|| ||Y|| (2 ||R|| + ||Delta||)
+    + ROUNDING eps ||R||^2 ||Y|| of T^-1 Y T^-1: that much is added as a multiple of I (rho >= 1/2: +inf)."""
+    terms = np.asarray(terms)
+    absolute = np.array([k == "abs" for k in kinds])[(slice(None),) + (None,) * (terms.ndim - 1)]
+    eye = np.eye(terms.shape[-1])
+    norm = (lambda x: np.linalg.norm(x, axis=(-2, -1)))
+    if metric is None:
+        w, u = np.linalg.eigh(terms)
+        out = _sym(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0)))
     else:
-        hw, hu = np.linalg.eigh(h)
+        hw, hu = metric
         hw = np.maximum(hw, 1e-300)
-        root = np.einsum("...ij,...j,...kj->...ik", hu, np.sqrt(hw), hu)
-        inv = np.einsum("...ij,...j,...kj->...ik", hu, 1 / np.sqrt(hw), hu)
-        w, u = np.linalg.eigh(inv @ a @ inv)
-    absolute = np.einsum("...ij,...j,...kj->...ik", u, np.abs(w), u)
-    positive = np.einsum("...ij,...j,...kj->...ik", u, np.maximum(w, 0), u)
-    if root is not None:
-        absolute, positive = root @ absolute @ root, root @ positive @ root
-        # W was built from a computed inverse root: check W -+ A >= 0 a posteriori and lift what is missing
-        for out, others in ((absolute, (a, -a)), (positive, (a, np.zeros_like(a)))):
-            gap = np.minimum(*(np.linalg.eigvalsh(out - o)[..., 0] - ROUNDING * EPS * np.linalg.norm(out - o, axis=(-2, -1))
-                               for o in others))
-            out += np.maximum(-gap, 0)[..., None, None] * np.eye(a.shape[-1])
-    slack = (ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + np.linalg.norm(absolute, axis=(-2, -1))))
-    slack = slack[..., None, None] * np.eye(a.shape[-1])
-    return absolute + slack, positive + slack
+        root, inv = _sym(hu, np.sqrt(hw)), _sym(hu, 1 / np.sqrt(hw))
+        x = inv @ terms @ inv
+        w, u = np.linalg.eigh(x)
+        y = _sym(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0)))
+        n_root, n_inv = norm(root), norm(inv)
+        lift = ROUNDING * EPS * (norm(x) + norm(y) + n_inv**2 * norm(terms))
+        y = y + lift[..., None, None] * eye
+        rho = norm(root @ inv - eye) + ROUNDING * EPS * n_root * n_inv
+        with np.errstate(divide="ignore", invalid="ignore"):
+            delta = np.where(rho < 0.5, rho * n_root / (1 - rho), np.inf)
+        n_y = norm(y)
+        lift = delta * n_y * (2 * n_root + delta) + ROUNDING * EPS * n_root**2 * n_y
+        out = root @ y @ root + lift[..., None, None] * eye
+    slack = ROUNDING * EPS * (norm(terms) + norm(out))
+    return out + slack[..., None, None] * eye, np.abs(w).max(-1)
+
+
+def _turn_terms(f1c, f1s, f2c, f2s, rr):
+    """The four terms T_k (kinds abs, pos, pos, abs) and weights w_k >= 0 with F(c + d) - F(c) >= -sum_k w_k W_k for
+    every |d| <= r, W_k >= +-T_k (abs) or W_k >= T_k, 0 (pos). Up to ``SWITCH`` rad about the centre's
+    derivative: sin d G1 - (1 - cos d) G2 + 2 (1 - cos d)^2 F2c - 2 sin d (1 - cos d) F2s with G1 = F1s + 2 F2s,
+    G2 = F1c + 4 F2c (weights S, E, 2 E^2, 2 S E; S = sin min(r, pi/2), E = 1 - cos min(r, pi)); beyond, term by
+    term: F1s sin d - F1c (1 - cos d) - F2c (1 - cos 2d) + F2s sin 2d (weights S, E, 1 - cos min(2r, pi),
+    sin min(2r, pi/2)), which loses less on wide intervals. The choice depends on r only."""
+    near = rr <= SWITCH
+    sin_r, cos_r = np.sin(np.minimum(rr, np.pi / 2)), 1 - np.cos(np.minimum(rr, np.pi))
+    sin_2r, cos_2r = np.sin(np.minimum(2 * rr, np.pi / 2)), 1 - np.cos(np.minimum(2 * rr, np.pi))
+    terms = np.stack([np.where(near, f1s + 2 * f2s, f1s), np.where(near, f1c + 4 * f2c, f1c),
+                      np.where(near, -f2c, f2c), f2s])
+    weights = (sin_r, cos_r, np.where(near, 2 * cos_r**2, cos_2r), np.where(near, 2 * sin_r * cos_r, sin_2r))
+    return terms, weights
 
 
 class PivotFamily:
     """The chain's fixed maps and body inertias (a stack of parameter sets) for :func:`pivot_bounds`."""
 
-    def __init__(self, chain, thetas):
+    def __init__(self, chain, thetas, ridge=RIDGE):
         self.chain = chain
+        self.ridge = ridge  # relative ridge of the turns' loss metric: any value is sound
         self.z = spatial_inertia(np.asarray(thetas, float))  # (V, N, 6, 6)
         self.twists = np.array([j.unit_twist for j in chain.z_joints])  # (n, 6)
         self.revolute = [j.revolute for j in chain.z_joints]
@@ -104,51 +152,80 @@ class PivotFamily:
         return out
 
     def rotated_lower(self, b, p, c, r, relative=True):
-        """A Loewner lower bound over |x - c| <= r (K,) of Phi_b(x)^T p Phi_b(x), p (K, V, 6, 6); and its loss norm."""
-        q = np.einsum("ji,kvjl,lm->kvim", self.after[b], p, self.after[b])  # tm(after)^T p tm(after)
+        """A Loewner lower bound over |x - c| <= r (K,) of Phi_b(x)^T p Phi_b(x), p (K, V, 6, 6); and its loss
+        relative to the centre's matrix (K, V; in the metric, a heuristic for where to split).
+
+        A turn: with d = x - c, F(c + d) - F(c) = sin d G1 - (1 - cos d) G2 + 2 (1 - cos d)^2 F2c
+        - 2 sin d (1 - cos d) F2s, G1 = F1s + 2 F2s (F'(c)), G2 = F1c + 4 F2c (from cos 2d - 1 = -4 (1 - cos d)
+        + 2 (1 - cos d)^2 and sin 2d = 2 sin d - 2 sin d (1 - cos d)), the Fourier coefficients taken about c;
+        with S = sin min(r, pi/2) >= |sin d| and E = 1 - cos min(r, pi) >= 1 - cos d >= 0 the loss is
+        S |G1| + E pos(G2) + 2 E^2 pos(-F2c) + 2 S E |F2s|. A slide: F(c + d) = F0 + d F1 + d^2 F2 exactly."""
+        after, before = self.after[b], self.before[b]
+        q = after.T @ p @ after  # tm(after)^T p tm(after)
+        rr = r[:, None, None, None]
         if self.revolute[b]:
             samples = np.stack([self._turned(b, q, c + d) for d in ANGLES])  # (5, K, V, 6, 6)
-            cos1, sin1 = np.cos(ANGLES), np.sin(ANGLES)
-            cos2, sin2 = np.cos(2 * ANGLES), np.sin(2 * ANGLES)
-            f1c, f1s = (np.einsum("m,m...->...", 0.4 * w, samples) for w in (cos1, sin1))
-            f2c, f2s = (np.einsum("m,m...->...", 0.4 * w, samples) for w in (cos2, sin2))
-            rr = r[:, None, None, None]
-            a1, b1 = 1 - np.cos(np.minimum(rr, np.pi)), np.sin(np.minimum(rr, np.pi / 2))
-            a2, b2 = 1 - np.cos(np.minimum(2 * rr, np.pi)), np.sin(np.minimum(2 * rr, np.pi / 2))
+            f1c, f1s, f2c, f2s = (np.tensordot(0.4 * w, samples, axes=1) for w in (
+                np.cos(ANGLES), np.sin(ANGLES), np.cos(2 * ANGLES), np.sin(2 * ANGLES)))
+            terms, weights = _turn_terms(f1c, f1s, f2c, f2s, rr)
             h = self._metric(samples[0]) if relative else None
-            abs1, pos1 = _parts(f1c, h)
-            abs1s, _ = _parts(f1s, h)
-            _, pos2 = _parts(f2c, h)
-            abs2s, _ = _parts(f2s, h)
-            loss = a1 * pos1 + b1 * abs1s + a2 * pos2 + b2 * abs2s
+            parts, spread = _bounding_parts(terms, ("abs", "pos", "pos", "abs"), h)
             centre = samples[0]
-            size = np.linalg.norm(samples, axis=(-2, -1)).sum(0)
+            size = np.linalg.norm(samples, axis=(-2, -1)).sum(0) * (1 + 3 * sum(weights))[..., 0, 0]
         else:
             f0, fp, fm = (self._turned(b, q, c + d) for d in (0.0, 1.0, -1.0))
             f1, f2 = 0.5 * (fp - fm), 0.5 * (fp + fm) - f0
-            rr = r[:, None, None, None]
             h = self._metric(f0) if relative else None
-            abs1, _ = _parts(f1, h)
-            abs2, _ = _parts(f2, h)
-            loss = rr * abs1 + rr**2 * abs2
+            parts, spread = _bounding_parts(np.stack([f1, f2]), ("abs", "abs"), h)
+            weights = (rr, rr**2)
             centre = f0
             size = (np.linalg.norm(f0, axis=(-2, -1)) + np.linalg.norm(fp, axis=(-2, -1))
                     + np.linalg.norm(fm, axis=(-2, -1))) * (1 + r[:, None]) ** 2
-        lower = centre - loss
-        lower = np.einsum("ji,kvjl,lm->kvim", self.before[b], lower, self.before[b])
-        norm_b = np.linalg.norm(self.before[b]) ** 2 * np.linalg.norm(self.after[b]) ** 2
-        slack = ROUNDING * EPS * norm_b * (size + np.linalg.norm(loss, axis=(-2, -1)))
-        return lower - slack[..., None, None] * np.eye(6), np.linalg.norm(loss, 2, axis=(-2, -1))
+        loss = sum(w * part for w, part in zip(weights, parts))
+        relative = sum(w[..., 0, 0] * x for w, x in zip(weights, spread))  # the loss in the metric
+        if h is None:
+            relative = relative / np.maximum(np.linalg.norm(centre, axis=(-2, -1)), 1e-300)
+        lower = before.T @ (centre - loss) @ before
+        norm_b = np.linalg.norm(before) ** 2 * np.linalg.norm(after) ** 2
+        loss_norm = np.linalg.norm(loss, axis=(-2, -1))
+        slack = ROUNDING * EPS * norm_b * (size + loss_norm)
+        return lower - slack[..., None, None] * np.eye(6), relative
+
+    def rotated_form_lower(self, b, p, c, r, v):
+        """A lower bound over |x - c| <= r (K,) of v^T tm(before)^T Phi_b(x)^T p Phi_b(x) tm(before) v, p (K, V, 6, 6):
+        the same expansion as :meth:`rotated_lower` for the scalar trigonometric (a slide: algebraic)
+        polynomial, exact to the second order; used for the last turn, whose matrix is only seen along v. Also
+        returns the loss (K, V)."""
+        after, w = self.after[b], self.before[b] @ v
+        q = after.T @ p @ after
+        rr = r[:, None]
+        if self.revolute[b]:
+            samples = np.stack([(self._turned(b, q, c + d) @ w) @ w for d in ANGLES])  # (5, K, V)
+            f1c, f1s, f2c, f2s = (np.tensordot(0.4 * u, samples, axes=1) for u in (
+                np.cos(ANGLES), np.sin(ANGLES), np.cos(2 * ANGLES), np.sin(2 * ANGLES)))
+            terms, weights = _turn_terms(f1c, f1s, f2c, f2s, rr)
+            loss = (weights[0] * np.abs(terms[0]) + weights[1] * np.maximum(terms[1], 0)
+                    + weights[2] * np.maximum(terms[2], 0) + weights[3] * np.abs(terms[3]))
+            size = np.abs(samples).sum(0) * (1 + 3 * sum(weights))
+        else:
+            f0, fp, fm = ((self._turned(b, q, c + d) @ w) @ w for d in (0.0, 1.0, -1.0))
+            samples = np.stack([f0, fp, fm])
+            loss = rr * np.abs(0.5 * (fp - fm)) + rr**2 * np.abs(0.5 * (fp + fm) - f0)
+            size = np.abs(samples).sum(0) * (1 + rr) ** 2
+        norm_b = np.linalg.norm(after) ** 2 * float(w @ w)
+        return samples[0] - loss - ROUNDING * EPS * (norm_b * np.linalg.norm(q, axis=(-2, -1)) + size + loss), loss
 
     def _metric(self, f):
-        """The metric the turn's loss is measured in: the turned matrix at the centre, made definite."""
-        w = np.linalg.eigvalsh(f)
-        ridge = RIDGE * np.maximum(np.abs(w).max(-1), 1e-300) - np.minimum(w[..., 0], 0)
-        return f + ridge[..., None, None] * np.eye(6)
+        """The metric the turn's loss is measured in: the turned matrix at the centre, made definite (a ridge
+        of ``ridge`` times its largest |eigenvalue| above its smallest eigenvalue, if negative), as its
+        eigen-decomposition (values, vectors). Any definite metric is valid (_bounding_parts)."""
+        w, u = np.linalg.eigh(f)
+        ridge = self.ridge * np.maximum(np.abs(w).max(-1), 1e-300) - np.minimum(w[..., 0], 0)
+        return w + ridge[..., None], u
 
     def _turned(self, b, q, x):
-        t = self.turn_maps(b, x)  # (K, 6, 6)
-        return np.einsum("kji,kvjl,klm->kvim", t, q, t)
+        t = self.turn_maps(b, x)[:, None]  # (K, 1, 6, 6)
+        return np.swapaxes(t, -1, -2) @ q @ t
 
 
 def pivot_test(family: PivotFamily, sign, armature, centres, radii):
@@ -162,17 +239,25 @@ def pivot_test(family: PivotFamily, sign, armature, centres, radii):
     losses = np.zeros((k_count, n))
     for b in range(n - 1, -1, -1):
         s = family.twists[b]
-        d = np.einsum("i,kvij,j->kv", s, a, s) + armature
+        u = a @ s
+        d = u @ s + armature
         d = d - ROUNDING * EPS * (np.dot(s, s) * np.linalg.norm(a, axis=(-2, -1)) + np.abs(armature))
         ok &= d > 0
         if b == 0:
             break
         safe = np.where(d > 0, d, 1.0)
-        u = np.einsum("kvij,j->kvi", a, s)
-        p = a - np.einsum("kvi,kvj->kvij", u, u) / safe[..., None, None]
+        p = a - u[..., :, None] * u[..., None, :] / safe[..., None, None]
         p = p - (ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + (u * u).sum(-1) / safe))[..., None, None] * np.eye(6)
+        if b == 1:  # the last turn is seen only along s_0: its scalar form
+            s0 = family.twists[0]
+            form, form_loss = family.rotated_form_lower(b, p, centres[:, b], radii[:, b], s0)
+            d0 = (z[:, 0] @ s0) @ s0 + form + armature
+            losses[:, b] = (form_loss / np.maximum(np.abs(d0), 1e-300)).max(1)
+            d0 = d0 - ROUNDING * EPS * (np.dot(s0, s0) * np.linalg.norm(z[:, 0], axis=(-2, -1)) + np.abs(form) + np.abs(armature))
+            ok &= d0 > 0
+            break
         g, loss = family.rotated_lower(b, p, centres[:, b], radii[:, b], relative=sign > 0)
-        losses[:, b] = (loss / np.maximum(np.abs(safe), 1e-300)).max(1)
+        losses[:, b] = loss.max(1)
         a = z[None, :, b - 1] + g
     return ok, losses
 

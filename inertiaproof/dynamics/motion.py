@@ -38,9 +38,8 @@ def kinematics(chain, q):
     """QJ, dQJ/dq (exact to round-off by a complex step in each coordinate), R_l and z_l at configurations q."""
     q = np.asarray(q, dtype=float)
     steps = q[..., None, :] + 1j * COMPLEX_STEP * np.eye(chain.n)
-    frames = chain.joint_frames(steps)
+    rotations, origins, _, _ = chain.joint_frames(q)  # at q itself: bit-equal to a complex step's real part
     stepped = chain.body_jacobian(steps)
-    rotations, origins = frames[0][..., 0, :, :, :].real, frames[1][..., 0, :, :].real
     return Kinematics(stepped[..., 0, :, :].real, np.moveaxis(stepped.imag / COMPLEX_STEP, -3, -1),
                       rotations, origins)
 

@@ -31,8 +31,10 @@ UNIT_Z = spatial_inertia(np.eye(10))  # Z(e_h) for the ten unit parameter vector
 
 
 def twist_regressor(w):
-    """Y(w) (..., 6, 10) with Z(Phi) w = Y(w) Phi, for twists w (..., 6)."""
-    return np.einsum("hrs,...s->...rh", UNIT_Z, w)
+    """Y(w) (..., 6, 10) with Z(Phi) w = Y(w) Phi, for twists w (..., 6): one product w @ [UNIT_Z as 6 x 60]."""
+    unit = np.moveaxis(UNIT_Z, 0, -1).reshape(6, 60)  # [r, s, h] -> [r, s * 10 + h]; UNIT_Z[h] is symmetric
+    w = np.asarray(w)
+    return (w.reshape(-1, 6) @ unit).reshape(w.shape[:-1] + (6, 10))
 
 
 def _blocks(qj):
@@ -41,12 +43,12 @@ def _blocks(qj):
 
 def _apply(b, x):
     """B_l x for blocks b (..., N, 6, n) and vectors x (..., n): (..., N, 6)."""
-    return np.einsum("...lrk,...k->...lr", b, x)
+    return (b @ x[..., None, :, None])[..., 0]
 
 
 def _project(b, w):
     """B_l^T Y(w_l) for blocks (..., N, 6, n) and twists (..., N, 6): (..., N, n, 10)."""
-    return np.einsum("...lrk,...lrh->...lkh", b, twist_regressor(w))
+    return np.swapaxes(b, -1, -2) @ twist_regressor(w)
 
 
 def mass_regressor(qj, a):
@@ -56,18 +58,23 @@ def mass_regressor(qj, a):
 
 
 def christoffel_terms(qj, dqj, q_dot, v):
-    """(T1, T2, T3), each (..., N, n, 10), of the Coriolis regressor; R_C,l = (T1 + T2 - T3) / 2."""
+    """(T1, T2, T3), each (..., N, n, 10), of the Coriolis regressor; R_C,l = (T1 + T2 - T3) / 2.
+
+    The four contractions of dB/dq (with qd and v over the derivative index and over the column index) are two
+    matrix products with the pair (qd, v); each T is one product of stacked blocks with stacked Y's."""
     b = _blocks(qj)
     db = dqj.reshape(b.shape + (dqj.shape[-1],))  # [l, r, k, i] = d B_l[r, k] / d q_i
+    pair = np.stack(np.broadcast_arrays(q_dot, v), -1)[..., None, None, :, :]  # (..., 1, 1, n, 2)
+    by_rate = db @ pair  # [..., k, 0] = (sum_i dB/dq_i qd_i)[:, k] = Bd, [..., 1] = Bv
+    by_column = np.swapaxes(db, -1, -2) @ pair  # [..., k, 0] = dB/dq_k qd, [..., 1] = dB/dq_k v
+    bd, bv = by_rate[..., 0], by_rate[..., 1]
+    dk_qd, dk_v = by_column[..., 0], by_column[..., 1]
     b_qd, b_v = _apply(b, q_dot), _apply(b, v)
-    bd = np.einsum("...lrki,...i->...lrk", db, q_dot)
-    bv = np.einsum("...lrki,...i->...lrk", db, v)
-    t1 = np.einsum("...lrk,...lrh->...lkh", bd, twist_regressor(b_v)) + _project(b, _apply(bd, v))
-    t2 = np.einsum("...lrk,...lrh->...lkh", bv, twist_regressor(b_qd)) + _project(b, _apply(bv, q_dot))
-    dk_qd = np.einsum("...lrjk,...j->...lrk", db, q_dot)  # (dB/dq_k qd) as column k
-    dk_v = np.einsum("...lrjk,...j->...lrk", db, v)
-    t3 = (np.einsum("...lrk,...lrh->...lkh", dk_qd, twist_regressor(b_v))
-          + np.einsum("...lr,hrs,...lsk->...lkh", b_qd, UNIT_Z, dk_v))
+    y_qd, y_v = twist_regressor(b_qd), twist_regressor(b_v)
+    stack = lambda *xs: np.concatenate(xs, -2)  # noqa: E731  (..., N, 6 m, .): one product per T
+    t1 = np.swapaxes(stack(bd, b), -1, -2) @ stack(y_v, twist_regressor(_apply(bd, v)))
+    t2 = np.swapaxes(stack(bv, b), -1, -2) @ stack(y_qd, twist_regressor(_apply(bv, q_dot)))
+    t3 = np.swapaxes(stack(dk_qd, dk_v), -1, -2) @ stack(y_v, y_qd)
     return t1, t2, t3
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from inertiaproof.model.inertia import spatial_inertia
 
 __all__ = [
-    "christoffel", "coriolis", "generalized_forces", "gravity", "lumped_acceleration_force",
+    "christoffel", "coriolis", "coriolis_force", "generalized_forces", "gravity", "lumped_acceleration_force",
     "lumped_jacobian_derivative", "lumped_velocity_matrix", "mass_matrix", "mass_matrix_partials",
     "mass_matrix_time_derivative",
 ]
@@ -57,6 +57,26 @@ def coriolis(dm, qd):
     return np.swapaxes(np.einsum("...ijk,...i->...jk", christoffel(dm), qd), -1, -2)
 
 
+def coriolis_force(qj, dqj, theta, q_dot):
+    """C(q, qd) qd (..., n) without dM/dq: from (Cristoffel), C qd = Mdot_q qd - 1/2 d(qd^T M qd)/dq with
+    Mdot_q = sum_i dM/dq_i qd_i; with M = sum_l B_l^T Z_l B_l (MassMatrix), v_l = B_l qd, Bd_l = sum_i dB_l/dq_i qd_i
+    and D_l[:, k] = dB_l/dq_k qd,
+
+        C qd = sum_l Bd_l^T Z_l v_l + B_l^T Z_l Bd_l qd - D_l^T Z_l v_l,
+
+    O(N n^2) per sample where :func:`coriolis` of :func:`mass_matrix_partials` costs O(N n^3)."""
+    b = _blocks(qj)
+    db = dqj.reshape(b.shape + (dqj.shape[-1],))  # [l, r, k, i] = d B_l[r, k] / d q_i
+    z = spatial_inertia(theta)  # (..., N, 6, 6)
+    v = (b @ q_dot[..., None, :, None])[..., 0]  # (..., N, 6)
+    bd = (db @ q_dot[..., None, None, :, None])[..., 0]  # (..., N, 6, n): sum_i dB/dq_i qd_i
+    d = np.einsum("...lrjk,...j->...lrk", db, q_dot)  # column k: dB/dq_k qd
+    w = (z @ v[..., None])[..., 0]  # Z_l v_l
+    bd_qd = (bd @ q_dot[..., None, :, None])[..., 0]
+    u = (z @ bd_qd[..., None])[..., 0]  # Z_l Bd_l qd
+    return np.einsum("...lrk,...lr->...k", bd - d, w) + np.einsum("...lrk,...lr->...k", b, u)
+
+
 def gravity(qj, rotations, theta, g):
     """G = dU/dq (DefGravitation) with U = -sum_l g^T (m_l z_l + R_l h_l) for gravitational acceleration g.
 
@@ -86,15 +106,16 @@ def lumped_acceleration_force(qj, psi_dot):
 
 
 def generalized_forces(qj, dqj, rotations, g, q_ddot, q_dot, theta, theta_dot=None, psi=None, psi_dot=None):
-    """tau + w demanded by (RoboticEquation) for a motion: the generalized equation's inverse dynamics."""
+    """tau + w demanded by (RoboticEquation) for a motion: the generalized equation's inverse dynamics (C qd by
+    :func:`coriolis_force`, checked against :func:`coriolis` of the Christoffel symbols by Prop1/Prop2:numeric)."""
     m = mass_matrix(qj, theta)
-    dm = mass_matrix_partials(qj, dqj, theta)
-    lhs_matrix = coriolis(dm, q_dot)
+    lhs_matrix = np.zeros_like(m)
     if theta_dot is not None:
         lhs_matrix = lhs_matrix + mass_matrix(qj, theta_dot)
     if psi is not None:
         lhs_matrix = lhs_matrix + lumped_velocity_matrix(dqj, psi)
-    out = (m @ q_ddot[..., None])[..., 0] + (lhs_matrix @ q_dot[..., None])[..., 0] + gravity(qj, rotations, theta, g)
+    out = ((m @ q_ddot[..., None])[..., 0] + coriolis_force(qj, dqj, theta, q_dot)
+           + (lhs_matrix @ q_dot[..., None])[..., 0] + gravity(qj, rotations, theta, g))
     if psi_dot is not None:
         out = out + lumped_acceleration_force(qj, psi_dot)
     return out

@@ -12,9 +12,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertiaproof.dynamics import motion, terms
+from inertiaproof.dynamics.twists import chunks
 from inertiaproof.scene.format import ControlSettings
 
-__all__ = ["Controller", "FeedforwardPD", "controller", "reference_motion"]
+__all__ = ["Controller", "FEEDFORWARD_CHUNK", "FeedforwardPD", "controller", "reference_motion"]
+
+FEEDFORWARD_CHUNK = 64  # times per batch of the feedforward's kinematics
 
 
 def reference_motion(home, amplitude, frequency, t):
@@ -69,9 +72,8 @@ class Controller:
         if self.kind == "pd":
             return g_nom + self.kp * e + self.kd * e_dot
         m_nom = terms.mass_matrix(kin.qj, self.nominal)
-        c_nom = terms.coriolis(terms.mass_matrix_partials(kin.qj, kin.dqj, self.nominal), qd)
         command = qdd_ref + self.kd * e_dot + self.kp * e
-        return (m_nom @ command[..., None])[..., 0] + (c_nom @ qd[..., None])[..., 0] + g_nom
+        return (m_nom @ command[..., None])[..., 0] + terms.coriolis_force(kin.qj, kin.dqj, self.nominal, qd) + g_nom
 
 
 def controller(chain, trajectory, settings=None):
@@ -108,15 +110,22 @@ class FeedforwardPD:
         self.kp, self.kd = control.gain_matrices(chain)
 
     def feedforward(self, times):
+        """tau_ff at ``times`` (any shape), in chunks of FEEDFORWARD_CHUNK times: dQJ/dq of a 24-link chain takes
+        0.7 MB per time, so a whole RK4 grid at once took gigabytes."""
         q_ref, qd_ref, qdd_ref = self.control.reference(times)
         if self.control.kind == "none":
             return np.zeros_like(q_ref)
-        kin = motion.kinematics(self.chain, q_ref)
         nominal = motion.Parameters(self.control.nominal, np.zeros_like(self.control.nominal),
                                     np.zeros(self.chain.n * 6), np.zeros(self.chain.n * 6))
         acceleration = qdd_ref if self.control.kind == "computed_torque" else np.zeros_like(q_ref)
         velocity = qd_ref if self.control.kind == "computed_torque" else np.zeros_like(q_ref)
-        return motion.generalized_forces(kin, self.chain.gravity, nominal, velocity, acceleration)
+        shape, n = q_ref.shape, self.chain.n
+        q_ref, velocity, acceleration = (x.reshape(-1, n) for x in (q_ref, velocity, acceleration))
+        out = np.empty_like(q_ref)
+        for part in chunks(len(q_ref), FEEDFORWARD_CHUNK):
+            kin = motion.kinematics(self.chain, q_ref[part])
+            out[part] = motion.generalized_forces(kin, self.chain.gravity, nominal, velocity[part], acceleration[part])
+        return out.reshape(shape)
 
     def torque(self, feedforward, t, q, qd):
         q_ref, qd_ref, _ = self.control.reference(t)

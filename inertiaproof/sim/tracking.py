@@ -33,10 +33,15 @@ from inertiaproof.dynamics import motion, regressors, terms
 
 from .adaptive import make_law
 from .control import controller, reference_motion
+from .simulate import MAX_CONDITION
 
-__all__ = ["PLANTS", "Batch", "Gains", "Reference", "Run", "RunSpec", "scene_specs", "simulate"]
+__all__ = ["NOT_STARTED", "PLANTS", "Batch", "Gains", "Reference", "RK45_STABILITY", "Run", "RunSpec", "scene_specs",
+           "simulate", "STIFF_FACTOR"]
 
 PLANTS = ("gre", "pagilla", "classical")
+RK45_STABILITY = 3.3  # RK45 (Dormand-Prince) is stable on the negative real axis for h |lambda| <= 3.306
+NOT_STARTED = ("ill-conditioned", "too stiff")  # statuses of a batch that simulate() does not integrate
+STIFF_FACTOR = 10.0  # too stiff: RK45 would cover less than 1 / STIFF_FACTOR of the horizon within the budget
 KEPT = {"gre": (1.0, 1.0), "pagilla": (1.0, 0.0), "classical": (0.0, 0.0)}  # (Thetadot, Psi) each plant keeps
 
 
@@ -190,6 +195,25 @@ class Batch:
             divergence[..., idx] = law.divergence(z[..., idx, :, :], p.theta[..., idx, :, :])
         return 0.5 * np.einsum("...i,...ij,...j->...", s, m, s) + divergence
 
+    def start_mass_matrix(self):
+        """M(q0, Theta(t0)) of every run (B, n, n)."""
+        q0 = self.split(self.initial_state())[0]
+        t0 = np.array([s.trajectory.span[0] for s in self.specs])
+        return terms.mass_matrix(self.chain.body_jacobian(q0), self.parameters(t0).theta)
+
+    def fastest_rate(self):
+        """Per run, the fastest damped mode at the start, 1/s: the largest eigenvalue of M(q0, Theta(t0))^-1 K_D.
+
+        A lower estimate of the closed loop's stiffness (the adaptation loop and C are left out): along s it decays
+        as exp(-M^-1 K_D t), and an explicit method must keep h times it inside its stability interval."""
+        m = self.start_mass_matrix()
+        with np.errstate(all="ignore"):
+            try:
+                x = np.linalg.solve(np.linalg.cholesky(m), np.sqrt(self.kd)[..., None] * np.eye(self.n))
+            except np.linalg.LinAlgError:
+                return np.full(len(self.specs), np.inf)
+            return np.linalg.eigvalsh(x @ np.swapaxes(x, -1, -2))[..., -1]
+
     def initial_state(self):
         t0 = np.array([s.trajectory.span[0] for s in self.specs])
         q0, qd0, _ = self.reference(t0)
@@ -214,7 +238,7 @@ class Run:
 
     spec: RunSpec
     index: int  # in its batch
-    status: str  # ok, budget, error, nan, step collapse
+    status: str  # ok, budget, error, nan, step collapse, or one of NOT_STARTED
     note: str
     seconds: float  # of the whole batch
     evaluations: int  # right-hand sides of the whole batch
@@ -231,7 +255,16 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
              forces=motion.generalized_forces):
     """Integrate the runs together over [t0, t0 + horizon] (t0 of the first run's trajectory) with RK45; returns
     (runs, batch). A batch that stops early (``budget``, ``nan``, ``step collapse``, ``error``) keeps the samples
-    it reached. The tolerance applies to the whole state (all runs): a run alone may be resolved better."""
+    it reached. The tolerance applies to the whole state (all runs): a run alone may be resolved better.
+
+    A batch is not started (only its initial sample) when M(q0, Theta(t0)) of a run has a condition number above
+    inertiaproof.sim.simulate.MAX_CONDITION (``ill-conditioned``: qdd would keep fewer than 6 digits, the criterion
+    of the stability and loading studies), or (``too stiff``) when its fastest damped mode rho
+    (:meth:`Batch.fastest_rate`) keeps RK45 to steps h <= RK45_STABILITY / rho for about
+    6 horizon rho / RK45_STABILITY evaluations, more than STIFF_FACTOR x ``max_evaluations``: it would stop at the
+    budget within the first tenth of its horizon (a 24-link snake: rho ~ 1e5 /s, ~3e5 evaluations against 2e4).
+    rho is taken at the start: an estimate. A batch that needs less is integrated and may stop at the budget with
+    the samples it reached."""
     batch = Batch(chain, specs, forces)
     t0 = specs[0].trajectory.span[0]
     t_eval = np.linspace(t0, t0 + horizon, samples)
@@ -241,7 +274,20 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     status, note = "ok", ""
     start = time.perf_counter()
     with np.errstate(all="ignore"):
-        while solver.status == "running":
+        condition = float(np.linalg.cond(batch.start_mass_matrix()).max())
+    rate = float(batch.fastest_rate().max())
+    need = 6 * horizon * rate / RK45_STABILITY
+    if condition > MAX_CONDITION:
+        status, note = "ill-conditioned", (f"not started: cond(M(q0, Theta(t0))) = {condition:.1e}: forward dynamics "
+                                           "keeps fewer than 6 correct digits in float64")
+    elif np.isfinite(need) and need > STIFF_FACTOR * max_evaluations:  # inf: M(q0) not PD, left to the integrator
+        status, note = "too stiff", (f"not started: the fastest damped mode at the start, lambda_max(M(q0, Theta(t0))^-1 "
+                                     f"K_D) = {rate:.3g} /s, keeps RK45 to steps <= {RK45_STABILITY / rate:.2g} s, about "
+                                     f"{need:.2g} evaluations over {horizon:g} s, more than {STIFF_FACTOR:g} x the "
+                                     f"budget of {max_evaluations}: it would cover less than a tenth of the horizon "
+                                     "(a stiff solver is needed)")
+    with np.errstate(all="ignore"):
+        while solver.status == "running" and status == "ok":
             if batch.evaluations > max_evaluations or time.perf_counter() - start > max_seconds:
                 status, note = "budget", (f"stopped at t = {solver.t:.6g} after {batch.evaluations} evaluations "
                                           f"(budget {max_evaluations} evaluations or {max_seconds:g} s)")

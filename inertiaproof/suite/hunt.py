@@ -293,6 +293,7 @@ def _run_shard(strategy, margin, profile, tolerance, settings_overrides, collect
     """One shard of a hunt (a task: it carries its own seed and runs in any process). With ``collected`` (closure
     cells of a detached margin), the shard's state carries what the margin added to them."""
     from hypothesis import assume, given, seed, target
+    from hypothesis.errors import Unsatisfiable
 
     if isinstance(strategy, StrategyRef):
         strategy = strategy.build()
@@ -325,6 +326,8 @@ def _run_shard(strategy, margin, profile, tolerance, settings_overrides, collect
             test()
         except _Violation:
             pass  # state.violation holds the last (shrunk) failing example
+        except Unsatisfiable:
+            pass  # every example was discarded (a margin of nan): the state counts none
     if collected is not None:
         state.collected = [margin.__closure__[i].cell_contents for i in collected]
     return state
