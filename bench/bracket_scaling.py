@@ -10,6 +10,12 @@ Nothing is asserted; timings depend on the machine and its load (recorded). Run:
 
     python bench/bracket_scaling.py            # writes bench/results/bracket_scaling.json
     python bench/bracket_scaling.py --quick    # JOINTS 6, 12 and one budget
+    python bench/bracket_scaling.py --widths-only --budgets 0.5 20 --samples 2000 50000
+                                               # part 2 only (bench/results/bracket_widths.json): the ci
+                                               # and deep profiles' budgets and samples
+
+The sup sides include the Perron bound of certified entry sups over the search box (inertiaproof.bounds.fourier),
+which grows with the budget (pairs of coordinates from 0.25 s, finer grids from 5 s).
 """
 
 from __future__ import annotations
@@ -76,7 +82,7 @@ def _ratio(upper, lower):
     return float(upper / lower) if lower and lower > 0 and np.isfinite(upper) else None
 
 
-def width_against_time(budgets=BUDGETS):
+def width_against_time(budgets=BUDGETS, samples=None):
     from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
     from inertiaproof.bounds.time import parameter_vertices
     from inertiaproof.scene import robots
@@ -85,8 +91,9 @@ def width_against_time(budgets=BUDGETS):
     for scene in (robots.panda(payload=2.0), robots.ur5(), robots.spatial_3r(), robots.planar_2r(payload=1.0)):
         chain, thetas = scene.chain, parameter_vertices(scene.trajectory)[0]
         rates = parameter_vertices(scene.trajectory)[1]
-        for budget in budgets:
-            kw = dict(samples=2000, refine_s=budget, rng=np.random.default_rng(0))
+        for b_index, budget in enumerate(budgets):
+            kw = dict(samples=2000 if samples is None else samples[b_index], refine_s=budget,
+                      rng=np.random.default_rng(0))
             quantities = {
                 "inf sigma_min(QJ)^2": lambda: jacobian_normality(chain, **kw),
                 "sup sigma_max(QJ)": lambda: jacobian_sup(chain, **kw),
@@ -98,7 +105,8 @@ def width_against_time(budgets=BUDGETS):
                 start = time.perf_counter()
                 b = compute()
                 seconds = time.perf_counter() - start
-                row = {"chain": scene.name, "quantity": name, "refine_s": budget, "lower": float(b.lower),
+                row = {"chain": scene.name, "quantity": name, "refine_s": budget, "samples": kw["samples"],
+                       "lower": float(b.lower),
                        "upper": float(b.upper), "ratio": _ratio(b.upper, b.lower), "seconds": round(seconds, 3),
                        "boxes": b.boxes}
                 rows.append(row)
@@ -109,14 +117,31 @@ def width_against_time(budgets=BUDGETS):
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
     quick = "--quick" in argv
+    budgets, samples = _floats(argv, "--budgets"), _floats(argv, "--samples")
+    budgets = budgets or ((0.5,) if quick else BUDGETS)
+    if samples is not None and len(samples) != len(budgets):
+        raise SystemExit("--samples needs one count per budget")
     load = os.getloadavg()
     result = {"machine": {"cpus": os.cpu_count(), "load_average_1_5_15": [round(x, 2) for x in load]},
-              "audit_serial_chain": audit_scaling((6, 12) if quick else JOINTS),
-              "width_against_time": width_against_time((0.5,) if quick else BUDGETS)}
+              "audit_serial_chain": [] if "--widths-only" in argv else audit_scaling((6, 12) if quick else JOINTS),
+              "width_against_time": width_against_time(budgets, samples and [int(x) for x in samples])}
     result["machine"]["load_average_after"] = [round(x, 2) for x in os.getloadavg()]
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps(result, indent=1))
-    print(RESULTS)
+    out = RESULTS.with_name("bracket_widths.json") if "--widths-only" in argv else RESULTS
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(result, indent=1))
+    print(out)
+
+
+def _floats(argv, flag):
+    """The numbers after ``flag`` in argv (up to the next option), or None."""
+    if flag not in argv:
+        return None
+    out = []
+    for item in argv[argv.index(flag) + 1:]:
+        if item.startswith("--"):
+            break
+        out.append(float(item))
+    return tuple(out)
 
 
 if __name__ == "__main__":

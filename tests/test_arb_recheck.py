@@ -164,6 +164,58 @@ def test_arb_recheck_catches_an_optimistic_box_bound(scene, what, monkeypatch):
     assert wrong(pairs, what), pairs
 
 
+def _entry_points(chain, thetas, rng, count=2000, keep=24):
+    """The configurations where sampled |M_il| peak (one per entry and parameter set, at most ``keep``) and a few
+    random ones: where a too small entry sup would show."""
+    lo, hi = search_box(chain)
+    q = lo + (hi - lo) * rng.random((count, chain.n))
+    from inertiaproof.dynamics import composite
+
+    m = np.abs(composite.mass_matrix(chain, q[:, None], np.asarray(thetas)[None]))  # (K, V, n, n)
+    peaks = np.unique(m.reshape(count, -1).argmax(0))
+    order = np.argsort(-m.reshape(count, -1).max(1)[peaks])
+    return list(q[peaks[order][:keep]]) + list(q[:4])
+
+
+def fourier_entries_wrong(chain, thetas, s, points):
+    """Entries (v, i, l, q) where arb proves |M_il(q, Theta_v)| > S_il: the entry sup is wrong there."""
+    bad = []
+    for q in points:
+        for v, theta in enumerate(np.asarray(thetas)):
+            m = arb_mass_matrix(chain, [ball(x) for x in q], spatial_inertia(theta))
+            for i in range(chain.n):
+                for l in range(chain.n):
+                    low = max(float(m[i, l].lower()), -float(m[i, l].upper()))  # |x| >= this for all x in the ball
+                    if low > s[v, i, l]:
+                        bad.append((v, i, l, q.tolist(), low, s[v, i, l]))
+    return bad
+
+
+FOURIER_CASES = [robots.spatial_3r(), robots.panda(payload=2.0)]
+
+
+@pytest.mark.parametrize("scene", FOURIER_CASES, ids=[s.name for s in FOURIER_CASES])
+def test_fourier_entry_sups_agree_with_arb(scene):
+    """The certified sups of |M_il(q)| over the search box (inertiaproof.bounds.fourier, singles and pairs of
+    coordinates on grids) lie above arb's lower end of |M_il(q)| where sampled entries peak."""
+    from inertiaproof.bounds.fourier import FourierFamily, certified_entry_sups
+
+    thetas = scene.trajectory.base[None]
+    s = certified_entry_sups(FourierFamily(scene.chain, thetas), 3, 48, 32)
+    points = _entry_points(scene.chain, thetas, np.random.default_rng(12))
+    assert not fourier_entries_wrong(scene.chain, thetas, s, points)
+
+
+def test_arb_recheck_catches_shrunk_fourier_entry_sups():
+    """The same entry sups shrunk 30%: arb proves some of them wrong."""
+    from inertiaproof.bounds.fourier import FourierFamily, certified_entry_sups
+
+    scene = robots.spatial_3r()
+    thetas = scene.trajectory.base[None]
+    s = 0.7 * certified_entry_sups(FourierFamily(scene.chain, thetas), 3, 48, 32)
+    assert fourier_entries_wrong(scene.chain, thetas, s, _entry_points(scene.chain, thetas, np.random.default_rng(12)))
+
+
 # -- the articulated-body pivot test and the ladder of targets (bounds.pivots, bounds.pivot_search) -----------
 
 def _pivot_forms(scene):

@@ -22,8 +22,10 @@ second-order remainder, the linear part by matrix absolute values), so time and 
 the joints; the budget is a count of rounds scaled by the cost of a box, with a wall-clock guard, and where it
 runs out the bracket is wider, never missing. Every sup of lambda_max or |lambda|_max is also bounded by the
 spectral radius of entrywise bounds of |M_il(q)| (Perron-Frobenius; lengths, or the Wiener norm of M's exact
-Fourier coefficients), and every bracket adopts a sharper certified side only through
-:meth:`inertiaproof.bounds.extremes.Bracket.tighten`.
+Fourier coefficients); with a Fourier series (at most FOURIER_LIMIT free turning joints) :func:`mass_sup` and
+:func:`jacobian_sup` also adopt the spectral radius of certified sups of |M_il| over the search box, one or two
+coordinates on a grid over their joint limits (:mod:`inertiaproof.bounds.fourier`, :func:`fourier_perron_bound`).
+Every bracket adopts a sharper certified side only through :meth:`inertiaproof.bounds.extremes.Bracket.tighten`.
 
 Over time, Theta(t) of payloads and scalings lies on segments
 Theta_base + s Phi_load with s in the profile's range; spectral extremes that
@@ -47,13 +49,15 @@ from .domain import (
     bernstein_domain, certification_obstacle, chain_key, content_memo, derivative_factors, free_coordinates, search_box,
 )
 from .extremes import bracket_extreme
+from .fourier import PAIR_CELLS, SINGLE_CELLS, FourierFamily, certified_entry_sups, perron_of
 from .pivot_search import ladder_budget, ladder_goal, pivot_ladder
 from .pivots import PIVOT_LIMIT, PIVOT_MIN_S, PivotFamily
 from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
 
 __all__ = [
-    "apriori_bound", "apriori_jacobian_blocks", "block_lower_form", "column_bounds", "configuration_bracket", "EPS", "jacobian_family",
+    "apriori_bound", "apriori_jacobian_blocks", "block_lower_form", "column_bounds", "configuration_bracket", "EPS",
+    "FOURIER_DEEP_S", "FOURIER_PAIRS_S", "fourier_perron_bound", "jacobian_family",
     "jacobian_normality", "jacobian_sup", "lever_bounds", "mass_family", "mass_inf", "mass_sup", "ROUNDING",
     "box_cost", "pivot_normality", "skew_partial_sup", "VERTEX_LIMIT", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
 ]
@@ -363,10 +367,15 @@ def jacobian_sup(chain, **kw):
     """sup_q sigma_max(QJ) (SVD). Beyond ``VERTEX_LIMIT`` free coordinates: the square root of the bracket of
     sup_q lambda_max((QJ)^T QJ), the mass matrix of unit bodies (Z = I), whose box bounds are polynomial."""
     if free_coordinates(chain).sum() <= VERTEX_LIMIT or certification_obstacle(chain) is not None:
-        return configuration_bracket(chain, jacobian_family(chain), "smax", quantity_name="sup_q sigma_max(QJ)", **kw)
+        b = configuration_bracket(chain, jacobian_family(chain), "smax", quantity_name="sup_q sigma_max(QJ)", **kw)
+        if certification_obstacle(chain) is None:
+            unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
+            _tighten_by_fourier(b, chain, unit, kw.get("refine_s", 0.0), square=False)
+        return b
     unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
     b = configuration_bracket(chain, mass_family(chain, unit), "lmax", value_kind="smax", square=True,
                               quantity_name="sup_q sigma_max(QJ)", thetas=unit, **kw)
+    _tighten_by_fourier(b, chain, unit, kw.get("refine_s", 0.0), square=True)
     root = (lambda x: None if x is None else float(np.sqrt(max(x, 0.0))))
     b.observed, b.certified = root(b.observed), root(b.certified)
     b.convergence = [[t, root(lo), root(hi)] for t, lo, hi in b.convergence]
@@ -532,8 +541,57 @@ def mass_inf(chain, thetas, **kw):
 
 
 def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **kw):
-    """sup over q and the parameter sets of lambda_max (or sigma_max, kind='absmax') of M(q, Theta)."""
-    return configuration_bracket(chain, mass_family(chain, thetas), kind, quantity_name=name, thetas=thetas, **kw)
+    """sup over q and the parameter sets of lambda_max (or sigma_max, kind='absmax') of M(q, Theta): the bracket of
+    :func:`configuration_bracket`, whose certified side then adopts :func:`fourier_perron_bound` where sharper."""
+    result = configuration_bracket(chain, mass_family(chain, thetas), kind, quantity_name=name, thetas=thetas, **kw)
+    return _tighten_by_fourier(result, chain, thetas, kw.get("refine_s", 0.0), square=True)
+
+
+def _tighten_by_fourier(result, chain, thetas, refine_s, square):
+    """``result`` with its certified side tightened by :func:`fourier_perron_bound` (its square root when the
+    bracket is of sigma_max(QJ), ``square`` False: (QJ)^T QJ is M of unit bodies; there pairs of coordinates only
+    from a budget of ``FOURIER_DEEP_S``, single ones already close most of the bracket)."""
+    if not square and refine_s < FOURIER_DEEP_S:
+        refine_s = min(refine_s, 0.5 * FOURIER_PAIRS_S)
+    bound = fourier_perron_bound(chain, thetas, refine_s)
+    if bound is not None and not square:
+        bound = float(np.sqrt(bound) * (1 + 2 * EPS))
+    result.tighten(bound, "spectral radius of certified sups of |M_il(q)| over the search box from the exact Fourier "
+                          "coefficients, one or two coordinates on a grid over their joint limits (Perron-Frobenius; "
+                          "inertiaproof.bounds.fourier)" + ("" if square else ", unit bodies, square root"))
+    return result
+
+
+FOURIER_PAIRS_S = 0.25  # budget from which pairs of coordinates are gridded too (head entries)
+FOURIER_DEEP_S = 5.0  # budget from which four coordinates pair up, on grids twice as fine
+
+
+def fourier_perron_bound(chain, thetas, refine_s=0.0):
+    """max_v rho(S_v) >= sup over the search box of |lambda|_max(M(q, Theta_v)), with S from
+    :func:`inertiaproof.bounds.fourier.certified_entry_sups` (pairs of three coordinates from a budget of
+    ``FOURIER_PAIRS_S``; of four, on grids twice as fine, from ``FOURIER_DEEP_S``); None where M has no Fourier
+    series. Cached by content."""
+    if certification_obstacle(chain) is not None:
+        return None
+    pairs, fine = (0, 1) if refine_s < FOURIER_PAIRS_S else ((4, 2) if refine_s >= FOURIER_DEEP_S else (3, 1))
+    thetas = np.asarray(thetas, float)
+    key = (chain_key(chain), thetas.shape, thetas.tobytes(), pairs, fine)
+    return content_memo(_PERRON_CACHE, key, lambda: _fourier_perron(chain, thetas, pairs, fine))
+
+
+_PERRON_CACHE = {}
+
+
+def _fourier_perron(chain, thetas, pairs, fine):
+    kept = []  # |M(q, -Theta)| = |M(q, Theta)| entrywise (M is linear in Theta): one of each pair +-Theta
+    for theta in thetas:
+        if not any(np.array_equal(theta, t) or np.array_equal(-theta, t) for t in kept):
+            kept.append(theta)
+    family = FourierFamily(chain, np.array(kept))
+    if not family.usable:
+        return None
+    s = certified_entry_sups(family, pairs, fine * SINGLE_CELLS, fine * PAIR_CELLS)
+    return float(perron_of(s).max() * (1 + 4 * EPS))
 
 
 def skew_partials(dqj):

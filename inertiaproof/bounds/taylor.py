@@ -47,7 +47,7 @@ from .spectral import EPS, ROUNDING
 
 __all__ = [
     "box_bounds", "certified_box_bound", "ENTRY_ROUNDING", "entry_degrees", "entry_factors", "entry_sups",
-    "FOURIER_LIMIT", "fourier_sups",
+    "FOURIER_LIMIT", "fourier_coefficients", "fourier_sups",
     "MassFamily", "perron_bound",
 ]
 
@@ -114,21 +114,34 @@ def fourier_sups(chain, thetas, free):
     angles per free coordinate give its Fourier coefficients F_k (k in {-2..2}^m) exactly, and
     |M_il(q)| = |sum_k F_k,il e^(i k.q)| <= sum_k |F_k,il| (the Wiener norm). Rounding (stated): each sample
     carries ``ENTRY_ROUNDING`` n eps S_il (S from lengths), the FFT 5 m eps max |sample|; both are added for
-    every one of the 5^m coefficients.
+    every one of the 5^m coefficients (:func:`fourier_coefficients`).
     """
+    found = fourier_coefficients(chain, thetas, free)
+    if found is None:
+        return None
+    coefficients, _, delta = found
+    m = coefficients.shape[0]
+    return (np.abs(coefficients).sum(0) + m * delta) * (1 + 2 * m * EPS)
+
+
+def fourier_coefficients(chain, thetas, free):
+    """(F, k, delta): the exact Fourier coefficients F (5^m, V, n, n) of M(q, Theta_v) in the m free coordinates,
+    their integer frequencies k (5^m, m) in {-2..2}, and the allowance delta (V, n, n) of every computed
+    coefficient (|fl(F_k) - F_k| <= delta: ``ENTRY_ROUNDING`` n eps S_il per sample, 5 m eps max |sample| for the
+    FFT, times 1.01); None where :func:`fourier_sups` is None. Cached by content; read only."""
     idx = np.flatnonzero(free)
-    m, n = len(idx), chain.n
+    m = len(idx)
     if m > FOURIER_LIMIT or not all(chain.joints[j].revolute for j in idx):
         return None
     thetas = np.asarray(thetas, float)
     key = (chain_key(chain), thetas.shape, thetas.tobytes(), np.asarray(free, bool).tobytes())
-    return content_memo(_FOURIER_CACHE, key, lambda: _wiener(chain, thetas, idx)).copy()
+    return content_memo(_FOURIER_CACHE, key, lambda: _coefficients(chain, thetas, idx))
 
 
 _FOURIER_CACHE = {}  # content-keyed (the chain's transforms, the parameters): the same inputs, the same answer
 
 
-def _wiener(chain, thetas, idx):
+def _coefficients(chain, thetas, idx):
     m, n = len(idx), chain.n
     grid = (np.stack(np.meshgrid(*([2 * np.pi * np.arange(5) / 5] * m), indexing="ij"), -1).reshape(-1, m) if m
             else np.zeros((1, 0)))  # no free coordinate: M is constant
@@ -136,9 +149,13 @@ def _wiener(chain, thetas, idx):
     q[:, idx] = grid
     samples = composite.mass_matrix(chain, q[:, None], thetas[None])  # (5^m, V, n, n)
     coefficients = np.fft.fftn(samples.reshape((5,) * m + samples.shape[1:]), axes=tuple(range(m))) / 5**m
-    wiener = np.abs(coefficients).reshape((-1,) + samples.shape[1:]).sum(0)
+    freq = np.rint(np.fft.fftfreq(5) * 5).astype(int)  # 0, 1, 2, -2, -1: the FFT's order
+    k = (np.stack(np.meshgrid(*([freq] * m), indexing="ij"), -1).reshape(-1, m) if m else np.zeros((1, 0), int))
     error = ENTRY_ROUNDING * n * EPS * entry_sups(chain, thetas) + 5 * max(m, 1) * EPS * np.abs(samples).max(0)
-    return (wiener + 5**m * 1.01 * error) * (1 + 2 * 5**m * EPS)
+    out = (coefficients.reshape((-1,) + samples.shape[1:]), k, 1.01 * error)
+    for a in out:
+        a.flags.writeable = False
+    return out
 
 
 class MassFamily:
