@@ -86,6 +86,23 @@ def test_a_check_past_its_budget_is_stopped_and_named(monkeypatch, tmp_path):
     assert r.summary.startswith("stopped without an answer: out of time (the ci profile allows 0.3 s per check")
 
 
+def test_the_budget_wrapped_by_a_library_is_out_of_time_not_a_crash(monkeypatch, tmp_path):
+    """The alarm striking inside a Hypothesis test comes back as FlakyStrategyDefinition raised while handling
+    OutOfBudget (seen on the 24-link scene's APP-euclidean-escape): out of time, not a crash."""
+    from inertiaproof.suite import registry
+
+    def wrapped(ctx):
+        try:
+            raise OutOfBudget("no answer within the time budget")
+        except OutOfBudget:
+            raise RuntimeError("Inconsistent data generation!")
+
+    monkeypatch.setattr(runner, "load_checks", lambda: {"Def2": registry.CheckSpec("Def2", "Def2", wrapped, frozenset())})
+    (r,) = runner.run_checks(profile=PROFILES["ci"], out_dir=tmp_path).results
+    assert r.verdict == Verdict.INCONCLUSIVE and r.evidence["budget"] == "time" and not r.evidence.get("crashed")
+    assert r.evidence["wrapped_in"] == "RuntimeError"
+
+
 def test_memory_past_the_budget_is_inconclusive_not_a_crash(monkeypatch, tmp_path):
     import numpy as np
 

@@ -160,8 +160,22 @@ def _run_one(spec, ctx, profile):
                       f"profile's {profile.memory_mb} MiB ({exc or 'an allocation failed'})",
                       evidence={"budget": "memory", "traceback": traceback.format_exc()})
     except Exception as exc:  # a crashed check is reported, never silently passed
+        if _caused_by(exc, OutOfBudget):  # the alarm struck inside a library that wrapped it (Hypothesis: Flaky...)
+            return Result(spec.id, Verdict.INCONCLUSIVE, f"stopped without an answer: out of time ({limits})",
+                          evidence={"budget": "time", "wrapped_in": type(exc).__name__})
         return Result(spec.id, Verdict.INCONCLUSIVE, f"the check crashed: {type(exc).__name__}: {exc}",
                       evidence={"traceback": traceback.format_exc(), "crashed": True})
+
+
+def _caused_by(exc, kind):
+    """Whether ``exc`` or an exception it was raised from or while handling is a ``kind``."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, kind):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
 
 
 def results_document(run, *, profile, seed, scene):
