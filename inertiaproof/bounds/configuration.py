@@ -363,16 +363,21 @@ def apriori_bound(chain, thetas, kind):
 
 # -- the ingredients over configurations ----------------------------------------------
 
+def _unit_bodies(chain):
+    """Parameter rows (1, N, 10) of unit bodies (Z = I): their mass matrix is (QJ)^T QJ."""
+    return _block_rows(np.ones(chain.bodies), np.ones(chain.bodies))[None]
+
+
 def jacobian_sup(chain, **kw):
     """sup_q sigma_max(QJ) (SVD). Beyond ``VERTEX_LIMIT`` free coordinates: the square root of the bracket of
     sup_q lambda_max((QJ)^T QJ), the mass matrix of unit bodies (Z = I), whose box bounds are polynomial."""
     if free_coordinates(chain).sum() <= VERTEX_LIMIT or certification_obstacle(chain) is not None:
         b = configuration_bracket(chain, jacobian_family(chain), "smax", quantity_name="sup_q sigma_max(QJ)", **kw)
         if certification_obstacle(chain) is None:
-            unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
+            unit = _unit_bodies(chain)
             _tighten_by_fourier(b, chain, unit, kw.get("refine_s", 0.0), square=False)
         return b
-    unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
+    unit = _unit_bodies(chain)
     b = configuration_bracket(chain, mass_family(chain, unit), "lmax", value_kind="smax", square=True,
                               quantity_name="sup_q sigma_max(QJ)", thetas=unit, **kw)
     _tighten_by_fourier(b, chain, unit, kw.get("refine_s", 0.0), square=True)
@@ -394,7 +399,7 @@ def jacobian_normality(chain, **kw):
     """inf_q sigma_min(QJ)^2 = inf_q lambda_min((QJ)^T QJ) (Definition 2): observed by SVD of QJ; the certified side is
     the best of branch and bound (vertices; with a budget of PIVOT_MIN_S or more also the articulated-body pivots)
     and the chain's :func:`triangular_normality_floor`."""
-    unit = np.tile(np.array([1.0, 0, 0, 0, 1, 1, 1, 0, 0, 0]), (chain.bodies, 1))[None]
+    unit = _unit_bodies(chain)
     result = configuration_bracket(chain, mass_family(chain, unit), "lmin", value_kind="smin", square=True,
                                    quantity_name="inf_q sigma_min(QJ)^2", thetas=unit, **kw)
     result.tighten(triangular_normality_floor(chain),

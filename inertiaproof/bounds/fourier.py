@@ -32,8 +32,8 @@ import itertools
 import numpy as np
 
 from .domain import free_coordinates, search_box
-from .spectral import EPS, ROUNDING
-from .taylor import fourier_coefficients
+from .spectral import EPS
+from .taylor import fourier_coefficients, perron_of
 
 __all__ = ["certified_entry_sups", "FourierFamily", "PAIR_CELLS", "partial_wiener_sups", "perron_of", "SINGLE_CELLS"]
 
@@ -167,12 +167,6 @@ def _half(d):
     flat = np.arange(len(grid))
     keep = flat <= mirror
     return flat[keep], np.where(flat[keep] == mirror[keep], 1.0, 2.0)
-
-
-def perron_of(s):
-    """rho(S) of symmetric nonnegative S (..., n, n), rounded up: at least |lambda|_max of every symmetric matrix
-    bounded by S entrywise (Perron-Frobenius)."""
-    return np.linalg.eigvalsh(s)[..., -1] + ROUNDING * EPS * np.linalg.norm(s, axis=(-2, -1))
 
 
 def certified_entry_sups(family: FourierFamily, pairs=3, single_cells=None, pair_cells=None):

@@ -109,6 +109,13 @@ def _bounding_parts(terms, kinds, metric=None):
     return out + slack[..., None, None] * eye, np.abs(w).max(-1)
 
 
+def _harmonics(samples):
+    """(F1c, F1s, F2c, F2s) of a trigonometric polynomial of degree 2 from its samples (5, ...) at c + ANGLES: the
+    Fourier coefficients about the centre c (exact: five samples, five coefficients)."""
+    return tuple(np.tensordot(0.4 * w, samples, axes=1)
+                 for w in (np.cos(ANGLES), np.sin(ANGLES), np.cos(2 * ANGLES), np.sin(2 * ANGLES)))
+
+
 def _turn_terms(f1c, f1s, f2c, f2s, rr):
     """The four terms T_k (kinds abs, pos, pos, abs) and weights w_k >= 0 with F(c + d) - F(c) >= -sum_k w_k W_k for
     every |d| <= r, W_k >= +-T_k (abs) or W_k >= T_k, 0 (pos). Up to ``SWITCH`` rad about the centre's
@@ -166,9 +173,7 @@ class PivotFamily:
         rr = r[:, None, None, None]
         if self.revolute[b]:
             samples = np.stack([self._turned(b, q, c + d) for d in ANGLES])  # (5, K, V, 6, 6)
-            f1c, f1s, f2c, f2s = (np.tensordot(0.4 * w, samples, axes=1) for w in (
-                np.cos(ANGLES), np.sin(ANGLES), np.cos(2 * ANGLES), np.sin(2 * ANGLES)))
-            terms, weights = _turn_terms(f1c, f1s, f2c, f2s, rr)
+            terms, weights = _turn_terms(*_harmonics(samples), rr)
             h = self._metric(samples[0]) if relative else None
             parts, spread = _bounding_parts(terms, ("abs", "pos", "pos", "abs"), h)
             centre = samples[0]
@@ -202,9 +207,7 @@ class PivotFamily:
         rr = r[:, None]
         if self.revolute[b]:
             samples = np.stack([(self._turned(b, q, c + d) @ w) @ w for d in ANGLES])  # (5, K, V)
-            f1c, f1s, f2c, f2s = (np.tensordot(0.4 * u, samples, axes=1) for u in (
-                np.cos(ANGLES), np.sin(ANGLES), np.cos(2 * ANGLES), np.sin(2 * ANGLES)))
-            terms, weights = _turn_terms(f1c, f1s, f2c, f2s, rr)
+            terms, weights = _turn_terms(*_harmonics(samples), rr)
             loss = (weights[0] * np.abs(terms[0]) + weights[1] * np.maximum(terms[1], 0)
                     + weights[2] * np.maximum(terms[2], 0) + weights[3] * np.abs(terms[3]))
             size = np.abs(samples).sum(0) * (1 + 3 * sum(weights))

@@ -47,7 +47,7 @@ from .spectral import EPS, ROUNDING
 
 __all__ = [
     "box_bounds", "certified_box_bound", "ENTRY_ROUNDING", "entry_degrees", "entry_factors", "entry_sups",
-    "FOURIER_LIMIT", "fourier_coefficients", "fourier_sups",
+    "FOURIER_LIMIT", "fourier_coefficients", "fourier_sups", "perron_of",
     "MassFamily", "perron_bound",
 ]
 
@@ -271,9 +271,13 @@ def box_bounds(family: MassFamily, kind, centres, radii):
 def perron_bound(family: MassFamily):
     """max_v rho(S_v) >= sup_q |lambda|_max(M(q, Theta_v)) for every q: |M(q)| <= S entrywise, so the spectral radius
     of M(q) is at most that of |M(q)|, at most that of S (Perron-Frobenius), rounded up."""
-    s = family.sups
-    rho = np.linalg.eigvalsh(s)[..., -1]
-    return float((rho + ROUNDING * EPS * np.linalg.norm(s, axis=(-2, -1))).max())
+    return float(perron_of(family.sups).max())
+
+
+def perron_of(s):
+    """rho(S) of symmetric nonnegative S (..., n, n), rounded up: at least |lambda|_max of every symmetric matrix
+    bounded by S entrywise (Perron-Frobenius)."""
+    return np.linalg.eigvalsh(s)[..., -1] + ROUNDING * EPS * np.linalg.norm(s, axis=(-2, -1))
 
 
 def certified_box_bound(chain, thetas, kind, lo, hi):

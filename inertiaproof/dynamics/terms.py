@@ -36,7 +36,6 @@ def mass_matrix(qj, theta):
 def mass_matrix_partials(qj, dqj, theta):
     """dM/dq (..., n, n, n), entry [k, j, i] = d M_kj / d q_i."""
     b = _blocks(qj)
-    db = dqj.reshape(b.shape + (dqj.shape[-1],))
     zb = spatial_inertia(theta) @ b
     flat = dqj.reshape(dqj.shape[:-2] + (-1,))  # (..., 6N, n k * n i)
     z6 = zb.reshape(zb.shape[:-3] + (-1, zb.shape[-1]))  # (..., 6N, n j)
