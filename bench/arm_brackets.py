@@ -32,7 +32,11 @@ RESULTS = Path(__file__).resolve().parent / "results" / "arm_brackets.json"
 
 
 def _robots():
-    return Path(metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share/example-robot-data/robots"))
+    try:
+        dist = metadata.distribution("example-robot-data")
+    except metadata.PackageNotFoundError:
+        raise SystemExit("bench/arm_brackets.py: example-robot-data is not installed (pip install -e '.[test]')") from None
+    return Path(dist.locate_file("cmeel.prefix/share/example-robot-data/robots"))
 
 
 def arm_brackets(profile, arms=ARMS):
