@@ -567,6 +567,7 @@ def _tighten_by_ladder(result, chain, thetas, refine_s, square):
         return result
     observed = result.observed if square else result.observed**2
     thetas = np.asarray(thetas, float)
+    thetas = np.unique(thetas.reshape(len(thetas), -1), axis=0).reshape((-1,) + thetas.shape[1:])  # the set once
     key = (chain_key(chain), refine_s, thetas.shape, thetas.tobytes(), observed, np.asarray(result.witness).tobytes())
     gamma, how = content_memo(_PIVOT_CACHE, key, lambda: _pivot_sup(chain, thetas, refine_s, observed,
                                                                     result.witness, goal))
