@@ -25,6 +25,9 @@ spectral radius of entrywise bounds of |M_il(q)| (Perron-Frobenius; lengths, or 
 Fourier coefficients); with a Fourier series (at most FOURIER_LIMIT free turning joints) :func:`mass_sup` and
 :func:`jacobian_sup` also adopt the spectral radius of certified sups of |M_il| over the search box, one or two
 coordinates on a grid over their joint limits (:mod:`inertiaproof.bounds.fourier`, :func:`fourier_perron_bound`).
+With a budget of PIVOT_MIN_S or more per bracket and at most PIVOT_LIMIT free coordinates, the infima adopt a
+ladder of targets proved with the articulated-body pivots of M - gamma I (:mod:`inertiaproof.bounds.pivot_search`),
+and the suprema, where still wider than the ladder's goal, the same ladder on gamma I - M (:func:`_tighten_by_ladder`).
 Every bracket adopts a sharper certified side only through :meth:`inertiaproof.bounds.extremes.Bracket.tighten`.
 
 Over time, Theta(t) of payloads and scalings lies on segments
