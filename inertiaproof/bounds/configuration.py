@@ -552,7 +552,8 @@ def mass_inf(chain, thetas, **kw):
 
 def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **kw):
     """sup over q and the parameter sets of lambda_max (or sigma_max, kind='absmax') of M(q, Theta): the bracket of
-    :func:`configuration_bracket`, whose certified side then adopts :func:`fourier_perron_bound` where sharper."""
+    :func:`configuration_bracket`, whose certified side then adopts :func:`fourier_perron_bound` and
+    :func:`_tighten_by_ladder` where sharper."""
     result = configuration_bracket(chain, mass_family(chain, thetas), kind, quantity_name=name, thetas=thetas, **kw)
     _tighten_by_fourier(result, chain, thetas, kw.get("refine_s", 0.0), square=True)
     if kind == "absmax":  # sigma_max(M) = max(lambda_max(M), lambda_max(-M)): the stack and its negatives
