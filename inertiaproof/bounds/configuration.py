@@ -25,6 +25,9 @@ spectral radius of entrywise bounds of |M_il(q)| (Perron-Frobenius; lengths, or 
 Fourier coefficients); with a Fourier series (at most FOURIER_LIMIT free turning joints) :func:`mass_sup` and
 :func:`jacobian_sup` also adopt the spectral radius of certified sups of |M_il| over the search box, one or two
 coordinates on a grid over their joint limits (:mod:`inertiaproof.bounds.fourier`, :func:`fourier_perron_bound`).
+With a budget of PIVOT_MIN_S or more per bracket and at most PIVOT_LIMIT free coordinates, the infima adopt a
+ladder of targets proved with the articulated-body pivots of M - gamma I (:mod:`inertiaproof.bounds.pivot_search`),
+and the suprema, where still wider than the ladder's goal, the same ladder on gamma I - M (:func:`_tighten_by_ladder`).
 Every bracket adopts a sharper certified side only through :meth:`inertiaproof.bounds.extremes.Bracket.tighten`.
 
 Over time, Theta(t) of payloads and scalings lies on segments
@@ -376,11 +379,13 @@ def jacobian_sup(chain, **kw):
         if certification_obstacle(chain) is None:
             unit = _unit_bodies(chain)
             _tighten_by_fourier(b, chain, unit, kw.get("refine_s", 0.0), square=False)
+            _tighten_by_ladder(b, chain, unit, kw.get("refine_s", 0.0), square=False)
         return b
     unit = _unit_bodies(chain)
     b = configuration_bracket(chain, mass_family(chain, unit), "lmax", value_kind="smax", square=True,
                               quantity_name="sup_q sigma_max(QJ)", thetas=unit, **kw)
     _tighten_by_fourier(b, chain, unit, kw.get("refine_s", 0.0), square=True)
+    _tighten_by_ladder(b, chain, unit, kw.get("refine_s", 0.0), square=True)
     root = (lambda x: None if x is None else float(np.sqrt(max(x, 0.0))))
     b.observed, b.certified = root(b.observed), root(b.certified)
     b.convergence = [[t, root(lo), root(hi)] for t, lo, hi in b.convergence]
@@ -547,9 +552,50 @@ def mass_inf(chain, thetas, **kw):
 
 def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **kw):
     """sup over q and the parameter sets of lambda_max (or sigma_max, kind='absmax') of M(q, Theta): the bracket of
-    :func:`configuration_bracket`, whose certified side then adopts :func:`fourier_perron_bound` where sharper."""
+    :func:`configuration_bracket`, whose certified side then adopts :func:`fourier_perron_bound` and
+    :func:`_tighten_by_ladder` where sharper."""
     result = configuration_bracket(chain, mass_family(chain, thetas), kind, quantity_name=name, thetas=thetas, **kw)
-    return _tighten_by_fourier(result, chain, thetas, kw.get("refine_s", 0.0), square=True)
+    _tighten_by_fourier(result, chain, thetas, kw.get("refine_s", 0.0), square=True)
+    if kind == "absmax":  # sigma_max(M) = max(lambda_max(M), lambda_max(-M)): the stack and its negatives
+        thetas = np.concatenate([np.asarray(thetas, float), -np.asarray(thetas, float)])
+    return _tighten_by_ladder(result, chain, thetas, kw.get("refine_s", 0.0), square=True)
+
+
+def _tighten_by_ladder(result, chain, thetas, refine_s, square):
+    """``result`` (a sup of lambda_max(M(q, Theta_v)) over q and the stack; of sigma_max(QJ) when ``square`` is False:
+    M of unit bodies) with its certified side tightened by a ladder of targets gamma proved with the articulated-body
+    pivots of gamma I - M (:func:`inertiaproof.bounds.pivot_search.pivot_ladder`, sign -1), where the ladders run and
+    the bracket is still wider than :func:`ladder_goal` (in ci the Fourier bound mostly is not: deep profiles)."""
+    goal = ladder_goal(refine_s)
+    if not (_ladders_run(chain, refine_s) and result.upper > goal * result.lower and result.observed > 0):
+        return result
+    observed = result.observed if square else result.observed**2
+    thetas = np.asarray(thetas, float)
+    thetas = np.unique(thetas.reshape(len(thetas), -1), axis=0).reshape((-1,) + thetas.shape[1:])  # the set once
+    key = (chain_key(chain), refine_s, thetas.shape, thetas.tobytes(), observed, np.asarray(result.witness).tobytes())
+    gamma, how = content_memo(_PIVOT_CACHE, key, lambda: _pivot_sup(chain, thetas, refine_s, observed,
+                                                                    result.witness, goal))
+    if np.isfinite(gamma) and not square:
+        gamma = float(np.sqrt(gamma) * (1 + 2 * EPS))
+    result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body pivots "
+                          "of gamma I - M on each box (inertiaproof.bounds.pivot_search)"
+                          + ("" if square else ", unit bodies, square root") + f": {how}")
+    return result
+
+
+def _pivot_sup(chain, thetas, refine_s, observed, witness, goal):
+    family = PivotFamily(chain, thetas)
+
+    def values(q):
+        return spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmax")  # (K, V)
+
+    lo, hi = search_box(chain)
+    boxes, guard_s = ladder_budget(refine_s)
+    gamma, tested, size, ratio, _ = pivot_ladder(family, values, observed, witness, lo, hi, free_coordinates(chain),
+                                                 max_boxes=boxes, guard_s=guard_s, stop=observed * goal, sign=-1.0)
+    note = ("no target proved" if ratio is None else
+            f"target {observed:.6g}*{ratio:g} proved on a partition of {size} boxes ({tested} boxes tested)")
+    return gamma, note
 
 
 def _tighten_by_fourier(result, chain, thetas, refine_s, square):

@@ -11,7 +11,9 @@ attained at a witness, so gamma <= observed), a box passes when :func:`pivot_tes
 target starts. The certified side is the last gamma for which every box of a partition of the domain passed:
 lambda_min(M(q)) >= gamma for every q of the domain and every parameter set. Nothing is sampled on the certified
 side; which coordinate is halved is a heuristic (any choice is sound): the one whose radius is largest against
-its calibrated radius (:func:`calibrated_radii`), so that boxes get fine only where the turns lose; so is the
+its calibrated radius (:func:`calibrated_radii`; on the upper side times the turn's absolute loss on the box:
+Panda, 45,000 boxes, 2-8x fewer boxes per rung; on the lower side the radii alone measured best), so that
+boxes get fine only where the turns lose; so is the
 ridge of the turns' loss metric (pivots.RIDGES: the one whose calibration boxes hold widest).
 
 The budget is a count of tested boxes (the same bracket on any machine for a seed) with a wall-clock guard; a
@@ -28,10 +30,11 @@ from .pivots import RIDGES, pivot_test
 
 __all__ = ["CHUNK", "LADDER", "calibrated_radii", "ladder_budget", "ladder_goal", "pivot_ladder"]
 
-LADDER = (64.0, 16.0, 8.0, 4.0, 2.8, 1.95, 1.6, 1.45, 1.35, 1.25, 1.18, 1.12, 1.08, 1.05, 1.03, 1.02, 1.01)  # observed / target
+LADDER = (64.0, 16.0, 8.0, 4.0, 2.8, 1.95, 1.6, 1.45, 1.35, 1.25, 1.18, 1.15, 1.12, 1.1, 1.08, 1.05, 1.03, 1.02, 1.01)  # observed / target
 CHUNK = 4096  # boxes per pivot test call
 GRID = np.geomspace(0.003, 3.0, 11)  # radii tried by the calibration
-BOXES = (40_000, 10_000)  # boxes a ladder may test: the first plus the second per second of a bracket's budget
+BOXES = (40_000, 10_000, 16_000)  # boxes a ladder may test: the first plus the second (from DEEP_S the third) per
+# second of a bracket's budget
 EXTRA = 6  # after the goal, a ladder goes on with 1/EXTRA of its budget
 DEEP_S = 5.0  # budgets (seconds per bracket) from which a ladder goes on below the issue's 2x (the deep profile)
 CALIBRATION_POINTS = 8  # configurations the calibration looks at: the witness and seeded random ones
@@ -39,9 +42,11 @@ CALIBRATION_POINTS = 8  # configurations the calibration looks at: the witness a
 
 def ladder_budget(refine_s):
     """(boxes, seconds): the count of boxes a ladder may test for a bracket budget of ``refine_s`` seconds (ci 0.5 s:
-    45,000; deep 20 s: 240,000; about 3,000-6,000 boxes a second on 2 loaded cores for 7 joints) and the wall-clock
-    guard (a loaded machine ends with a lower, still certified target)."""
-    return int(BOXES[0] + BOXES[1] * refine_s), 30.0 + 12.0 * refine_s
+    45,000; deep 20 s: 360,000; about 2,000-6,000 boxes a second on 2 loaded cores for 7 joints) and the wall-clock
+    guard (a loaded machine ends with a lower, still certified target). Measured (Panda, 2 kg, sup lambda_max): the
+    ladder proves 1.12x after 130,000 boxes, 1.10x after 243,000, 1.08x after 471,000."""
+    per_second = BOXES[1] if refine_s < DEEP_S else BOXES[2]
+    return int(BOXES[0] + per_second * refine_s), 30.0 + 12.0 * refine_s
 
 
 def ladder_goal(refine_s):
@@ -50,11 +55,12 @@ def ladder_goal(refine_s):
     return 2.0 if refine_s < DEEP_S else 1.01
 
 
-def calibrated_radii(family, points, values, lo, hi, free, drop=0.1):
+def calibrated_radii(family, points, values, lo, hi, free, drop=0.1, sign=1.0):
     """Per coordinate the radius at which boxes wide in that coordinate alone start to fail: for each of the
     configurations ``points`` (P, n) with lambda_min ``values`` (P, V) there, the first radius of ``GRID`` at which
     the pivot test of M - (1 - drop) lambda_min I fails on the box about the point (the largest grid radius if
-    none), geometric mean over the points; 1 for fixed coordinates. A heuristic for splitting."""
+    none), geometric mean over the points; 1 for fixed coordinates. ``sign`` -1: ``values`` are lambda_max and the
+    test is of (1 + drop) lambda_max I - M. A heuristic for splitting."""
     points, values = np.atleast_2d(points), np.atleast_2d(values)
     n = len(lo)
     idx = np.flatnonzero(free)
@@ -65,17 +71,17 @@ def calibrated_radii(family, points, values, lo, hi, free, drop=0.1):
     for k, j in enumerate(idx):
         radii[:, k, :, j] = np.minimum(GRID, 0.5 * (hi[j] - lo[j]))
     centres = np.broadcast_to(points[:, None, None, :], radii.shape).reshape(-1, n)
-    armature = -(1 - drop) * np.broadcast_to(values[:, None, None, :], radii.shape[:3] + values.shape[-1:])
-    ok, _ = pivot_test(family, 1.0, armature.reshape(-1, values.shape[-1]), centres, radii.reshape(-1, n))
+    armature = -sign * (1 - sign * drop) * np.broadcast_to(values[:, None, None, :], radii.shape[:3] + values.shape[-1:])
+    ok, _ = pivot_test(family, sign, armature.reshape(-1, values.shape[-1]), centres, radii.reshape(-1, n))
     held = ok.all(1).reshape(len(points), len(idx), len(GRID))
     first = np.where(held.all(-1), len(GRID) - 1, np.argmin(held, -1))  # (P, d)
     rho[idx] = np.exp(np.log(GRID[first]).mean(0))
     return rho
 
 
-def _prove(family, gamma, centres, radii, rho, budget, deadline):
-    """Halve boxes until every one passes the pivot test of M - gamma I: the passing partition (centres, radii) and
-    the boxes tested, or None (and the boxes tested) when the budget or the deadline ran out first."""
+def _prove(family, sign, gamma, centres, radii, rho, budget, deadline):
+    """Halve boxes until every one passes the pivot test of sign (M - gamma I): the passing partition (centres,
+    radii) and the boxes tested, or None (and the boxes tested) when the budget or the deadline ran out first."""
     pending = [(centres, radii)]
     done_c, done_r = [], []
     tested = 0
@@ -88,8 +94,9 @@ def _prove(family, gamma, centres, radii, rho, budget, deadline):
         tested += len(c)
         if tested > budget or time.perf_counter() > deadline:
             return None, tested
-        ok, _ = pivot_test(family, 1.0, np.full((len(c), stack), -gamma), c, r)
+        ok, losses = pivot_test(family, sign, np.full((len(c), stack), -sign * gamma), c, r)
         ok = ok.all(1)
+        losses = losses[~ok]
         done_c.append(c[ok])
         done_r.append(r[ok])
         c, r = c[~ok], r[~ok]
@@ -97,7 +104,8 @@ def _prove(family, gamma, centres, radii, rho, budget, deadline):
             continue
         if r.max() < 1e-9:  # a point fails: gamma is above the value there
             return None, tested
-        axis = np.argmax(r / rho, 1)
+        score = r / rho if sign > 0 else np.where(r > 0, losses, -1.0) * (r / rho)
+        axis = np.argmax(score, 1)
         rows = np.arange(len(c))
         half = r.copy()
         half[rows, axis] *= 0.5
@@ -107,42 +115,49 @@ def _prove(family, gamma, centres, radii, rho, budget, deadline):
     return (np.concatenate(done_c), np.concatenate(done_r)), tested
 
 
-def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, guard_s, floor=-np.inf, stop=np.inf,
-                 ladder=LADDER):
+def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, guard_s, floor=None, stop=None,
+                 ladder=LADDER, sign=1.0):
     """The largest gamma = observed / ratio (ratio from ``ladder``, only targets above ``floor``; after a proved
     gamma >= ``stop`` with 1/EXTRA of the budget more) proved by
     branch and bound over the box [lo, hi] (fixed coordinates at the centre) within ``max_boxes`` tested boxes and
     ``guard_s`` seconds: a certified lower bound of inf lambda_min(M(q, Theta_v)) over the box and the stack, or
     -inf when none was proved. ``observed`` must be attained (at ``witness``); ``value(q)`` (K, n) -> (K, V) the
     lambda_min per parameter set, for the calibration only. Returns (gamma, boxes tested, the partition's size,
-    ratio, [(ratio, boxes tested, partition size or None where it ran out)] per rung tried)."""
+    ratio, [(ratio, boxes tested, partition size or None where it ran out)] per rung tried).
+
+    ``sign`` -1, the upper side: the smallest gamma = observed * ratio (only targets below ``floor``, stopping
+    once gamma <= ``stop``) for which gamma I - M(q, Theta_v) > 0 is proved, a certified upper bound of
+    sup lambda_max(M) (inf when none was proved); ``observed`` and ``value`` then of lambda_max."""
     lo, hi, free = np.asarray(lo, float), np.asarray(hi, float), np.asarray(free, bool)
+    floor = -sign * np.inf if floor is None else floor
+    stop = sign * np.inf if stop is None else stop
     if not observed > 0:
-        return -np.inf, 0, 0, None, []
+        return -sign * np.inf, 0, 0, None, []
     deadline = time.perf_counter() + guard_s
     rng = np.random.default_rng(0)
     points = np.vstack([np.asarray(witness, float)[None],
                         np.where(free, lo + (hi - lo) * rng.random((CALIBRATION_POINTS - 1, len(lo))), 0.5 * (lo + hi))])
     values = value(points)
     best_score = -np.inf
-    for ridge in RIDGES:  # the metric whose calibration boxes hold widest (any metric is sound)
+    for ridge in RIDGES if sign > 0 else RIDGES[:1]:  # the metric whose calibration boxes hold widest (any is sound;
+        # the upper side's turns are bounded in the identity metric: pivots.pivot_test)
         family.ridge = ridge
-        trial = calibrated_radii(family, points, values, lo, hi, free)
+        trial = calibrated_radii(family, points, values, lo, hi, free, sign=sign)
         if np.log(trial).sum() > best_score:
             best_score, rho, chosen = np.log(trial).sum(), trial, ridge
     family.ridge = chosen
     centres, radii = (0.5 * (lo + hi))[None], np.where(free, 0.5 * (hi - lo), 0.0)[None]
-    best, best_ratio, used, size, reached, rungs = -np.inf, None, 0, 0, False, []
+    best, best_ratio, used, size, reached, rungs = -sign * np.inf, None, 0, 0, False, []
     for ratio in ladder:
-        gamma = float(observed / ratio)
-        if gamma <= floor:
+        gamma = float(observed / ratio if sign > 0 else observed * ratio)
+        if sign * gamma <= sign * floor:
             continue
-        partition, tested = _prove(family, gamma, centres, radii, rho, max_boxes - used, deadline)
+        partition, tested = _prove(family, sign, gamma, centres, radii, rho, max_boxes - used, deadline)
         used += tested
         rungs.append((ratio, tested, None if partition is None else len(partition[0])))
         if partition is None:
             break
         (centres, radii), best, best_ratio, size = partition, gamma, ratio, len(partition[0])
-        if best >= stop and not reached:  # the goal: go on only as far as a small extra budget takes the ladder
+        if sign * best >= sign * stop and not reached:  # the goal: go on only as far as a small extra budget goes
             reached, max_boxes = True, min(max_boxes, used + max_boxes // EXTRA)
     return best, used, size, best_ratio, rungs

@@ -161,7 +161,8 @@ class PivotFamily:
 
     def rotated_lower(self, b, p, c, r, relative=True):
         """A Loewner lower bound over |x - c| <= r (K,) of Phi_b(x)^T p Phi_b(x), p (K, V, 6, 6); and its loss
-        relative to the centre's matrix (K, V; in the metric, a heuristic for where to split).
+        (K, V; a heuristic for where to split): relative to the centre's matrix in its metric, or (``relative``
+        False: the identity metric) absolute.
 
         A turn: with d = x - c, F(c + d) - F(c) = sin d G1 - (1 - cos d) G2 + 2 (1 - cos d)^2 F2c
         - 2 sin d (1 - cos d) F2s, G1 = F1s + 2 F2s (F'(c)), G2 = F1c + 4 F2c (from cos 2d - 1 = -4 (1 - cos d)
@@ -188,14 +189,12 @@ class PivotFamily:
             size = (np.linalg.norm(f0, axis=(-2, -1)) + np.linalg.norm(fp, axis=(-2, -1))
                     + np.linalg.norm(fm, axis=(-2, -1))) * (1 + r[:, None]) ** 2
         loss = sum(w * part for w, part in zip(weights, parts))
-        relative = sum(w[..., 0, 0] * x for w, x in zip(weights, spread))  # the loss in the metric
-        if h is None:
-            relative = relative / np.maximum(np.linalg.norm(centre, axis=(-2, -1)), 1e-300)
+        measure = sum(w[..., 0, 0] * x for w, x in zip(weights, spread))  # the loss in the metric (or absolute)
         lower = before.T @ (centre - loss) @ before
         norm_b = np.linalg.norm(before) ** 2 * np.linalg.norm(after) ** 2
         loss_norm = np.linalg.norm(loss, axis=(-2, -1))
         slack = ROUNDING * EPS * norm_b * (size + loss_norm)
-        return lower - slack[..., None, None] * np.eye(6), relative
+        return lower - slack[..., None, None] * np.eye(6), measure
 
     def rotated_form_lower(self, b, p, c, r, v):
         """A lower bound over |x - c| <= r (K,) of v^T tm(before)^T Phi_b(x)^T p Phi_b(x) tm(before) v, p (K, V, 6, 6):
