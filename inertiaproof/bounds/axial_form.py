@@ -1,34 +1,35 @@
-"""Lower forms of M(q, Theta) whose body inertias are invariant under their own joint's turn, for Theorem 2's
+"""Lower forms of M(q, Theta) with an extra inertia about each body's own joint axis, for Theorem 2's
 inf lambda_min(M) (Eq. (key step), body by body: M(q) = sum_l QJ_l^T Z_l QJ_l >= sum_l QJ_l^T Y_l QJ_l whenever
 Y_l <= Z_l for every l).
 
-The articulated-body pivot test (:mod:`inertiaproof.bounds.pivots`) loses where a joint turns an anisotropic
-articulated inertia over an interval (a Loewner lower bound must push heavy directions onto light ones); it does
-not lose where the turned matrix commutes with the turn. A body inertia Y_l that, written in joint l's frame
-(Y_j = X^T Y_l X, X = tm(after_l)), commutes with every rotation about z (blockdiag(Rz, Rz)) makes the last body's
-turn exact, and keeps the body's inertia about its own axis, the light direction of M on wrists (UR5: the last
-body's inertia about joint 6), where the isotropic form mu_l I (mu_l = lambda_min(Z_l)) drops to the body's
-smallest eigenvalue.
+The isotropic form Y_l = mu_l I (mu_l = lambda_min(Z_l)) drops each body to its smallest eigenvalue in every
+direction; on wrists the light direction of M is a body turning about its own joint axis, whose inertia there
+can be several times mu_l (UR5: the last body, 2.2e-4 against 1.56e-4). The axial form keeps it:
 
-Construction (:func:`axial_body_form`, a heuristic: anything below Z_l is sound): the rotation average A of Z_j
-(exact from eight turns: Z_j's dependence on the angle has harmonics 0, 1, 2), on the five coordinates other than
-the rotation about z, C, Y_CC = (1 - ``SHRINK``) s A_CC with s = lambda_min(A_CC^(-1/2) Z_CC A_CC^(-1/2)) (so
-Z_CC - Y_CC > 0), the coupling of the axis rotation to the linear z velocity kept (Y_25 = Z_25, invariant), and
-the axis entry Y_55 the Schur complement Z_55 - r^T (Z_CC - Y_CC)^(-1) r (r = Z_C5 - Y_C5) less a relative
-``MARGIN``: then Z_j - Y_j >= 0 (a Schur complement argument) up to the margin. The invariant 6 x 6 matrices are
-a I2 + b J on the xy blocks, scalars on z: Y_j has that structure exactly (A and e5 are invariant).
+    Y_l = mu I + kappa w w^T,   w = tm(after_l)^(-T) e5,   mu = (1 - SHRINK) min_v lambda_min(Z_vl),
+    kappa = (1 - MARGIN) min_v 1 / (w^T (Z_vl - mu I)^(-1) w)
+
+(w^T V is the angular velocity about joint l's axis in its frame; kappa is the largest with
+Z_vl - mu I - kappa w w^T >= 0, a Schur complement, so Y_l <= Z_vl up to the margin). Written in joint l's frame,
+kappa e5 e5^T commutes with the joint's turn, and the articulated-body recursion removes it with the joint's own
+pivot (P_l = A_l - A_l s_l s_l^T A_l / D_l, s_l = e5 in that frame), so the turned matrices stay as isotropic as
+the isotropic form's: the pivot ladder (:mod:`inertiaproof.bounds.pivot_search`) proves this form about as easily.
+(A heavier invariant form, Z_l's rotation average on the other five coordinates and the Schur complement on the
+axis, keeps even more of M (UR5 from example-robot-data: 1.58e-2 = M's inf) but its heavy, anisotropic
+composite inertias make the ladder prove nothing at 64x within 45,000 boxes on every arm tried but the built-in
+UR5; issue 12's measurements, /work/notes/inf13.md.)
 
 Which bodies get their axial form (:func:`axial_lower_form`) is chosen greedily at sampled configurations (where
 the form's sampled inf rises), starting from the isotropic form; every adopted Y_l is CHECKED in the body frame
 for every parameter set v: lambda_min(Z_vl - Y_l) > ROUNDING eps ||Z_vl - Y_l||_F (Weyl: the computed eigenvalue
-is within ROUNDING eps ||.||_F of the exact one), else the body keeps mu_l I. Nothing sampled enters the
-certified side: the samples choose the form, the pivot ladder proves its inf.
+is within ROUNDING eps ||.||_F of the exact one, the difference's own rounding included), else the body keeps
+mu_l I. Nothing sampled enters the certified side: the samples choose the form, the pivot ladder proves its inf.
 
-Measured (issue 12, ci budget 45,000 boxes, load ~1.5): UR5 built-in, the last body axial: the form's sampled inf
-2.172e-4 (M: 2.248e-4; isotropic 1.485e-4), its ladder proves 2.068e-4 (1.087x of M, 7.9 s). Panda +2 kg, the
-payload body axial: the form's inf barely rises (1.457e-3 vs 1.437e-3) and the ladder proves nothing at 64x
-within 45,000 boxes (heavy, anisotropic composite inertias at the proximal turns); all bodies axial: form inf
-1.615e-3, the ladder 2.8x.
+Measured (ci budget, 45,000 boxes; inf lambda_min(M) sampled / the form's sampled inf / proved, load ~4):
+built-in UR5 2.248e-4 / 2.168e-4 / 2.147e-4 (last body axial; isotropic form 1.485e-4); example-robot-data
+UR5 1.583e-2 / 1.579e-2 / 1.462e-2 (isotropic 3.04e-3), xArm7 1.345e-4 / 1.211e-4 / 1.121e-4 (5.71e-5), Z1
+2.803e-4 / 1.581e-4 / 1.566e-4 (1.336e-4), SO-101 1.321e-5 / 4.54e-6 / 4.49e-6 (1.78e-6); Panda +2 kg: no body
+raises the form's inf (1.437e-3, the isotropic form's).
 """
 
 from __future__ import annotations
@@ -42,40 +43,22 @@ from .spectral import EPS, ROUNDING
 
 __all__ = ["MARGIN", "SHRINK", "axial_body_form", "axial_lower_form", "form_matrix", "form_lmin", "holds_below"]
 
-SHRINK = 0.05  # fraction by which the other five coordinates' block stays below Z's (room for the axis entry)
-MARGIN = 1e-6  # relative amount by which the axis entry stays below its Schur complement (room for the check)
-TURNS = 2 * np.pi * np.arange(8) / 8  # rotation average: exact for harmonics up to 2 (and beyond, to 7)
+SHRINK = 0.05  # fraction by which the isotropic part stays below lambda_min(Z_l) (room for the axis term)
+MARGIN = 1e-6  # relative amount by which the axis term stays below its largest value (room for the rounding check)
 
 
-def _turn(x):
-    t = np.eye(6)
-    c, s = np.cos(x), np.sin(x)
-    for o in (0, 3):
-        t[o, o] = t[o + 1, o + 1] = c
-        t[o, o + 1], t[o + 1, o] = s, -s
-    return t
-
-
-def axial_body_form(zj, shrink=SHRINK, margin=MARGIN):
-    """An invariant (under rotations about z) Y_j with Y_j <= Z_j (up to ``margin``; checked by the caller) for a
-    6 x 6 inertia ``zj`` in the joint frame, keeping the axis entry (e5) as high as the rest allows (module
-    docstring)."""
-    zj = 0.5 * (zj + zj.T)
-    average = np.mean([_turn(x).T @ zj @ _turn(x) for x in TURNS], 0)
-    c = [0, 1, 2, 3, 4]
-    zcc, acc = zj[np.ix_(c, c)], average[np.ix_(c, c)]
-    w, u = np.linalg.eigh(acc)
-    if w[0] <= 0:
+def axial_body_form(z, after, shrink=SHRINK, margin=MARGIN):
+    """Y = mu I + kappa w w^T <= Z_v for every v of ``z`` (V, 6, 6) (up to ``margin``; checked by the caller),
+    w = tm(after)^(-T) e5, mu = (1 - shrink) min_v lambda_min(Z_v), kappa = (1 - margin) min_v
+    1 / (w^T (Z_v - mu I)^(-1) w) (module docstring); None where Z_v - mu I is not definite."""
+    z = np.asarray(z, float)
+    mu = (1 - shrink) * float(np.linalg.eigvalsh(z)[:, 0].min())
+    rest = z - mu * np.eye(6)
+    if not mu > 0 or np.any(np.linalg.eigvalsh(rest)[:, 0] <= 0):
         return None
-    root = (u / np.sqrt(w)) @ u.T
-    scale = np.linalg.eigvalsh(root @ zcc @ root)[0]
-    y = np.zeros((6, 6))
-    y[np.ix_(c, c)] = (1 - shrink) * max(scale, 0.0) * acc
-    y[2, 5] = y[5, 2] = zj[2, 5]
-    r = zj[c, 5] - y[c, 5]
-    schur = zj[5, 5] - r @ np.linalg.solve(zcc - y[np.ix_(c, c)], r)
-    y[5, 5] = schur - margin * abs(schur)
-    return 0.5 * (y + y.T)
+    w = np.linalg.inv(after).T[:, 5]
+    kappa = (1 - margin) / max(float(w @ np.linalg.solve(r, w)) for r in rest)
+    return mu * np.eye(6) + kappa * np.outer(w, w)
 
 
 def holds_below(z, y):
@@ -110,20 +93,12 @@ def axial_lower_form(chain, thetas, points):
     axial = np.zeros(chain.bodies, bool)
     best = form_lmin(chain, forms[None], points).min()
     for l in range(min(chain.bodies, chain.n)):
-        x = twist_map(chain.z_joints[l].after)
-        inverse = np.linalg.inv(x)
-        for v in np.argsort(np.trace(z[:, l], axis1=-2, axis2=-1)):  # the lightest parameter set first
-            yj = axial_body_form(x.T @ z[v, l] @ x)
-            if yj is None:
-                continue
-            y = inverse.T @ yj @ inverse
-            y = 0.5 * (y + y.T)
-            if not holds_below(z[:, l], y):
-                continue
-            trial = forms.copy()
-            trial[l] = y
-            value = form_lmin(chain, trial[None], points).min()
-            if value > best * (1 + 1e-3):
-                best, forms, axial[l] = value, trial, True
-            break
+        y = axial_body_form(z[:, l], twist_map(chain.z_joints[l].after))
+        if y is None or not holds_below(z[:, l], y):
+            continue
+        trial = forms.copy()
+        trial[l] = y
+        value = form_lmin(chain, trial[None], points).min()
+        if value > best * (1 + 1e-3):
+            best, forms, axial[l] = value, trial, True
     return forms[None], axial
