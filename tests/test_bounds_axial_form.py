@@ -1,15 +1,20 @@
-"""Lower forms invariant under each body's own joint turn (inertiaproof.bounds.axial_form) and their pivot ladder
+"""Lower forms with an inertia about each body's own joint axis (inertiaproof.bounds.axial_form) and their pivot ladder
 (configuration.form_ladder): Y_l <= Z_l for every body and parameter set, invariant where claimed, the form below
 M at samples, the proved bound below dense samples of lambda_min(M); a form claimed 20% too high is caught by the
 rounding check and its ladder's bound lies above sampled lambda_min(M)."""
 
 from __future__ import annotations
 
+import itertools
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
 from inertiaproof.bounds import axial_form
-from inertiaproof.bounds.axial_form import axial_body_form, axial_lower_form, form_lmin, form_matrix, holds_below
+from inertiaproof.bounds.axial_form import (
+    axial_body_form, axial_lower_form, axis_covectors, form_lmin, form_matrix, holds_below,
+)
 from inertiaproof.bounds.configuration import form_ladder, mass_inf
 from inertiaproof.bounds.domain import free_coordinates, search_box
 from inertiaproof.bounds.spectral import spectral
@@ -45,25 +50,21 @@ def _turn(x):
 @pytest.mark.parametrize("scene", [robots.panda(payload=2.0), robots.ur5()], ids=lambda s: s.name)
 def test_axial_form_is_below_every_body_and_m_and_20_percent_more_is_caught(scene):
     """Y_l <= Z(Theta_v)_l for every body and parameter set (computed eigenvalues >= 0; the rounding check for the
-    axial bodies), the
-    axial bodies' Y_l commute with their joint's turn, sum_l QJ_l^T Y_l QJ_l <= M(q) at 3,000 samples; Y scaled
-    up 20% fails the check for an axial body."""
+    axial bodies, each mu I plus a rank-one term), sum_l QJ_l^T Y_l QJ_l <= M(q) at 3,000 samples; Y scaled up 20%
+    fails the check for every axial body and for both covectors' forms of the seventh (sixth) body."""
     chain, thetas, forms, axial = _axial(scene)
-    assert axial.any() == (scene.name != "panda")  # Panda: no body raises the form's inf
+    assert axial.any() or scene.name == "panda"
     z = spatial_inertia(thetas)  # (V, N, 6, 6)
     y = forms[0]
     assert np.all(np.linalg.eigvalsh(z - y)[..., 0] >= 0)
     assert all(holds_below(z[:, l], y[l]) for l in np.flatnonzero(axial))  # the others: mu_l I, Weyl on Z_l
     for l in np.flatnonzero(axial):
-        x = twist_map(chain.z_joints[l].after)
-        mu = np.linalg.eigvalsh(y[l])[0]
-        yj = x.T @ (y[l] - mu * np.eye(6)) @ x  # the axis term in the joint frame
-        for angle in (0.3, 1.7, -2.5):
-            assert np.allclose(_turn(angle).T @ yj @ _turn(angle), yj, atol=1e-12 * np.abs(yj).max())
+        w = np.linalg.eigvalsh(y[l])  # mu I plus a rank-one term
+        assert np.allclose(w[:5], w[0], rtol=1e-9) and w[5] > w[0]
         assert not holds_below(z[:, l], 1.2 * y[l])
-    if scene.name == "panda":
-        y = axial_body_form(z[:, 6], twist_map(chain.z_joints[6].after))[None]
-        assert holds_below(z[:, 6], y[0]) and not holds_below(z[:, 6], 1.2 * y[0])
+    for w in axis_covectors(z[:, 6 % chain.n], chain.z_joints[6 % chain.n]):
+        y = axial_body_form(z[:, 6 % chain.n], w)
+        assert holds_below(z[:, 6 % chain.n], y) and not holds_below(z[:, 6 % chain.n], 1.2 * y)
     q = _samples(chain, 3000, 61)
     m = composite.mass_matrix(chain, q[:, None], thetas[None])
     assert np.linalg.eigvalsh(m - form_matrix(chain, forms, q))[..., 0].min() >= -1e-12
@@ -71,8 +72,9 @@ def test_axial_form_is_below_every_body_and_m_and_20_percent_more_is_caught(scen
 
 def test_axial_body_form_is_below_random_bodies():
     """For random rigid bodies (box, cylinder, sphere; random pose and mass) seen from random joint frames, the
-    axial form passes the rounding check against the body's inertia, its axis term (commuting with the turn)
-    raised 1% does not."""
+    axial forms (both covectors, both shrinks) pass the rounding check against the body's inertia, their axis term
+    raised 1% does not, none exceeds Z along the joint's twist; the rotation covector's term commutes with the
+    turn."""
     rng = np.random.default_rng(62)
     shapes = (("box", lambda: tuple(0.02 + 0.3 * rng.random(3))), ("cylinder", lambda: tuple(0.02 + 0.2 * rng.random(2))),
               ("sphere", lambda: (0.02 + 0.2 * rng.random(),)))
@@ -84,13 +86,17 @@ def test_axial_body_form_is_below_random_bodies():
         t[:3, :3], t[:3, 3] = rotation_rpy(rng.uniform(-3, 3, 3)), rng.uniform(-0.2, 0.2, 3)
         x = twist_map(t)
         z = spatial_inertia(np.asarray(body, float)[None])
-        y = axial_body_form(z, x)
-        assert holds_below(z, y), k
-        assert not holds_below(z, y + 0.01 * (y - np.linalg.eigvalsh(y)[0] * np.eye(6))), k  # the axis term is the largest
-        mu = np.linalg.eigvalsh(z[0])[0]
-        yj = x.T @ (y - 0.95 * mu * np.eye(6)) @ x
+        joint = SimpleNamespace(after=t, unit_twist=x @ np.eye(6)[5])
+        for w, shrink in itertools.product(axis_covectors(z, joint), axial_form.SHRINKS):
+            y = axial_body_form(z, w, shrink)
+            assert holds_below(z, y), k
+            mu = np.linalg.eigvalsh(y)[0]
+            assert not holds_below(z, y + 0.01 * (y - mu * np.eye(6))), k  # the axis term is the largest
+            assert joint.unit_twist @ y @ joint.unit_twist <= joint.unit_twist @ z[0] @ joint.unit_twist
+        yj = x.T @ (y - mu * np.eye(6)) @ x  # the rotation covector's term (the first): invariant under the turn
+        y = axial_body_form(z, axis_covectors(z, joint)[0])
+        yj = x.T @ (y - np.linalg.eigvalsh(y)[0] * np.eye(6)) @ x
         assert np.allclose(_turn(0.9).T @ yj @ _turn(0.9), yj, atol=1e-12 * np.abs(yj).max())
-        assert (x.T @ y @ x)[5, 5] <= (x.T @ z[0] @ x)[5, 5]
 
 
 def test_axial_ladder_is_below_dense_samples_and_a_raised_form_is_caught():

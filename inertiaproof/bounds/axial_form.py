@@ -34,6 +34,8 @@ raises the form's inf (1.437e-3, the isotropic form's).
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from inertiaproof.dynamics.twists import twist_map
@@ -41,24 +43,66 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .spectral import EPS, ROUNDING
 
-__all__ = ["MARGIN", "SHRINK", "axial_body_form", "axial_lower_form", "form_matrix", "form_lmin", "holds_below"]
+__all__ = ["MARGIN", "SHRINK", "SHRINKS", "axial_body_form", "axial_lower_form", "axis_covectors", "form_matrix", "form_lmin", "holds_below", "invariant_body_form"]
 
 SHRINK = 0.05  # fraction by which the isotropic part stays below lambda_min(Z_l) (room for the axis term)
+SHRINKS = (SHRINK, 0.5)  # tried per body and covector (0.5: room where the covector meets Z's light direction)
 MARGIN = 1e-6  # relative amount by which the axis term stays below its largest value (room for the rounding check)
 
 
-def axial_body_form(z, after, shrink=SHRINK, margin=MARGIN):
-    """Y = mu I + kappa w w^T <= Z_v for every v of ``z`` (V, 6, 6) (up to ``margin``; checked by the caller),
-    w = tm(after)^(-T) e5, mu = (1 - shrink) min_v lambda_min(Z_v), kappa = (1 - margin) min_v
+def axial_body_form(z, covector, shrink=SHRINK, margin=MARGIN):
+    """Y = mu I + kappa w w^T <= Z_v for every v of ``z`` (V, 6, 6) (up to ``margin``; checked by the caller) for
+    the covector w, mu = (1 - shrink) min_v lambda_min(Z_v), kappa = (1 - margin) min_v
     1 / (w^T (Z_v - mu I)^(-1) w) (module docstring); None where Z_v - mu I is not definite."""
-    z = np.asarray(z, float)
+    z, w = np.asarray(z, float), np.asarray(covector, float)
     mu = (1 - shrink) * float(np.linalg.eigvalsh(z)[:, 0].min())
     rest = z - mu * np.eye(6)
     if not mu > 0 or np.any(np.linalg.eigvalsh(rest)[:, 0] <= 0):
         return None
-    w = np.linalg.inv(after).T[:, 5]
     kappa = (1 - margin) / max(float(w @ np.linalg.solve(r, w)) for r in rest)
     return mu * np.eye(6) + kappa * np.outer(w, w)
+
+
+def axis_covectors(z, joint):
+    """The two covectors tried for a body: the rotation about its joint axis (tm(after)^(-T) e5: w^T V is the
+    angular velocity about the axis in the joint frame) and its momentum Z s (s = tm(after) e5, the joint's unit
+    twist; Z of the lightest parameter set), which keeps the parallel-axis part m rho^2 of an offset body."""
+    s = np.asarray(joint.unit_twist, float)
+    light = z[int(np.argmin(np.trace(z, axis1=-2, axis2=-1)))]
+    return np.linalg.inv(twist_map(joint.after)).T[:, 5], light @ s
+
+
+def _turn(x):
+    t = np.eye(6)
+    c, s = np.cos(x), np.sin(x)
+    for o in (0, 3):
+        t[o, o] = t[o + 1, o + 1] = c
+        t[o, o + 1], t[o + 1, o] = s, -s
+    return t
+
+
+def invariant_body_form(zj, shrink=SHRINK, margin=MARGIN):
+    """The heavy invariant form: Y_j commuting with every rotation about z, Y_j <= Z_j (up to ``margin``; checked
+    by the caller) for a 6 x 6 inertia ``zj`` in the joint frame: Z_j's rotation average A (exact from eight
+    turns: harmonics 0-2) on the five coordinates C other than the axis rotation, scaled to
+    (1 - shrink) lambda_min(A_CC^(-1/2) Z_CC A_CC^(-1/2)) A_CC, the axis' coupling to the linear z velocity kept
+    (invariant), and the axis entry the Schur complement Z_55 - r^T (Z_CC - Y_CC)^(-1) r (r = Z_C5 - Y_C5) less
+    a relative ``margin``. None where A_CC is not definite."""
+    zj = 0.5 * (zj + zj.T)
+    average = np.mean([_turn(x).T @ zj @ _turn(x) for x in 2 * np.pi * np.arange(8) / 8], 0)
+    c = [0, 1, 2, 3, 4]
+    zcc, acc = zj[np.ix_(c, c)], average[np.ix_(c, c)]
+    w, u = np.linalg.eigh(acc)
+    if w[0] <= 0:
+        return None
+    root = (u / np.sqrt(w)) @ u.T
+    y = np.zeros((6, 6))
+    y[np.ix_(c, c)] = (1 - shrink) * max(np.linalg.eigvalsh(root @ zcc @ root)[0], 0.0) * acc
+    y[2, 5] = y[5, 2] = zj[2, 5]
+    r = zj[c, 5] - y[c, 5]
+    schur = zj[5, 5] - r @ np.linalg.solve(zcc - y[np.ix_(c, c)], r)
+    y[5, 5] = schur - margin * abs(schur)
+    return 0.5 * (y + y.T)
 
 
 def holds_below(z, y):
@@ -81,11 +125,26 @@ def form_lmin(chain, forms, q, chunk=4096):
                            for k in range(0, len(q), chunk)]) if len(q) else np.zeros((0, len(forms)))
 
 
-def axial_lower_form(chain, thetas, points):
-    """(forms (1, N, 6, 6), axial (N,) bools): Y_l <= Z(Theta_v)_l for every parameter set v, Y_l the axial form
-    of body l where that raised the form's smallest lambda_min at ``points`` (greedy, body by body) and passed
-    :func:`holds_below`, else mu_l I with mu_l = min_v lambda_min(Z_vl) less its rounding
-    (ROUNDING eps |Z_vl|_2)."""
+def _heavy_candidates(z, joint):
+    x = twist_map(joint.after)
+    inverse = np.linalg.inv(x)
+    for v in np.argsort(np.trace(z, axis1=-2, axis2=-1)):  # the lightest parameter set first
+        yj = invariant_body_form(x.T @ z[v] @ x)
+        if yj is not None:
+            yield inverse.T @ yj @ inverse
+
+
+def _light_candidates(z, joint):
+    for w, shrink in itertools.product(axis_covectors(z, joint), SHRINKS):
+        yield axial_body_form(z, w, shrink)
+
+
+def axial_lower_form(chain, thetas, points, heavy=False):
+    """(forms (1, N, 6, 6), axial (N,) bools): Y_l <= Z(Theta_v)_l for every parameter set v, Y_l an axial form
+    of body l (:func:`axial_body_form` for both :func:`axis_covectors` and each of ``SHRINKS``; ``heavy``: the
+    :func:`invariant_body_form` instead) where that raised the form's smallest lambda_min at ``points`` (greedy,
+    body by body) and passed :func:`holds_below`, else mu_l I with mu_l = min_v lambda_min(Z_vl) less its
+    rounding (ROUNDING eps |Z_vl|_2)."""
     z = spatial_inertia(np.asarray(thetas, float))  # (V, N, 6, 6)
     w = np.linalg.eigvalsh(z)
     mu = np.maximum((w[..., 0] - ROUNDING * EPS * np.abs(w).max(-1)).min(0), 0.0)
@@ -93,12 +152,13 @@ def axial_lower_form(chain, thetas, points):
     axial = np.zeros(chain.bodies, bool)
     best = form_lmin(chain, forms[None], points).min()
     for l in range(min(chain.bodies, chain.n)):
-        y = axial_body_form(z[:, l], twist_map(chain.z_joints[l].after))
-        if y is None or not holds_below(z[:, l], y):
-            continue
-        trial = forms.copy()
-        trial[l] = y
-        value = form_lmin(chain, trial[None], points).min()
-        if value > best * (1 + 1e-3):
-            best, forms, axial[l] = value, trial, True
+        for y in (_heavy_candidates if heavy else _light_candidates)(z[:, l], chain.z_joints[l]):
+            y = None if y is None else 0.5 * (y + y.T)
+            if y is None or not holds_below(z[:, l], y):
+                continue
+            trial = forms.copy()
+            trial[l] = y
+            value = form_lmin(chain, trial[None], points).min()
+            if value > best * (1 + 1e-3):
+                best, forms, axial[l] = value, trial, True
     return forms[None], axial

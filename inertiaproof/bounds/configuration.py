@@ -573,7 +573,7 @@ def mass_inf(chain, thetas, **kw):
         iso = _block_rows(mu.min(0), mu.min(0))[None]
         iso_values = spectral(composite.mass_matrix(chain, q[:, None], iso[None]), "lmin")[:, 0]
         worst = q[np.argsort(iso_values)[:300]]
-        forms, axial = axial_lower_form(chain, thetas, worst)
+        forms, axial = axial_lower_form(chain, thetas, q)
         axial_inf = form_lmin(chain, forms, q).min() if axial.any() else -np.inf
 
         def short(sampled_inf):  # short of the goal, and the form's sampled inf (>= its certified one) above the bracket
@@ -585,21 +585,24 @@ def mass_inf(chain, thetas, **kw):
                                   "by body), its inf certified by a ladder of targets proved with articulated-body "
                                   f"pivots (inertiaproof.bounds.pivot_search): {how}")
 
-        def axial_form():  # a probe with 1/EXTRA of the budget first: forms the pivots cannot handle cost little
-            gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop, probe=True)
-            if -np.inf < gamma < stop:
+        def axial_form(forms=forms, axial=axial, kind="mu_l I + kappa_l w_l w_l^T (an inertia about joint l's own axis)"):
+            gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop, probe=True)  # a probe first: forms
+            if -np.inf < gamma < stop:  # the pivots cannot handle cost 1/EXTRA of the budget only
                 gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop)
             bodies = ", ".join(str(l + 1) for l in np.flatnonzero(axial))
             result.tighten(gamma, "M(q) >= sum_l QJ_l^T Y_l QJ_l with Y_l <= Z(Phi_l) (checked with rounding; body by "
-                                  f"body), Y_l = mu_l I + kappa_l w_l w_l^T (an inertia about joint l's own axis) for "
-                                  f"bodies {bodies} (inertiaproof.bounds.axial_form), lambda_min(Z_l) I for the "
-                                  "others, its inf certified by a ladder of targets proved with articulated-body "
-                                  f"pivots: {how}")
+                                  f"body), Y_l = {kind} for bodies {bodies} (inertiaproof.bounds.axial_form), "
+                                  "lambda_min(Z_l) I for the others, its inf certified by a ladder of targets proved "
+                                  f"with articulated-body pivots: {how}")
 
         first, second = (axial_form, isotropic) if axial_inf > AXIAL_FIRST * iso_values.min() else (isotropic, axial_form)
         for run, sampled_inf in ((first, np.inf), (second, axial_inf if second is axial_form else iso_values.min())):
             if short(sampled_inf):
                 run()
+        if short(np.inf):  # still short: the heavy invariant form (Z_l's rotation average; harder for the pivots)
+            heavy, invariant = axial_lower_form(chain, thetas, q, heavy=True)
+            if invariant.any() and short(form_lmin(chain, heavy, q).min()):
+                axial_form(heavy, invariant, "an inertia invariant under joint l's own turn (Z_l's rotation average)")
         if short(np.inf):  # still short of the goal: the block form
             block_mu, block_nu = block_lower_form(thetas, worst, chain)
             block = _block_rows(block_mu, block_nu)[None]
