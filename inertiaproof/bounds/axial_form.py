@@ -4,32 +4,38 @@ Y_l <= Z_l for every l).
 
 The isotropic form Y_l = mu_l I (mu_l = lambda_min(Z_l)) drops each body to its smallest eigenvalue in every
 direction; on wrists the light direction of M is a body turning about its own joint axis, whose inertia there
-can be several times mu_l (UR5: the last body, 2.2e-4 against 1.56e-4). The axial form keeps it:
+can be several times mu_l (built-in UR5: the last body, 2.2e-4 against 1.56e-4). The axial form keeps it:
 
-    Y_l = mu I + kappa w w^T,   w = tm(after_l)^(-T) e5,   mu = (1 - SHRINK) min_v lambda_min(Z_vl),
+    Y_l = mu I + kappa w w^T,   mu = (1 - shrink) min_v lambda_min(Z_vl),
     kappa = (1 - MARGIN) min_v 1 / (w^T (Z_vl - mu I)^(-1) w)
 
-(w^T V is the angular velocity about joint l's axis in its frame; kappa is the largest with
-Z_vl - mu I - kappa w w^T >= 0, a Schur complement, so Y_l <= Z_vl up to the margin). Written in joint l's frame,
-kappa e5 e5^T commutes with the joint's turn, and the articulated-body recursion removes it with the joint's own
-pivot (P_l = A_l - A_l s_l s_l^T A_l / D_l, s_l = e5 in that frame), so the turned matrices stay as isotropic as
-the isotropic form's: the pivot ladder (:mod:`inertiaproof.bounds.pivot_search`) proves this form about as easily.
-(A heavier invariant form, Z_l's rotation average on the other five coordinates and the Schur complement on the
-axis, keeps even more of M (UR5 from example-robot-data: 1.58e-2 = M's inf) but its heavy, anisotropic
-composite inertias make the ladder prove nothing at 64x within 45,000 boxes on every arm tried but the built-in
-UR5; issue 12's measurements, /work/notes/inf13.md.)
+(kappa is the largest with Z_vl - mu I - kappa w w^T >= 0, a Schur complement, so Y_l <= Z_vl up to the margin)
+for two covectors (:func:`axis_covectors`): w = tm(after_l)^(-T) e5 (w^T V the angular velocity about joint l's
+axis; written in the joint frame kappa e5 e5^T commutes with the joint's turn) and w = Z_l s_l (the momentum of
+the joint's unit twist s_l, which keeps an offset body's parallel-axis part m rho^2), each with shrink in
+``SHRINKS``. The articulated-body recursion removes most of the rank-one term with the joint's own pivot
+(P_l = A_l - A_l s_l s_l^T A_l / D_l, and A_l s_l lies mostly along w), so the turned matrices stay about as
+isotropic as the isotropic form's and the pivot ladder (:mod:`inertiaproof.bounds.pivot_search`) proves this form
+about as easily. A heavy invariant form (:func:`invariant_body_form`: Z_l's rotation average on the five other
+coordinates, the Schur complement on the axis) keeps even more of M (example-robot-data UR5: 1.580e-2 of M's
+1.583e-2) but its heavy, anisotropic composite inertias make the ladder prove nothing at 64x within 45,000 boxes
+on every example-robot-data arm tried; it is tried last (configuration.mass_inf), with a probe.
 
-Which bodies get their axial form (:func:`axial_lower_form`) is chosen greedily at sampled configurations (where
-the form's sampled inf rises), starting from the isotropic form; every adopted Y_l is CHECKED in the body frame
-for every parameter set v: lambda_min(Z_vl - Y_l) > ROUNDING eps ||Z_vl - Y_l||_F (Weyl: the computed eigenvalue
-is within ROUNDING eps ||.||_F of the exact one, the difference's own rounding included), else the body keeps
-mu_l I. Nothing sampled enters the certified side: the samples choose the form, the pivot ladder proves its inf.
+Which bodies get an axial form (:func:`axial_lower_form`) is chosen greedily at sampled configurations (the
+candidate that raises the form's sampled inf most, body by body), starting from the isotropic form; every
+adopted Y_l is CHECKED in the body frame for every parameter set v: lambda_min(Z_vl - Y_l) > ROUNDING eps
+||Z_vl - Y_l||_F (Weyl: the computed eigenvalue is within ROUNDING eps ||.||_F of the exact one, the difference's
+own rounding included), else the body keeps mu_l I (rounded down by ROUNDING eps |Z_vl|_2). Nothing sampled
+enters the certified side: the samples choose the form, the pivot ladder proves its inf.
 
-Measured (ci budget, 45,000 boxes; inf lambda_min(M) sampled / the form's sampled inf / proved, load ~4):
-built-in UR5 2.248e-4 / 2.168e-4 / 2.147e-4 (last body axial; isotropic form 1.485e-4); example-robot-data
-UR5 1.583e-2 / 1.579e-2 / 1.462e-2 (isotropic 3.04e-3), xArm7 1.345e-4 / 1.211e-4 / 1.121e-4 (5.71e-5), Z1
-2.803e-4 / 1.581e-4 / 1.566e-4 (1.336e-4), SO-101 1.321e-5 / 4.54e-6 / 4.49e-6 (1.78e-6); Panda +2 kg: no body
-raises the form's inf (1.437e-3, the isotropic form's).
+Measured (ci budget, 45,000 boxes, ladder goal 2 unless said; inf lambda_min(M) sampled / the axial form's sampled
+inf / certified, isotropic form's inf in brackets, load ~2-4): built-in UR5 2.244e-4 / 2.168e-4 / 2.065e-4
+(1.485e-4); at goal 1.01 with the ci budget 2.147e-4 (1.045x). example-robot-data (`inertiaproof audit --profile
+ci`): UR5 1.582e-2 / 1.579e-2 / 9.87e-3 (3.04e-3), xArm7 1.345e-4 / 1.244e-4 / 1.152e-4 (5.71e-5), Z1 2.786e-4 /
+1.583e-4 / 1.535e-4 (1.336e-4), SO-101 1.318e-5 / 4.64e-6 / 4.59e-6 (1.78e-6; its jaw's com is off the axis and
+its light direction mixes two joints), Panda finger chains 4.39e-3 / 2.65e-3 / 2.23e-3 (7.5e-7). Panda +2 kg
+(built-in): no candidate raises the form's inf above the isotropic one's (1.437e-3; M 1.778e-3), nor does the
+block form with an axis term.
 """
 
 from __future__ import annotations
