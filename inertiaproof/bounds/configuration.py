@@ -461,7 +461,8 @@ def form_ladder(chain, forms, refine_s, samples, stop, probe=False):
     """A certified lower bound of inf_q lambda_min(sum_l QJ_l^T Y_l QJ_l) for body forms ``forms`` (1, N, 6, 6)
     (any symmetric Y_l; :mod:`inertiaproof.bounds.axial_form`) by the ladder of targets proved with the pivot test
     (:func:`inertiaproof.bounds.pivot_search.pivot_ladder`), stopping once its bound is ``stop`` or more; -inf where
-    none was proved. ``probe``: 1/EXTRA of the budget only (a form the pivots cannot handle costs little).
+    none was proved. ``probe``: 1/EXTRA of the ci budget only (7,500 boxes: a form the pivots cannot handle costs
+    little).
     Returns (bound, the form's sampled inf, a note on the ladder); its own seed, cached by content."""
     forms = np.ascontiguousarray(forms, float)
     key = (chain_key(chain), refine_s, samples, forms.tobytes(), stop, probe)
@@ -480,8 +481,8 @@ def _form_ladder(chain, forms, refine_s, samples, stop, probe):
     found = bracket_extreme(lambda q: values(q).min(-1), None, lo, hi, sense="min",
                             quantity_name="inf_q lambda_min of a lower form (pivots)", samples=samples,
                             refine_s=min(refine_s, 2.0), rng=np.random.default_rng(0), free=free)
-    boxes, guard_s = ladder_budget(refine_s)
-    if probe:
+    boxes, guard_s = ladder_budget(min(refine_s, PIVOT_MIN_S) if probe else refine_s)
+    if probe:  # the ci budget's 1/EXTRA whatever the profile: a form that fails here fails with more too (measured)
         boxes, guard_s = boxes // EXTRA, guard_s / EXTRA
     gamma, tested, size, ratio, _ = pivot_ladder(family, values, found.observed, found.witness, lo, hi, free,
                                                  max_boxes=boxes, guard_s=guard_s, stop=stop)
