@@ -311,3 +311,43 @@ def test_upper_ladder_certified_side_agrees_with_arb():
         assert gamma >= low, (p.tolist(), gamma, (low, high))
     low, high = _arb_spectra(chain, [ball(x) for x in q[k]], thetas, "lmax")
     assert 0.99 * values[k] < low
+
+
+# -- the axial lower forms (bounds.axial_form) and their ladder's certified side ----------------------------------
+
+def test_axial_form_and_its_ladder_agree_with_arb():
+    """UR5: every adopted axial Y_l lies below Z_l in arb (Z_l - Y_l positive definite: its leading minors' arb
+    enclosures > 0, Z_l and Y_l exact as doubles) and Y_l raised 20% does not (x^T (Z_l - 1.2 Y_l) x < 0 in arb for
+    a computed eigenvector x); the form ladder's certified side (probe
+    budget at ci) lies below arb's upper end of lambda_min(M(q)) at M's sampled minimiser and random points."""
+    from inertiaproof.bounds.axial_form import axial_lower_form
+    from inertiaproof.bounds.configuration import form_ladder
+    from inertiaproof.bounds.spectral import spectral
+    from inertiaproof.bounds.time import parameter_vertices
+    from inertiaproof.dynamics import composite
+
+    scene = robots.ur5()
+    chain, thetas = scene.chain, parameter_vertices(scene.trajectory)[0]
+    lo, hi = search_box(chain)
+    rng = np.random.default_rng(15)
+    q = lo + (hi - lo) * rng.random((4000, chain.n))
+    forms, axial = axial_lower_form(chain, thetas, q)
+    assert axial.any()
+    z = spatial_inertia(thetas)
+    for l in np.flatnonzero(axial):
+        for v in range(len(z)):
+            d = mat([[ball(x) for x in row] for row in z[v, l]]) - mat([[ball(x) for x in row] for row in forms[0, l]])
+            minors = [flint.arb_mat([[d[i, j] for j in range(k)] for i in range(k)]).det() for k in range(1, 7)]
+            assert all(m > 0 for m in minors), (l, v)  # Sylvester: Z_l - Y_l is positive definite
+            raised = 1.2 * forms[0, l]
+            x = np.linalg.eigh(z[v, l] - raised)[1][:, 0]  # a direction where Z_l - 1.2 Y_l is negative
+            xs = [ball(t) for t in x]
+            form = sum((xs[i] * (ball(z[v, l, i, j]) - ball(raised[i, j])) * xs[j] for i in range(6) for j in range(6)),
+                       flint.arb(0))
+            assert form < 0, (l, v)
+    gamma, inf, _ = form_ladder(chain, forms, 0.5, 500, np.inf, probe=True)
+    assert gamma > 0
+    values = spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmin").min(1)
+    for p in [q[np.argmin(values)]] + list(q[:6]):
+        low, high = _arb_spectra(chain, [ball(x) for x in p], thetas, "lmin")
+        assert gamma <= high, (p.tolist(), gamma, (low, high))
