@@ -38,15 +38,6 @@ def _axial(scene):
     return chain, thetas, forms, axial
 
 
-def _turn(x):
-    t = np.eye(6)
-    c, s = np.cos(x), np.sin(x)
-    for o in (0, 3):
-        t[o, o] = t[o + 1, o + 1] = c
-        t[o, o + 1], t[o + 1, o] = s, -s
-    return t
-
-
 @pytest.mark.parametrize("scene", [robots.panda(payload=2.0), robots.ur5()], ids=lambda s: s.name)
 def test_axial_form_is_below_every_body_and_m_and_20_percent_more_is_caught(scene):
     """Y_l <= Z(Theta_v)_l for every body and parameter set (computed eigenvalues >= 0; the rounding check for the
@@ -96,7 +87,7 @@ def test_axial_body_form_is_below_random_bodies():
         yj = x.T @ (y - mu * np.eye(6)) @ x  # the rotation covector's term (the first): invariant under the turn
         y = axial_body_form(z, axis_covectors(z, joint)[0])
         yj = x.T @ (y - np.linalg.eigvalsh(y)[0] * np.eye(6)) @ x
-        assert np.allclose(_turn(0.9).T @ yj @ _turn(0.9), yj, atol=1e-12 * np.abs(yj).max())
+        assert np.allclose(axial_form._turn(0.9).T @ yj @ axial_form._turn(0.9), yj, atol=1e-12 * np.abs(yj).max())
 
 
 def test_axial_ladder_is_below_dense_samples_and_a_raised_form_is_caught():
