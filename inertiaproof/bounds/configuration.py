@@ -452,13 +452,18 @@ def _pivot_normality(chain, rng, refine_s, samples, weights, angular, stop):
     found = bracket_extreme(lambda q: values(q).min(-1), None, lo, hi, sense="min",
                             quantity_name="inf_q lambda_min of the unit form (pivots)", samples=samples,
                             refine_s=refine_s, rng=rng, free=free)
-    goal = ladder_goal(refine_s)
-    boxes, guard_s = ladder_budget(refine_s)
-    gamma, tested, size, ratio, _ = pivot_ladder(family, values, found.observed, found.witness, lo, hi, free,
-                                                 max_boxes=boxes, guard_s=guard_s,
-                                                 stop=found.observed / goal if stop is None else stop)
-    note = ("no target proved" if ratio is None else
-            f"target {found.observed:.6g}/{ratio:g} proved on a partition of {size} boxes ({tested} boxes tested)")
+    stop = found.observed / ladder_goal(refine_s) if stop is None else stop
+    return _ladder(chain, family, values, found.observed, found.witness, ladder_budget(refine_s), stop)
+
+
+def _ladder(chain, family, values, observed, witness, budget, stop, sign=1.0):
+    """:func:`pivot_ladder` over the chain's search box within ``budget`` (boxes, seconds): (gamma, a note on the
+    rung proved, the partition's size and the boxes tested)."""
+    lo, hi = search_box(chain)
+    gamma, tested, size, ratio, _ = pivot_ladder(family, values, observed, witness, lo, hi, free_coordinates(chain),
+                                                 max_boxes=budget[0], guard_s=budget[1], stop=stop, sign=sign)
+    note = ("no target proved" if ratio is None else f"target {observed:.6g}{'/' if sign > 0 else '*'}{ratio:g} "
+            f"proved on a partition of {size} boxes ({tested} boxes tested)")
     return gamma, note
 
 
@@ -489,10 +494,7 @@ def _form_ladder(chain, forms, refine_s, samples, stop, probe):
     boxes, guard_s = ladder_budget(min(refine_s, PIVOT_MIN_S) if probe else refine_s)
     if probe:  # the ci budget's 1/EXTRA whatever the profile: a form that fails here fails with more too (measured)
         boxes, guard_s = boxes // EXTRA, guard_s / EXTRA
-    gamma, tested, size, ratio, _ = pivot_ladder(family, values, found.observed, found.witness, lo, hi, free,
-                                                 max_boxes=boxes, guard_s=guard_s, stop=stop)
-    note = ("no target proved" if ratio is None else
-            f"target {found.observed:.6g}/{ratio:g} proved on a partition of {size} boxes ({tested} boxes tested)")
+    gamma, note = _ladder(chain, family, values, found.observed, found.witness, (boxes, guard_s), stop)
     return gamma, found.observed, note
 
 
@@ -660,13 +662,7 @@ def _pivot_sup(chain, thetas, refine_s, observed, witness, goal):
     def values(q):
         return spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmax")  # (K, V)
 
-    lo, hi = search_box(chain)
-    boxes, guard_s = ladder_budget(refine_s)
-    gamma, tested, size, ratio, _ = pivot_ladder(family, values, observed, witness, lo, hi, free_coordinates(chain),
-                                                 max_boxes=boxes, guard_s=guard_s, stop=observed * goal, sign=-1.0)
-    note = ("no target proved" if ratio is None else
-            f"target {observed:.6g}*{ratio:g} proved on a partition of {size} boxes ({tested} boxes tested)")
-    return gamma, note
+    return _ladder(chain, family, values, observed, witness, ladder_budget(refine_s), observed * goal, sign=-1.0)
 
 
 def _tighten_by_fourier(result, chain, thetas, refine_s, square):
