@@ -12,7 +12,8 @@ target starts. The certified side is the last gamma for which every box of a par
 lambda_min(M(q)) >= gamma for every q of the domain and every parameter set. Nothing is sampled on the certified
 side; which coordinate is halved is a heuristic (any choice is sound): the one whose radius is largest against
 its calibrated radius (:func:`calibrated_radii`; on the upper side times the turn's absolute loss on the box:
-Panda, 45,000 boxes, 2-8x fewer boxes per rung; on the lower side the radii alone measured best), so that
+Panda, 45,000 boxes, 2-8x fewer boxes per rung; on the lower side the radii alone: times the turns' relative
+losses, Panda's unit form reaches 1.05x instead of 1.10x but its weighted form 1.05x instead of 1.03x), so that
 boxes get fine only where the turns lose; so is the
 ridge of the turns' loss metric (pivots.RIDGES: the one whose calibration boxes hold widest).
 
