@@ -34,6 +34,11 @@ def _random_boxes(rng, scale, lo, hi, free, count=6):
     return lo + r + (hi - lo - 2 * r) * rng.random((count, len(lo))), r
 
 
+def _inside(rng, centres, radii, count=1500):
+    """Per box, ``count`` uniform configurations inside it."""
+    return [c + r * (2 * rng.random((count, len(c))) - 1) for c, r in zip(centres, radii)]
+
+
 def _lmin(chain, thetas, q):
     return spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmin")  # (K, V)
 
@@ -53,8 +58,7 @@ def test_a_passing_box_holds_on_dense_samples(scene, form):
     for scale in scales:
         c, r = _random_boxes(rng, scale, lo, hi, free)
         bound = pivot_bounds(family, "lmin", c, r, _lmin(chain, thetas, c), steps=30)[0]
-        for k in range(len(c)):
-            q = c[k] + r[k] * (2 * rng.random((1500, chain.n)) - 1)
+        for k, q in enumerate(_inside(rng, c, r)):
             assert _lmin(chain, thetas, q).min() >= bound[k]
     whole = np.where(free, 0.5 * (hi - lo), 0.0)[None]
     gamma = pivot_bounds(family, "lmin", (0.5 * (lo + hi))[None], whole, _lmin(chain, thetas, (0.5 * (lo + hi))[None]))[0]
@@ -262,8 +266,7 @@ def test_a_passing_upper_box_holds_on_dense_samples(scene, form):
         start = np.broadcast_to(_lmax(chain, thetas, c).max(1, keepdims=True), (len(c), len(thetas)))  # rates: >= 0
         bound = pivot_bounds(family, "lmax", c, r, start, steps=30)[0]
         assert scale > 0.1 or np.all(np.isfinite(bound))  # the bisection looks up to twice the centre's value
-        for k in range(len(c)):
-            q = c[k] + r[k] * (2 * rng.random((1500, chain.n)) - 1)
+        for k, q in enumerate(_inside(rng, c, r)):
             assert _lmax(chain, thetas, q).max() <= bound[k]
 
 

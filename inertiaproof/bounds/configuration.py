@@ -62,7 +62,7 @@ from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
 __all__ = [
     "apriori_bound", "apriori_jacobian_blocks", "block_lower_form", "column_bounds", "configuration_bracket", "EPS",
     "FOURIER_DEEP_S", "FOURIER_PAIRS_S", "form_ladder", "fourier_perron_bound", "jacobian_family",
-    "jacobian_normality", "jacobian_sup", "lever_bounds", "mass_family", "mass_inf", "mass_sup", "ROUNDING",
+    "jacobian_normality", "jacobian_sup", "lever_bounds", "mass_family", "mass_inf", "mass_spectra", "mass_sup", "ROUNDING",
     "box_cost", "pivot_normality", "skew_partial_sup", "VERTEX_LIMIT", "skew_partials", "triangular_normality_floor", "value_for_norm", "vertex_bound",
 ]
 
@@ -91,6 +91,12 @@ def mass_family(chain, thetas):
         return m, composite.mass_matrix_partials(chain, q[:, None], thetas[None])
     return evaluate, 2
 
+
+
+def mass_spectra(chain, thetas, q, kind):
+    """kind (e.g. 'lmin', 'lmax') of M(q_k, Theta_v) for configurations q (K, n) and a stack thetas (V, N, 10):
+    (K, V)."""
+    return spectral(composite.mass_matrix(chain, q[:, None], np.asarray(thetas, float)[None]), kind)
 
 
 def vertex_bound(a, da, radii, free, kind):
@@ -445,7 +451,7 @@ def _pivot_normality(chain, rng, refine_s, samples, weights, angular, stop):
     family = PivotFamily(chain, unit)
 
     def values(q):
-        return spectral(composite.mass_matrix(chain, q[:, None], unit[None]), "lmin")  # (K, 1)
+        return mass_spectra(chain, unit, q, "lmin")  # (K, 1)
 
     lo, hi = search_box(chain)
     free = free_coordinates(chain)
@@ -480,8 +486,7 @@ def form_ladder(chain, forms, refine_s, samples, stop, probe=False):
 
 
 def _form_ladder(chain, forms, refine_s, samples, stop, probe):
-    family = PivotFamily(chain, np.zeros(forms.shape[:2] + (10,)))
-    family.z = forms  # the pivot test reads the body inertias from here
+    family = PivotFamily(chain, inertias=forms)
 
     def values(q):
         return form_lmin(chain, forms, q)  # (K, 1)
@@ -579,7 +584,7 @@ def mass_inf(chain, thetas, **kw):
         q = lo + (hi - lo) * np.random.default_rng(0).random((min(samples, 4000), chain.n))
         q = np.where(free, q, 0.5 * (lo + hi))
         iso = _block_rows(mu.min(0), mu.min(0))[None]
-        iso_values = spectral(composite.mass_matrix(chain, q[:, None], iso[None]), "lmin")[:, 0]
+        iso_values = mass_spectra(chain, iso, q, "lmin")[:, 0]
         worst = q[np.argsort(iso_values)[:300]]
         forms, axial = axial_lower_form(chain, thetas, q)
         axial_inf = form_lmin(chain, forms, q).min() if axial.any() else -np.inf
@@ -614,7 +619,7 @@ def mass_inf(chain, thetas, **kw):
         if short(np.inf):  # still short of the goal: the block form
             block_mu, block_nu = block_lower_form(thetas, worst, chain)
             block = _block_rows(block_mu, block_nu)[None]
-            if short(spectral(composite.mass_matrix(chain, q[:, None], block[None]), "lmin").min()):
+            if short(mass_spectra(chain, block, q, "lmin").min()):
                 gamma, how = pivot_normality(chain, refine_s, samples, block_mu[None], stop, detail=True,
                                              angular=block_nu)
                 result.tighten(gamma, "M(q) >= sum_l QJ_l^T diag(mu_l I3, nu_l I3) QJ_l with diag(mu_l I3, nu_l I3) "
@@ -654,7 +659,7 @@ def _tighten_by_ladder(result, chain, thetas, refine_s, square):
     gamma, how = content_memo(_PIVOT_CACHE, key, lambda: _pivot_sup(chain, thetas, refine_s, observed,
                                                                     result.witness, goal))
     if np.isfinite(gamma) and not square:
-        gamma = float(np.sqrt(gamma) * (1 + 2 * EPS))
+        gamma = _root_up(gamma)
     result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body pivots "
                           "of gamma I - M on each box (inertiaproof.bounds.pivot_search)"
                           + ("" if square else ", unit bodies, square root") + f": {how}")
@@ -665,9 +670,14 @@ def _pivot_sup(chain, thetas, refine_s, observed, witness, goal):
     family = PivotFamily(chain, thetas)
 
     def values(q):
-        return spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmax")  # (K, V)
+        return mass_spectra(chain, thetas, q, "lmax")  # (K, V)
 
     return _ladder(chain, family, values, observed, witness, ladder_budget(refine_s), observed * goal, sign=-1.0)
+
+
+def _root_up(x):
+    """sqrt(x) rounded up (a certified bound of sigma_max(QJ) from one of sigma_max(QJ)^2)."""
+    return float(np.sqrt(x) * (1 + 2 * EPS))
 
 
 def _tighten_by_fourier(result, chain, thetas, refine_s, square):
@@ -678,7 +688,7 @@ def _tighten_by_fourier(result, chain, thetas, refine_s, square):
         refine_s = min(refine_s, 0.5 * FOURIER_PAIRS_S)
     bound = fourier_perron_bound(chain, thetas, refine_s)
     if bound is not None and not square:
-        bound = float(np.sqrt(bound) * (1 + 2 * EPS))
+        bound = _root_up(bound)
     result.tighten(bound, "spectral radius of certified sups of |M_il(q)| over the search box from the exact Fourier "
                           "coefficients, one or two coordinates on a grid over their joint limits (Perron-Frobenius; "
                           "inertiaproof.bounds.fourier)" + ("" if square else ", unit bodies, square root"))

@@ -135,10 +135,12 @@ def _turn_terms(f1c, f1s, f2c, f2s, rr):
 class PivotFamily:
     """The chain's fixed maps and body inertias (a stack of parameter sets) for :func:`pivot_bounds`."""
 
-    def __init__(self, chain, thetas, ridge=RIDGE):
+    def __init__(self, chain, thetas=None, ridge=RIDGE, inertias=None):
+        """Bodies from parameter rows ``thetas`` (V, N, 10) or directly as symmetric 6 x 6 ``inertias`` (V, N, 6, 6)
+        (any body forms, e.g. lower forms of the spatial inertias)."""
         self.chain = chain
         self.ridge = ridge  # relative ridge of the turns' loss metric: any value is sound
-        self.z = spatial_inertia(np.asarray(thetas, float))  # (V, N, 6, 6)
+        self.z = spatial_inertia(np.asarray(thetas, float)) if inertias is None else np.asarray(inertias, float)
         self.twists = np.array([j.unit_twist for j in chain.z_joints])  # (n, 6)
         self.revolute = [j.revolute for j in chain.z_joints]
         self.after = [twist_map(j.after) for j in chain.z_joints]
