@@ -331,3 +331,34 @@ def test_mass_sup_adopts_the_upper_ladder_where_the_fourier_bound_is_short(monke
     lo, hi = search_box(chain)
     q = lo + (hi - lo) * np.random.default_rng(44).random((20000, chain.n))
     assert _lmax(chain, thetas, q).max() <= b.upper
+
+
+def test_pivot_test_over_threads_answers_as_one():
+    """pivot_test split over threads (from pivots.SPLIT boxes per thread) gives the single call's answer."""
+    scene = robots.panda(payload=2.0)
+    chain, thetas = scene.chain, parameter_vertices(scene.trajectory)[0]
+    lo, hi = search_box(chain)
+    c, r = _random_boxes(np.random.default_rng(70), 0.05, lo, hi, free_coordinates(chain), count=3 * pivots.SPLIT + 7)
+    family = PivotFamily(chain, thetas)
+    armature = np.full((len(c), len(thetas)), -1.2e-3)
+    split, whole = pivots.pivot_test(family, 1.0, armature, c, r), pivots._pivot_test(family, 1.0, armature, c, r)
+    assert pivots.THREADS < 2 or len(c) // pivots.SPLIT >= 2
+    assert np.array_equal(split[0], whole[0]) and np.array_equal(split[1], whole[1]) and 0 < split[0].mean() < 1
+
+
+def test_upper_ladder_leaves_out_only_sets_with_every_body_negative(monkeypatch):
+    """Theorem 4's stack is the rates and their negatives; a set whose every Z_l <= 0 (Weyl) has M <= 0, below
+    any positive target, and is left out of the upper ladder; a set with one body indefinite is kept."""
+    from inertiaproof.bounds import configuration
+
+    scene = robots.panda(payload=2.0)
+    rate = parameter_vertices(scene.trajectory)[1]
+    rate = rate[np.argmax(spectral(spatial_inertia(rate), "lmin").min(1))]  # the growing payload: every Z_l >= 0
+    mixed = -rate.copy()
+    mixed[-1, 0] = 1.0  # the payload's mass up, its rotational inertia down: indefinite
+    assert spectral(spatial_inertia(mixed[-1]), "lmin") < 0 < spectral(spatial_inertia(mixed[-1]), "lmax")
+    seen = []
+    monkeypatch.setattr(configuration, "_ladder", lambda chain, family, *a, **k: (seen.append(family.z.shape[0]), (1.0, ""))[1])
+    for stack, kept in (([rate, -rate], 1), ([-rate, mixed], 1), ([rate, -rate, mixed], 2)):
+        configuration._pivot_sup(scene.chain, np.array(stack), 20.0, 1.0, np.zeros(scene.chain.n), 1.01)
+        assert seen.pop() == kept

@@ -54,7 +54,7 @@ from .domain import (
 from .extremes import bracket_extreme
 from .fourier import PAIR_CELLS, SINGLE_CELLS, FourierFamily, certified_entry_sups, perron_of
 from .axial_form import axial_lower_form, form_lmin
-from .pivot_search import EXTRA, ladder_budget, ladder_goal, pivot_ladder
+from .pivot_search import DEEP_S, EXTRA, ladder_budget, ladder_goal, pivot_ladder
 from .pivots import PIVOT_LIMIT, PIVOT_MIN_S, PivotFamily
 from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
@@ -118,6 +118,9 @@ def vertex_bound(a, da, radii, free, kind):
     return (vals.min(1) - allowance).min(1)
 
 
+VERTEX_SHARE = 0.25  # of a deep budget for branch and bound with vertex bounds where the pivot ladders run after it
+
+
 def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rng, value_kind=None,
                           square=False, progress=None, thetas=None):
     """Bracket of sup (convex kinds) or inf (lmin) over the chain's configurations of kind(M(q, Theta_v)).
@@ -142,6 +145,8 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
     lo, hi = search_box(chain)
     free = free_coordinates(chain)
     obstacle = certification_obstacle(chain)
+    if _ladders_run(chain, refine_s):  # the ladders' certified sides are sharper there
+        refine_s *= VERTEX_SHARE
     if obstacle is None and (degree != 2 or thetas is None) and free.sum() > VERTEX_LIMIT:
         obstacle = "no polynomial box bound for this family"
     if obstacle is not None:
@@ -667,6 +672,8 @@ def _tighten_by_ladder(result, chain, thetas, refine_s, square):
 
 
 def _pivot_sup(chain, thetas, refine_s, observed, witness, goal):
+    z = spatial_inertia(thetas)  # a set whose every Z_l <= 0 (Weyl) has M(q) <= 0: below any gamma > 0, left out
+    thetas = thetas[~(spectral(z, "lmax") + ROUNDING * EPS * spectral(z, "absmax") <= 0).all(1)]  # (Thm4: -Thetadot)
     family = PivotFamily(chain, thetas)
 
     def values(q):

@@ -45,6 +45,9 @@ the computed roots of the metric (:func:`_bounding_parts`), Weyl for the eigen-d
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 
 from inertiaproof.dynamics.twists import twist_map
@@ -60,6 +63,8 @@ RIDGE = 1e-2  # relative ridge of the loss metric (default; the ladder picks one
 RIDGES = (1e-3, 1e-2, 1e-1)  # measured (Panda): unit bodies best at 1e-2, the weighted form at 1e-1; 1e-4 needs 10-100x the boxes
 SWITCH = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative (see _turn_terms)
 ANGLES = 2 * np.pi * np.arange(5) / 5
+SPLIT = 512  # boxes per thread from which pivot_test splits its boxes over threads
+THREADS = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1, 8)
 
 
 def _sym(u, w):
@@ -235,7 +240,18 @@ class PivotFamily:
 
 def pivot_test(family: PivotFamily, sign, armature, centres, radii):
     """Whether sign * M(q) + a I > 0 on each box for every parameter set: (K, V) booleans, and per joint the
-    relative loss of its turn (K, n) (where splitting helps). ``armature`` (K, V)."""
+    relative loss of its turn (K, n) (where splitting helps). ``armature`` (K, V). From ``SPLIT`` boxes on, the
+    boxes are split over the cores' threads (batched NumPy and LAPACK release the GIL; the answer is the same)."""
+    workers = min(THREADS, len(centres) // SPLIT)
+    if workers < 2:
+        return _pivot_test(family, sign, armature, centres, radii)
+    parts = np.array_split(np.arange(len(centres)), workers)
+    with ThreadPoolExecutor(workers) as pool:
+        found = list(pool.map(lambda k: _pivot_test(family, sign, armature[k], centres[k], radii[k]), parts))
+    return np.concatenate([ok for ok, _ in found]), np.concatenate([loss for _, loss in found])
+
+
+def _pivot_test(family, sign, armature, centres, radii):
     z = sign * family.z  # (V, N, 6, 6)
     k_count = len(centres)
     n = family.chain.n
