@@ -54,7 +54,7 @@ from .domain import (
 from .extremes import bracket_extreme
 from .fourier import PAIR_CELLS, SINGLE_CELLS, FourierFamily, certified_entry_sups, perron_of
 from .axial_form import axial_lower_form, form_lmin
-from .pivot_search import DEEP_S, EXTRA, ladder_budget, ladder_goal, pivot_ladder
+from .pivot_search import EXTRA, ladder_budget, ladder_goal, pivot_ladder
 from .pivots import PIVOT_LIMIT, PIVOT_MIN_S, PivotFamily
 from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral

@@ -240,7 +240,7 @@ class PivotFamily:
 
 def pivot_test(family: PivotFamily, sign, armature, centres, radii):
     """Whether sign * M(q) + a I > 0 on each box for every parameter set: (K, V) booleans, and per joint the
-    relative loss of its turn (K, n) (where splitting helps). ``armature`` (K, V). From ``SPLIT`` boxes on, the
+    relative loss of its turn (K, n) (where splitting helps). ``armature`` (K, V). From 2 ``SPLIT`` boxes on, the
     boxes are split over the cores' threads (batched NumPy and LAPACK release the GIL; the answer is the same)."""
     workers = min(THREADS, len(centres) // SPLIT)
     if workers < 2:
