@@ -230,17 +230,20 @@ def _pivot_forms(scene):
     return {"unit": np.tile(unit, (scene.chain.bodies, 1))[None], "weighted": mu[..., None] * unit, "real": thetas}
 
 
-PIVOT_CASES = [(robots.panda(payload=2.0), "unit", 0.02, "lmin"), (robots.panda(payload=2.0), "weighted", 0.02, "lmin"),
-               (robots.panda(payload=2.0), "real", 0.002, "lmin"), (robots.ur5(), "unit", 0.05, "lmin"),
-               (robots.panda(payload=2.0), "real", 0.01, "lmax"), (robots.panda(payload=2.0), "unit", 0.02, "lmax")]
+PIVOT_CASES = [(robots.panda(payload=2.0), "unit", 0.02, "lmin", "shift"),
+               (robots.panda(payload=2.0), "weighted", 0.02, "lmin", "shift"),
+               (robots.panda(payload=2.0), "real", 0.002, "lmin", "shift"), (robots.ur5(), "unit", 0.05, "lmin", "shift"),
+               (robots.panda(payload=2.0), "real", 0.002, "lmin", "abs"), (robots.ur5(), "unit", 0.05, "lmin", "abs"),
+               (robots.panda(payload=2.0), "real", 0.01, "lmax", "shift"), (robots.panda(payload=2.0), "unit", 0.02, "lmax", "shift")]
 
 
-@pytest.mark.parametrize("scene, form, radius, what", PIVOT_CASES,
-                         ids=[f"{s.name}-{f}-{w}" for s, f, _, w in PIVOT_CASES])
-def test_pivot_box_bounds_agree_with_arb(scene, form, radius, what):
+@pytest.mark.parametrize("scene, form, radius, what, metric", PIVOT_CASES,
+                         ids=[f"{s.name}-{f}-{w}-{m}" for s, f, _, w, m in PIVOT_CASES])
+def test_pivot_box_bounds_agree_with_arb(scene, form, radius, what, metric):
     """The pivot bound of lambda_min (lambda_max: the upper ladders' test of gamma I - M) on sampled boxes (the
-    bisection over pivot_test that the ladders' boxes pass) lies below arb's upper end of lambda_min(M(q)) (above
-    arb's lower end of lambda_max) at the box's centre and random points."""
+    bisection over pivot_test that the ladders' boxes pass; the turns' loss in either metric of pivots.METRICS) lies
+    below arb's upper end of lambda_min(M(q)) (above arb's lower end of lambda_max) at the box's centre and random
+    points."""
     from inertiaproof.bounds.pivots import PivotFamily, pivot_bounds
     from inertiaproof.bounds.spectral import spectral
     from inertiaproof.dynamics import composite
@@ -254,7 +257,9 @@ def test_pivot_box_bounds_agree_with_arb(scene, form, radius, what):
     centres = lo + radii + (hi - lo - 2 * radii) * rng.random((BOXES, chain.n))
     radii = np.broadcast_to(radii, centres.shape).copy()
     start = spectral(composite.mass_matrix(chain, centres[:, None], thetas[None]), what)
-    bounds = pivot_bounds(PivotFamily(chain, thetas), what, centres, radii, start, steps=30)[0]
+    family = PivotFamily(chain, thetas)
+    family.metric = metric
+    bounds = pivot_bounds(family, what, centres, radii, start, steps=30)[0]
     assert np.all(np.isfinite(bounds))
     pairs = []
     for c, r, b in zip(centres, radii, bounds):

@@ -67,6 +67,7 @@ __all__ = [
 ]
 
 
+REAL_PROBE = 3  # the real inertias' probe: 1/3 of the ci budget (SO-101: 64x proved after 9,000 boxes, 1.45x at 45,000)
 AXIAL_FIRST = 1.1  # the axial form's ladder runs before the isotropic one where its sampled inf is this much higher
 VERTEX_LIMIT = 6  # free coordinates up to which the 2^d vertices of the linear part are enumerated (exact linear part)
 
@@ -481,12 +482,12 @@ def _ladder(chain, family, values, observed, witness, budget, stop, sign=1.0):
     return gamma, note
 
 
-def form_ladder(chain, forms, refine_s, samples, stop, probe=False):
-    """A certified lower bound of inf_q lambda_min(sum_l QJ_l^T Y_l QJ_l) for body forms ``forms`` (1, N, 6, 6)
+def form_ladder(chain, forms, refine_s, samples, stop, probe=0):
+    """A certified lower bound of inf_q lambda_min(sum_l QJ_l^T Y_l QJ_l) for body forms ``forms`` (V, N, 6, 6)
     (any symmetric Y_l; :mod:`inertiaproof.bounds.axial_form`) by the ladder of targets proved with the pivot test
     (:func:`inertiaproof.bounds.pivot_search.pivot_ladder`), stopping once its bound is ``stop`` or more; -inf where
-    none was proved. ``probe``: 1/EXTRA of the ci budget only (7,500 boxes: a form the pivots cannot handle costs
-    little).
+    none was proved. ``probe`` k > 0: 1/k of the ci budget only (k = EXTRA: 7,500 boxes; a form the pivots cannot
+    handle costs little).
     Returns (bound, the form's sampled inf, a note on the ladder); its own seed, cached by content."""
     forms = np.ascontiguousarray(forms, float)
     key = (chain_key(chain), refine_s, samples, forms.tobytes(), stop, probe)
@@ -505,8 +506,8 @@ def _form_ladder(chain, forms, refine_s, samples, stop, probe):
                             quantity_name="inf_q lambda_min of a lower form (pivots)", samples=samples,
                             refine_s=min(refine_s, 2.0), rng=np.random.default_rng(0), free=free)
     boxes, guard_s = ladder_budget(min(refine_s, PIVOT_MIN_S) if probe else refine_s)
-    if probe:  # the ci budget's 1/EXTRA whatever the profile: a form that fails here fails with more too (measured)
-        boxes, guard_s = boxes // EXTRA, guard_s / EXTRA
+    if probe:  # a share of the ci budget whatever the profile: a form that fails here fails with more too (measured)
+        boxes, guard_s = boxes // probe, guard_s / probe
     gamma, note = _ladder(chain, family, values, found.observed, found.witness, (boxes, guard_s), stop)
     return gamma, found.observed, note
 
@@ -606,10 +607,12 @@ def mass_inf(chain, thetas, **kw):
                                   "by body), its inf certified by a ladder of targets proved with articulated-body "
                                   f"pivots (inertiaproof.bounds.pivot_search): {how}")
 
+        def proved(forms, probe=EXTRA):  # a probe first: forms the pivots cannot handle cost 1/probe of ci's budget
+            gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop, probe=probe)
+            return form_ladder(chain, forms, refine_s, samples, stop)[::2] if -np.inf < gamma < stop else (gamma, how)
+
         def axial_form(forms=forms, axial=axial, kind="mu_l I + kappa_l w_l w_l^T (an inertia about joint l's own axis)"):
-            gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop, probe=True)  # a probe first: forms
-            if -np.inf < gamma < stop:  # the pivots cannot handle cost 1/EXTRA of the budget only
-                gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop)
+            gamma, how = proved(forms)
             bodies = ", ".join(str(l + 1) for l in np.flatnonzero(axial))
             result.tighten(gamma, "M(q) >= sum_l QJ_l^T Y_l QJ_l with Y_l <= Z(Phi_l) (checked with rounding; body by "
                                   f"body), Y_l = {kind} for bodies {bodies} (inertiaproof.bounds.axial_form), "
@@ -633,6 +636,10 @@ def mass_inf(chain, thetas, **kw):
                 result.tighten(gamma, "M(q) >= sum_l QJ_l^T diag(mu_l I3, nu_l I3) QJ_l with diag(mu_l I3, nu_l I3) "
                                       "<= Z(Phi_l) (checked with rounding; body by body), its inf certified by a ladder "
                                       f"of targets proved with articulated-body pivots: {how}")
+        if short(np.inf):  # still short: the bodies themselves (no form's gap; anisotropic turns: a probe first)
+            gamma, how = proved(z, REAL_PROBE)
+            result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body "
+                                  f"pivots of M(q) - gamma I on each box (inertiaproof.bounds.pivot_search): {how}")
     return result
 
 

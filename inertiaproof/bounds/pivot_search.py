@@ -15,7 +15,7 @@ its calibrated radius (:func:`calibrated_radii`; on the upper side times the tur
 Panda, 45,000 boxes, 2-8x fewer boxes per rung; on the lower side the radii alone: times the turns' relative
 losses, Panda's unit form reaches 1.05x instead of 1.10x but its weighted form 1.05x instead of 1.03x), so that
 boxes get fine only where the turns lose; so is the
-ridge of the turns' loss metric (pivots.RIDGES: the one whose calibration boxes hold widest).
+metric of the turns' loss and its ridge (pivots.METRICS, RIDGES: the pair whose calibration boxes hold widest).
 
 The budget is a count of tested boxes (the same bracket on any machine for a seed) with a wall-clock guard; a
 ladder that runs out keeps its last proved target.
@@ -23,11 +23,12 @@ ladder that runs out keeps its last proved target.
 
 from __future__ import annotations
 
+import itertools
 import time
 
 import numpy as np
 
-from .pivots import RIDGES, pivot_test
+from .pivots import METRICS, RIDGES, pivot_test
 
 __all__ = ["CHUNK", "LADDER", "calibrated_radii", "ladder_budget", "ladder_goal", "pivot_ladder"]
 
@@ -140,13 +141,13 @@ def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, g
                         np.where(free, lo + (hi - lo) * rng.random((CALIBRATION_POINTS - 1, len(lo))), 0.5 * (lo + hi))])
     values = value(points)
     best_score = -np.inf
-    for ridge in RIDGES if sign > 0 else RIDGES[:1]:  # the metric whose calibration boxes hold widest (any is sound;
-        # the upper side's turns are bounded in the identity metric: pivots.pivot_test)
-        family.ridge = ridge
+    for metric in itertools.product(METRICS, RIDGES) if sign > 0 else [(METRICS[0], RIDGES[0])]:  # the metric whose
+        # calibration boxes hold widest (any is sound; the upper side's turns are bounded in the identity metric)
+        family.metric, family.ridge = metric
         trial = calibrated_radii(family, points, values, lo, hi, free, sign=sign)
         if np.log(trial).sum() > best_score:
-            best_score, rho, chosen = np.log(trial).sum(), trial, ridge
-    family.ridge = chosen
+            best_score, rho, chosen = np.log(trial).sum(), trial, metric
+    family.metric, family.ridge = chosen
     centres, radii = (0.5 * (lo + hi))[None], np.where(free, 0.5 * (hi - lo), 0.0)[None]
     best, best_ratio, used, size, reached, rungs = -sign * np.inf, None, 0, 0, False, []
     for ratio in ladder:
