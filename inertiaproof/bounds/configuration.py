@@ -574,8 +574,9 @@ def mass_inf(chain, thetas, **kw):
     sampled inf is ``AXIAL_FIRST`` times higher: UR5 1.63x -> 1.09x in ci), and where still wider
     M(q) >= sum_l QJ_l^T diag(mu_l I3, nu_l I3) QJ_l with the rotation-invariant lower bounds of
     :func:`block_lower_form` (Panda: the form's inf 1.58e-3 against the isotropic form's 1.44e-3 and M's 1.78e-3;
-    harder for the pivots, so last). A form whose sampled inf is not above the bracket's certified side is skipped
-    (its certified inf cannot be)."""
+    harder for the pivots), and where still wider the ladder on the parameter sets themselves (no form's gap, but
+    anisotropic turns: a probe of 1/``REAL_PROBE`` of ci's budget first; SO-101's audit in ci 2.87x -> 1.60x). A
+    form whose sampled inf is not above the bracket's certified side is skipped (its certified inf cannot be)."""
     result = configuration_bracket(chain, mass_family(chain, thetas), "lmin",
                                    quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
     z = spatial_inertia(np.asarray(thetas, float))
