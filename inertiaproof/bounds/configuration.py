@@ -55,7 +55,7 @@ from .extremes import bracket_extreme
 from .fourier import PAIR_CELLS, SINGLE_CELLS, FourierFamily, certified_entry_sups, perron_of
 from .axial_form import axial_lower_form, form_lmin
 from .pivot_search import EXTRA, ladder_budget, ladder_goal, pivot_ladder
-from .pivots import PIVOT_LIMIT, PIVOT_MIN_S, PivotFamily
+from .pivots import METRICS, PIVOT_LIMIT, PIVOT_MIN_S, PivotFamily
 from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
 
@@ -482,20 +482,20 @@ def _ladder(chain, family, values, observed, witness, budget, stop, sign=1.0):
     return gamma, note
 
 
-def form_ladder(chain, forms, refine_s, samples, stop, probe=0):
+def form_ladder(chain, forms, refine_s, samples, stop, probe=0, metrics=METRICS[:1]):
     """A certified lower bound of inf_q lambda_min(sum_l QJ_l^T Y_l QJ_l) for body forms ``forms`` (V, N, 6, 6)
     (any symmetric Y_l; :mod:`inertiaproof.bounds.axial_form`) by the ladder of targets proved with the pivot test
     (:func:`inertiaproof.bounds.pivot_search.pivot_ladder`), stopping once its bound is ``stop`` or more; -inf where
     none was proved. ``probe`` k > 0: 1/k of the ci budget only (k = EXTRA: 7,500 boxes; a form the pivots cannot
-    handle costs little).
+    handle costs little). ``metrics``: the loss metrics the ladder may calibrate (pivots.METRICS).
     Returns (bound, the form's sampled inf, a note on the ladder); its own seed, cached by content."""
     forms = np.ascontiguousarray(forms, float)
-    key = (chain_key(chain), refine_s, samples, forms.tobytes(), stop, probe)
-    return content_memo(_PIVOT_CACHE, key, lambda: _form_ladder(chain, forms, refine_s, samples, stop, probe))
+    key = (chain_key(chain), refine_s, samples, forms.tobytes(), stop, probe, metrics)
+    return content_memo(_PIVOT_CACHE, key, lambda: _form_ladder(chain, forms, refine_s, samples, stop, probe, metrics))
 
 
-def _form_ladder(chain, forms, refine_s, samples, stop, probe):
-    family = PivotFamily(chain, inertias=forms)
+def _form_ladder(chain, forms, refine_s, samples, stop, probe, metrics):
+    family = PivotFamily(chain, inertias=forms, metrics=metrics)
 
     def values(q):
         return form_lmin(chain, forms, q)  # (K, 1)
@@ -608,9 +608,10 @@ def mass_inf(chain, thetas, **kw):
                                   "by body), its inf certified by a ladder of targets proved with articulated-body "
                                   f"pivots (inertiaproof.bounds.pivot_search): {how}")
 
-        def proved(forms, probe=EXTRA):  # a probe first: forms the pivots cannot handle cost 1/probe of ci's budget
-            gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop, probe=probe)
-            return form_ladder(chain, forms, refine_s, samples, stop)[::2] if -np.inf < gamma < stop else (gamma, how)
+        def proved(forms, probe=EXTRA, metrics=METRICS[:1]):  # a probe first: forms the pivots cannot handle cost
+            gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop, probe, metrics)  # 1/probe of ci's budget
+            return form_ladder(chain, forms, refine_s, samples, stop, 0, metrics)[::2] if -np.inf < gamma < stop \
+                else (gamma, how)
 
         def axial_form(forms=forms, axial=axial, kind="mu_l I + kappa_l w_l w_l^T (an inertia about joint l's own axis)"):
             gamma, how = proved(forms)
@@ -638,7 +639,7 @@ def mass_inf(chain, thetas, **kw):
                                       "<= Z(Phi_l) (checked with rounding; body by body), its inf certified by a ladder "
                                       f"of targets proved with articulated-body pivots: {how}")
         if short(np.inf):  # still short: the bodies themselves (no form's gap; anisotropic turns: a probe first)
-            gamma, how = proved(z, REAL_PROBE)
+            gamma, how = proved(z, REAL_PROBE, METRICS)  # |F| keeps an indefinite P's light directions
             result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body "
                                   f"pivots of M(q) - gamma I on each box (inertiaproof.bounds.pivot_search): {how}")
     return result

@@ -141,7 +141,7 @@ def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, g
                         np.where(free, lo + (hi - lo) * rng.random((CALIBRATION_POINTS - 1, len(lo))), 0.5 * (lo + hi))])
     values = value(points)
     best_score = -np.inf
-    for metric in itertools.product(METRICS, RIDGES) if sign > 0 else [(METRICS[0], RIDGES[0])]:  # the metric whose
+    for metric in itertools.product(family.metrics, RIDGES) if sign > 0 else [(METRICS[0], RIDGES[0])]:  # the metric whose
         # calibration boxes hold widest (any is sound; the upper side's turns are bounded in the identity metric)
         family.metric, family.ridge = metric
         trial = calibrated_radii(family, points, values, lo, hi, free, sign=sign)

@@ -32,7 +32,7 @@ E = 1 - cos min(r, pi) (:func:`_turn_terms`):
 (the first from sin 2d = 2 sin d - 2 sin d (1 - cos d), cos 2d - 1 = -4 (1 - cos d) + 2 (1 - cos d)^2: its first
 order term is the derivative F'(c) = F_1s + 2 F_2s, not the sum of the two harmonics' sizes; |.| and pos(.) the
 matrix absolute value and positive part in a metric from F(c_b): its eigenvalues shifted up to definite, or
-|F(c_b)|, each plus a ridge; the ladder calibrates which). |F(c_b)| keeps the light directions of an indefinite
+|F(c_b)|, each plus a ridge; the ladder calibrates which, |F| for the real inertias only). |F(c_b)| keeps the light directions of an indefinite
 P (the pivot's own direction is negative) on their own scale: SO-101's bodies themselves, nothing at 64x -> 1.45x at
 45,000 boxes. The last turn (joint 2) is seen
 only along s_1: its scalar form s_1^T F(x) s_1 is bounded the same way with scalars (exact to second order).
@@ -64,6 +64,7 @@ PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot ladders run 
 PIVOT_LIMIT = 8  # free coordinates up to which the ladders run (a 7-joint arm and its gripper's slide)
 RIDGE = 1e-2  # relative ridge of the loss metric (default; the ladder picks one of RIDGES per form)
 METRICS = ("shift", "abs")  # the turned matrix at the centre F made definite by a shift of its eigenvalues, or |F|
+# (measured, Panda deep: |F| takes the block form's ladder 1.03x -> 1.05x, so only the real inertias try it)
 RIDGES = (1e-3, 1e-2, 1e-1)  # measured (Panda): unit bodies best at 1e-2, the weighted form at 1e-1; 1e-4 needs 10-100x the boxes
 SWITCH = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative (see _turn_terms)
 ANGLES = 2 * np.pi * np.arange(5) / 5
@@ -144,12 +145,14 @@ def _turn_terms(f1c, f1s, f2c, f2s, rr):
 class PivotFamily:
     """The chain's fixed maps and body inertias (a stack of parameter sets) for :func:`pivot_bounds`."""
 
-    def __init__(self, chain, thetas=None, ridge=RIDGE, inertias=None):
+    def __init__(self, chain, thetas=None, ridge=RIDGE, inertias=None, metrics=METRICS[:1]):
         """Bodies from parameter rows ``thetas`` (V, N, 10) or directly as symmetric 6 x 6 ``inertias`` (V, N, 6, 6)
-        (any body forms, e.g. lower forms of the spatial inertias)."""
+        (any body forms, e.g. lower forms of the spatial inertias); ``metrics`` the kinds of loss metric a ladder
+        may calibrate."""
         self.chain = chain
         self.ridge = ridge  # relative ridge of the turns' loss metric: any value is sound
-        self.metric = "shift"  # the metric's kind (METRICS): any is sound
+        self.metrics = metrics
+        self.metric = metrics[0]  # the metric's kind (METRICS): any is sound
         self.z = spatial_inertia(np.asarray(thetas, float)) if inertias is None else np.asarray(inertias, float)
         self.twists = np.array([j.unit_twist for j in chain.z_joints])  # (n, 6)
         self.revolute = [j.revolute for j in chain.z_joints]
