@@ -68,17 +68,20 @@ def test_a_passing_box_holds_on_dense_samples(scene, form, metric):
     assert _lmin(chain, thetas, q).min() >= gamma[0]
 
 
-def _turn_violations(chain, radii_range, rng, count=40, points=60):
+def _turn_violations(chain, radii_range, rng, count=40, points=60, metric="shift"):
     """The largest violation of L <= Phi_b(x)^T P Phi_b(x) over sampled x of |x - c| <= r (lambda_min of the
-    difference, relative to ||P||; < 0 is a violation), for random anisotropic P (eigenvalues 1e-4 .. 5) and every
-    turning joint b of the chain: :meth:`PivotFamily.rotated_lower` with its metric."""
+    difference, relative to ||P||; < 0 is a violation), for random anisotropic P (eigenvalues 1e-4 .. 5; with
+    ``metric`` 'abs' the heaviest negated: indefinite, as a pivot leaves it) and every turning joint b of the
+    chain: :meth:`PivotFamily.rotated_lower` in that metric."""
     family = PivotFamily(chain, np.tile(UNIT, (chain.bodies, 1))[None])
+    family.metric = metric
+    spectrum = np.geomspace(1e-4, 5.0, 6) * (1, 1, 1, 1, 1, -1 if metric == "abs" else 1)
     worst = np.inf
     for b in range(1, chain.n):
         if not family.revolute[b]:
             continue
         basis = np.linalg.qr(rng.normal(size=(count, 6, 6)))[0]
-        p = (basis * np.geomspace(1e-4, 5.0, 6)[None, None, :]) @ np.swapaxes(basis, -1, -2)
+        p = (basis * spectrum[None, None, :]) @ np.swapaxes(basis, -1, -2)
         p = p[:, None]
         c, r = rng.uniform(-3, 3, count), rng.uniform(*radii_range, count)
         lower, _ = family.rotated_lower(b, p, c, r)
@@ -91,13 +94,15 @@ def _turn_violations(chain, radii_range, rng, count=40, points=60):
 
 
 @pytest.mark.parametrize("radii", [(0.01, 0.1), (0.1, 0.4), (0.4, 1.2), (1.2, 3.2)])
-def test_turn_lower_bound_holds_on_samples(radii):
-    assert _turn_violations(robots.panda().chain, radii, np.random.default_rng(31)) >= -1e-12
+@pytest.mark.parametrize("metric", pivots.METRICS)
+def test_turn_lower_bound_holds_on_samples(radii, metric):
+    assert _turn_violations(robots.panda().chain, radii, np.random.default_rng(31), metric=metric) >= -1e-12
 
 
 @pytest.mark.parametrize("drop, radii", [("first-order", (0.05, 0.4)), ("second-order", (0.05, 0.4)),
                                          ("wide", (0.4, 1.5))])
-def test_a_turn_loss_term_dropped_is_caught(drop, radii, monkeypatch):
+@pytest.mark.parametrize("metric", pivots.METRICS)
+def test_a_turn_loss_term_dropped_is_caught(drop, radii, metric, monkeypatch):
     """A loss term of pivots._turn_terms dropped (its weight set to 0): the turn's lower bound rises above sampled
     turned matrices (the samples of test_turn_lower_bound_holds_on_samples). The r^3 and r^4 terms near the
     centre are below what sampling resolves (measured: dropping 2 E^2 pos(-F2c) is not caught on 0.2-0.4 rad)."""
@@ -114,7 +119,7 @@ def test_a_turn_loss_term_dropped_is_caught(drop, radii, monkeypatch):
         return terms, tuple(weights)
 
     monkeypatch.setattr(pivots, "_turn_terms", broken)
-    assert _turn_violations(robots.panda().chain, radii, np.random.default_rng(31)) < -1e-9
+    assert _turn_violations(robots.panda().chain, radii, np.random.default_rng(31), metric=metric) < -1e-9
 
 
 def _ladder(scene, form, boxes=6000):

@@ -610,8 +610,9 @@ def mass_inf(chain, thetas, **kw):
 
         def proved(forms, probe=EXTRA, metrics=METRICS[:1]):  # a probe first: forms the pivots cannot handle cost
             gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop, probe, metrics)  # 1/probe of ci's budget
-            return form_ladder(chain, forms, refine_s, samples, stop, 0, metrics)[::2] if -np.inf < gamma < stop \
-                else (gamma, how)
+            if -np.inf < gamma < stop:
+                gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop, 0, metrics)
+            return gamma, how
 
         def axial_form(forms=forms, axial=axial, kind="mu_l I + kappa_l w_l w_l^T (an inertia about joint l's own axis)"):
             gamma, how = proved(forms)

@@ -141,12 +141,13 @@ def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, g
                         np.where(free, lo + (hi - lo) * rng.random((CALIBRATION_POINTS - 1, len(lo))), 0.5 * (lo + hi))])
     values = value(points)
     best_score = -np.inf
-    for metric in itertools.product(family.metrics, RIDGES) if sign > 0 else [(METRICS[0], RIDGES[0])]:  # the metric whose
-        # calibration boxes hold widest (any is sound; the upper side's turns are bounded in the identity metric)
-        family.metric, family.ridge = metric
+    choices = itertools.product(family.metrics, RIDGES) if sign > 0 else [(METRICS[0], RIDGES[0])]
+    for choice in choices:  # the metric and ridge whose calibration boxes hold widest (any is sound; the upper
+        # side's turns are bounded in the identity metric)
+        family.metric, family.ridge = choice
         trial = calibrated_radii(family, points, values, lo, hi, free, sign=sign)
         if np.log(trial).sum() > best_score:
-            best_score, rho, chosen = np.log(trial).sum(), trial, metric
+            best_score, rho, chosen = np.log(trial).sum(), trial, choice
     family.metric, family.ridge = chosen
     centres, radii = (0.5 * (lo + hi))[None], np.where(free, 0.5 * (hi - lo), 0.0)[None]
     best, best_ratio, used, size, reached, rungs = -sign * np.inf, None, 0, 0, False, []

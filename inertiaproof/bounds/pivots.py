@@ -32,12 +32,12 @@ E = 1 - cos min(r, pi) (:func:`_turn_terms`):
 (the first from sin 2d = 2 sin d - 2 sin d (1 - cos d), cos 2d - 1 = -4 (1 - cos d) + 2 (1 - cos d)^2: its first
 order term is the derivative F'(c) = F_1s + 2 F_2s, not the sum of the two harmonics' sizes; |.| and pos(.) the
 matrix absolute value and positive part in a metric from F(c_b): its eigenvalues shifted up to definite, or
-|F(c_b)|, each plus a ridge; the ladder calibrates which, |F| for the real inertias only). |F(c_b)| keeps the light directions of an indefinite
-P (the pivot's own direction is negative) on their own scale: SO-101's bodies themselves, nothing at 64x -> 1.45x at
-45,000 boxes. The last turn (joint 2) is seen
-only along s_1: its scalar form s_1^T F(x) s_1 is bounded the same way with scalars (exact to second order).
-So M(q) + a I > 0 on the box when all pivot bounds are positive: lambda_min(M) >= -a. The upper side
-(lambda_max) is the same test of -M + a I, i.e. bodies -Z. Bisection over a gives the bound of a box.
+|F(c_b)|, each plus a ridge; the ladder calibrates which, |F| for the real inertias only). |F(c_b)| keeps the light
+directions of an indefinite P (the pivot's own direction is negative) on their own scale: SO-101's bodies
+themselves, nothing at 64x -> 1.45x at 45,000 boxes. The last turn (joint 2) is seen only along s_1: its scalar
+form s_1^T F(x) s_1 is bounded the same way with scalars (exact to second order). So M(q) + a I > 0 on the box
+when all pivot bounds are positive: lambda_min(M) >= -a. The upper side (lambda_max) is the same test of -M + a I,
+i.e. bodies -Z. Bisection over a gives the bound of a box.
 
 Rounding (stated): each level's Loewner bound is lowered by ``ROUNDING`` eps times the Frobenius norms of the
 matrices formed at that level (the five samples times 1 + 3 sum of the loss weights, for the Fourier sums, and the
@@ -58,7 +58,8 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .spectral import EPS, ROUNDING
 
-__all__ = ["METRICS", "PIVOT_LIMIT", "PIVOT_MIN_S", "PivotFamily", "RIDGE", "RIDGES", "SWITCH", "pivot_bounds", "pivot_test"]
+__all__ = ["METRICS", "PIVOT_LIMIT", "PIVOT_MIN_S", "PivotFamily", "RIDGE", "RIDGES", "SWITCH", "pivot_bounds",
+           "pivot_test"]
 
 PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot ladders run (ci and deep; audits skip them)
 PIVOT_LIMIT = 8  # free coordinates up to which the ladders run (a 7-joint arm and its gripper's slide)
@@ -234,9 +235,10 @@ class PivotFamily:
         return samples[0] - loss - ROUNDING * EPS * (norm_b * np.linalg.norm(q, axis=(-2, -1)) + size + loss), loss
 
     def _metric(self, f):
-        """The metric the turn's loss is measured in: the turned matrix at the centre, made definite (a ridge
-        of ``ridge`` times its largest |eigenvalue| above its smallest eigenvalue, if negative), as its
-        eigen-decomposition (values, vectors). Any definite metric is valid (_bounding_parts)."""
+        """The metric the turn's loss is measured in: the turned matrix at the centre made definite, as its
+        eigen-decomposition (values, vectors): ``metric`` 'shift' puts a ridge of ``ridge`` times its largest
+        |eigenvalue| above its smallest eigenvalue, if negative; 'abs' takes |eigenvalues| plus that ridge. Any
+        definite metric is valid (_bounding_parts)."""
         w, u = np.linalg.eigh(f)
         top = self.ridge * np.maximum(np.abs(w).max(-1), 1e-300)
         if self.metric == "abs":
