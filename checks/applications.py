@@ -19,6 +19,7 @@ The runs of the robustness study are shared with APP-estimate-bounds (Context.sh
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import time
 from dataclasses import dataclass
 
@@ -31,6 +32,7 @@ from inertiaproof.counterexamples.adaptive_runs import euclidean_runs
 from inertiaproof.dynamics import motion
 from inertiaproof.model.inertia import pseudo_inertia
 from inertiaproof.result import Result, Verdict, combine, quantity
+from inertiaproof.scene import robots
 from inertiaproof.sim import estimates, tracking
 from inertiaproof.sim.recipe import Recipe, scene_of
 from inertiaproof.suite.hunt import hunt
@@ -93,6 +95,15 @@ def _scene_keys(ctx, default):
     if not ctx.scene.source:
         raise ValueError(f"scene {ctx.scene.name!r} has no file: a run of it could not be replayed")
     return {ctx.scene.source: None}
+
+
+def _stream(key):
+    """What names a scene in its random streams and hunt seeds: a built-in scene's key, or a scene file's name and
+    the digest of its text, not its path (the same file draws the same examples wherever it lives)."""
+    if key in robots.BUILTIN:
+        return key
+    with open(key, "rb") as f:
+        return f"{scene_of(key).name}#{hashlib.sha256(f.read()).hexdigest()[:12]}"
 
 
 def _samples(s, horizon):
@@ -289,8 +300,8 @@ def qj_brackets(ctx, chain, key):
     """(inf_q sigma_min(QJ)^2, sup_q sigma_max(QJ)) brackets of the chain (shared by the checks of a run)."""
     def compute():
         kw = dict(samples=ctx.profile.samples, refine_s=ctx.profile.refine_s, progress=ctx.progress)
-        return (jacobian_normality(chain, rng=ctx.rng(f"{key}:APP gamma"), **kw),
-                jacobian_sup(chain, rng=ctx.rng(f"{key}:APP sigma"), **kw))
+        return (jacobian_normality(chain, rng=ctx.rng(f"{_stream(key)}:APP gamma"), **kw),
+                jacobian_sup(chain, rng=ctx.rng(f"{_stream(key)}:APP sigma"), **kw))
     return ctx.shared(("APP QJ brackets", key), compute)
 
 
@@ -352,7 +363,7 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
             "inf_sigma_min_QJ_sq_observed": quantity(gamma_b.upper, "sampled", "attained at a witness"),
             "sup_sigma_max_QJ": quantity(sigma_b.upper, "upper_bound", "certified: " + sigma_b.quantity),
             "sup_sigma_max_QJ_observed": quantity(sigma_b.lower, "sampled", "attained at a witness")}
-        q_samples = np.concatenate([estimates.configurations(chain, s.configurations, ctx.rng(f"{key}:APP q")),
+        q_samples = np.concatenate([estimates.configurations(chain, s.configurations, ctx.rng(f"{_stream(key)}:APP q")),
                                     np.atleast_2d(gamma_b.witness), np.atleast_2d(sigma_b.witness)])
         for recipe, run, batch in zip(st["recipes"], st["runs"], st["batches"]):
             if recipe.plant != "gre" or run.t is None:
@@ -505,7 +516,7 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
     phases = (Phase.explicit, Phase.reuse, Phase.generate, Phase.target) + ((Phase.shrink,) if s.shrink else ())
     seen, failures, scenes, witnesses, stiff = {}, [], {}, {}, []
     for key, examples in hunts.items():
-        q_samples = estimates.configurations(scene_of(key).chain, s.configurations, ctx.rng(f"{key}:APP escape q"))
+        q_samples = estimates.configurations(scene_of(key).chain, s.configurations, ctx.rng(f"{_stream(key)}:APP escape q"))
 
         def margin(recipe):
             if recipe not in seen:  # Hypothesis replays a failing example once more
@@ -522,7 +533,7 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
             return (data["laws"]["euclidean"]["margin"], data["resolution"]) if data["resolved"] else np.nan
 
         runs_before = len(seen)
-        found = hunt(euclidean_runs((key,), s.hunt_horizon), margin, ctx, label=f"APP-euclidean-escape:{key}",
+        found = hunt(euclidean_runs((key,), s.hunt_horizon), margin, ctx, label=f"APP-euclidean-escape:{_stream(key)}",
                      max_examples=examples or max(n for _, n in s.hunts), phases=phases)
         scenes[key] = {"runs": len(seen) - runs_before, **found.summary()}
         if found.violation is not None:

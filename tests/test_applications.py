@@ -75,6 +75,16 @@ def test_euclidean_escape_is_found_saved_and_replays(app_ctx):
     assert replayed.verdict == Verdict.HOLDS, replayed.summary
 
 
+def test_a_scene_file_seeds_its_hunts_by_its_text_not_its_path(tmp_path):
+    text = (Path(__file__).parents[1] / "scenes" / "planar_2r_payload.toml").read_text()
+    (tmp_path / "a").mkdir()
+    for name, body in (("a/s.toml", text), ("b.toml", text), ("c.toml", text + "\n# edited\n")):
+        (tmp_path / name).write_text(body)
+    assert app._stream(str(tmp_path / "a/s.toml")) == app._stream(str(tmp_path / "b.toml"))
+    assert app._stream(str(tmp_path / "b.toml")) != app._stream(str(tmp_path / "c.toml"))
+    assert app._stream(KEY) == KEY
+
+
 def test_a_euclidean_law_passed_as_natural_is_violated(app_ctx):
     wrong = app.euclidean_escape_result(app_ctx, {KEY: 3}, twin=lambda r: dataclasses.replace(r, law="slotine-li"))
     assert wrong.verdict == Verdict.VIOLATED
