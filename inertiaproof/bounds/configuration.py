@@ -41,6 +41,7 @@ The entry point for audits is :func:`mass_matrix_bounds`.
 
 from __future__ import annotations
 
+import functools
 import itertools
 
 import numpy as np
@@ -54,7 +55,7 @@ from .domain import (
 from .extremes import bracket_extreme
 from .fourier import PAIR_CELLS, SINGLE_CELLS, FourierFamily, certified_entry_sups, perron_of
 from .axial_form import axial_lower_form, form_lmin
-from .pivot_search import EXTRA, ladder_budget, ladder_goal, pivot_ladder
+from .pivot_search import DEEP_S, EXTRA, ladder_budget, ladder_goal, pivot_ladder
 from .pivots import METRICS, PIVOT_LIMIT, PIVOT_MIN_S, PivotFamily
 from .taylor import MassFamily, box_bounds, perron_bound
 from .spectral import CONVEX, EPS, ROUNDING, Spectral, spectral
@@ -68,7 +69,7 @@ __all__ = [
 
 
 REAL_PROBE = 3  # the real inertias' probe: 1/3 of the ci budget (SO-101: 64x proved after 9,000 boxes, 1.45x at 45,000)
-AXIAL_FIRST = 1.1  # the axial form's ladder runs before the isotropic one where its sampled inf is this much higher
+AXIAL_FIRST = 1.1  # in ci another form runs before the isotropic one where its sampled inf is this much higher
 VERTEX_LIMIT = 6  # free coordinates up to which the 2^d vertices of the linear part are enumerated (exact linear part)
 
 # -- matrix families A(q) with derivatives --------------------------------------
@@ -119,7 +120,8 @@ def vertex_bound(a, da, radii, free, kind):
     return (vals.min(1) - allowance).min(1)
 
 
-VERTEX_SHARE = 0.25  # of a bracket's budget for branch and bound with vertex bounds where the pivot ladders run after it
+VERTEX_SHARE = (0.25, 0.05)  # of a bracket's budget (under DEEP_S, from it) for branch and bound with vertex bounds
+# where the pivot ladders run after it
 
 
 def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine_s, rng, value_kind=None,
@@ -133,7 +135,7 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
     :func:`inertiaproof.bounds.taylor.box_bounds` (polynomial in the number of joints per box). Where the pivot
     ladders run after it (:func:`_ladders_run`), it gets ``VERTEX_SHARE`` of the budget (Panda, 2 kg, deep: its
     certified side of Theorem 2's inf is 0, the ladders' 1.5e-3; Panda's five deep brackets 723 s -> 403 s with the
-    threads of the pivot test, the same ratios).
+    threads of the pivot test at a share of 0.25, 418 s -> 365 s from 0.25 to 0.05, the same ratios).
     """
     evaluate, degree = family
     sense = Spectral(kind).sense
@@ -150,7 +152,7 @@ def configuration_bracket(chain, family, kind, *, quantity_name, samples, refine
     free = free_coordinates(chain)
     obstacle = certification_obstacle(chain)
     if _ladders_run(chain, refine_s):  # the ladders' certified sides are sharper there
-        refine_s *= VERTEX_SHARE
+        refine_s *= VERTEX_SHARE[refine_s >= DEEP_S]
     if obstacle is None and (degree != 2 or thetas is None) and free.sum() > VERTEX_LIMIT:
         obstacle = "no polynomial box bound for this family"
     if obstacle is not None:
@@ -472,11 +474,12 @@ def _pivot_normality(chain, rng, refine_s, samples, weights, angular, stop):
 
 
 def _ladder(chain, family, values, observed, witness, budget, stop, sign=1.0):
-    """:func:`pivot_ladder` over the chain's search box within ``budget`` (boxes, seconds): (gamma, a note on the
-    rung proved, the partition's size and the boxes tested)."""
+    """:func:`pivot_ladder` over the chain's search box within ``budget`` (boxes, seconds, rungs) of
+    :func:`ladder_budget`: (gamma, a note on the rung proved, the partition's size and the boxes tested)."""
     lo, hi = search_box(chain)
+    boxes, guard_s, rungs = budget
     gamma, tested, size, ratio, _ = pivot_ladder(family, values, observed, witness, lo, hi, free_coordinates(chain),
-                                                 max_boxes=budget[0], guard_s=budget[1], stop=stop, sign=sign)
+                                                 max_boxes=boxes, guard_s=guard_s, stop=stop, sign=sign, ladder=rungs)
     note = ("no target proved" if ratio is None else f"target {observed:.6g}{'/' if sign > 0 else '*'}{ratio:g} "
             f"proved on a partition of {size} boxes ({tested} boxes tested)")
     return gamma, note
@@ -505,10 +508,10 @@ def _form_ladder(chain, forms, refine_s, samples, stop, probe, metrics):
     found = bracket_extreme(lambda q: values(q).min(-1), None, lo, hi, sense="min",
                             quantity_name="inf_q lambda_min of a lower form (pivots)", samples=samples,
                             refine_s=min(refine_s, 2.0), rng=np.random.default_rng(0), free=free)
-    boxes, guard_s = ladder_budget(min(refine_s, PIVOT_MIN_S) if probe else refine_s)
+    boxes, guard_s, rungs = ladder_budget(min(refine_s, PIVOT_MIN_S) if probe else refine_s)
     if probe:  # a share of the ci budget whatever the profile: a form that fails here fails with more too (measured)
         boxes, guard_s = boxes // probe, guard_s / probe
-    gamma, note = _ladder(chain, family, values, found.observed, found.witness, (boxes, guard_s), stop)
+    gamma, note = _ladder(chain, family, values, found.observed, found.witness, (boxes, guard_s, rungs), stop)
     return gamma, found.observed, note
 
 
@@ -570,13 +573,15 @@ def mass_inf(chain, thetas, **kw):
     min_l mu_l inf sigma_min(QJ)^2, so the unit form's ladder is not run here); where the bracket is wider than
     :func:`ladder_goal`, also the axial form of :func:`inertiaproof.bounds.axial_form.axial_lower_form`
     (mu_l I plus an inertia about joint l's own axis, for the bodies where that raises the form's sampled inf;
-    proved by :func:`form_ladder`, a probe of 1/EXTRA of the budget first; run before the isotropic form where its
-    sampled inf is ``AXIAL_FIRST`` times higher: UR5 1.63x -> 1.09x in ci), and where still wider
+    proved by :func:`form_ladder`, a probe of 1/EXTRA of the budget first), the heavy invariant form, and
     M(q) >= sum_l QJ_l^T diag(mu_l I3, nu_l I3) QJ_l with the rotation-invariant lower bounds of
     :func:`block_lower_form` (Panda: the form's inf 1.58e-3 against the isotropic form's 1.44e-3 and M's 1.78e-3;
-    harder for the pivots), and where still wider the ladder on the parameter sets themselves (no form's gap, but
-    anisotropic turns: a probe of 1/``REAL_PROBE`` of ci's budget first; SO-101's audit in ci 2.87x -> 1.60x). A
-    form whose sampled inf is not above the bracket's certified side is skipped (its certified inf cannot be)."""
+    harder for the pivots). The forms run in the order of their sampled inf, in ci the others' divided by
+    ``AXIAL_FIRST`` against the isotropic one's (easier for the pivots; UR5 1.63x -> 1.09x in ci), until the bracket
+    is within the goal (Panda deep: the block form first, Thm2 110 s -> 50 s at the same 1.158x). Where still wider,
+    the ladder on the parameter sets themselves (no form's gap, but anisotropic turns: a probe of 1/``REAL_PROBE``
+    of ci's budget first; SO-101's audit in ci 2.87x -> 1.60x). A form whose sampled inf is not above the bracket's
+    certified side is skipped (its certified inf cannot be)."""
     result = configuration_bracket(chain, mass_family(chain, thetas), "lmin",
                                    quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
     z = spatial_inertia(np.asarray(thetas, float))
@@ -622,23 +627,35 @@ def mass_inf(chain, thetas, **kw):
                                   "lambda_min(Z_l) I for the others, its inf certified by a ladder of targets proved "
                                   f"with articulated-body pivots: {how}")
 
-        first, second = (axial_form, isotropic) if axial_inf > AXIAL_FIRST * iso_values.min() else (isotropic, axial_form)
-        for run, sampled_inf in ((first, np.inf), (second, axial_inf if second is axial_form else iso_values.min())):
-            if short(sampled_inf):
-                run()
-        if short(np.inf):  # still short: the heavy invariant form (Z_l's rotation average; harder for the pivots)
+        def block_form(mu, nu):
+            gamma, how = pivot_normality(chain, refine_s, samples, mu[None], stop, detail=True, angular=nu)
+            result.tighten(gamma, "M(q) >= sum_l QJ_l^T diag(mu_l I3, nu_l I3) QJ_l with diag(mu_l I3, nu_l I3) "
+                                  "<= Z(Phi_l) (checked with rounding; body by body), its inf certified by a ladder "
+                                  f"of targets proved with articulated-body pivots: {how}")
+
+        def later_forms():  # the heavy invariant and block forms, built where needed (about 0.5 s each on Panda)
             heavy, invariant = axial_lower_form(chain, thetas, q, heavy=True)
-            if invariant.any() and short(form_lmin(chain, heavy, q).min()):
-                axial_form(heavy, invariant, "an inertia invariant under joint l's own turn (Z_l's rotation average)")
-        if short(np.inf):  # still short of the goal: the block form
             block_mu, block_nu = block_lower_form(thetas, worst, chain)
-            block = _block_rows(block_mu, block_nu)[None]
-            if short(mass_spectra(chain, block, q, "lmin").min()):
-                gamma, how = pivot_normality(chain, refine_s, samples, block_mu[None], stop, detail=True,
-                                             angular=block_nu)
-                result.tighten(gamma, "M(q) >= sum_l QJ_l^T diag(mu_l I3, nu_l I3) QJ_l with diag(mu_l I3, nu_l I3) "
-                                      "<= Z(Phi_l) (checked with rounding; body by body), its inf certified by a ladder "
-                                      f"of targets proved with articulated-body pivots: {how}")
+            out = [(mass_spectra(chain, _block_rows(block_mu, block_nu)[None], q, "lmin").min(), AXIAL_FIRST,
+                    functools.partial(block_form, block_mu, block_nu))]
+            if invariant.any():
+                out.append((form_lmin(chain, heavy, q).min(), AXIAL_FIRST, functools.partial(
+                    axial_form, heavy, invariant, "an inertia invariant under joint l's own turn (Z_l's rotation "
+                    "average)")))
+            return out
+
+        def run_in_order(candidates):  # (sampled inf, handicap, run): the highest sampled inf / handicap first
+            for sampled_inf, _, run in sorted(candidates, key=lambda c: -c[0] / c[1]):
+                if short(sampled_inf):
+                    run()
+
+        first = [(iso_values.min(), 1.0, isotropic), (axial_inf, AXIAL_FIRST, axial_form)]
+        if refine_s >= DEEP_S:  # a deep ladder nearly closes any form: every form by its sampled inf alone
+            run_in_order([(inf, 1.0, run) for inf, _, run in first + later_forms()])
+        else:
+            run_in_order(first)
+            if short(np.inf):
+                run_in_order(later_forms())
         if short(np.inf):  # still short: the bodies themselves (no form's gap; anisotropic turns: a probe first)
             gamma, how = proved(z, REAL_PROBE, METRICS)  # |F| keeps an indefinite P's light directions
             result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body "
