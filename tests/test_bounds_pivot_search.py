@@ -142,19 +142,20 @@ def test_ladder_is_below_every_sampled_value(scene, form):
     chain, thetas, (gamma, tested, size, ratio, rungs) = _ladder(scene, form)
     assert gamma > 0 and ratio is not None and tested <= 6000 + pivot_search.CHUNK
     assert sum(r[1] for r in rungs) == tested and [r[0] for r in rungs if r[2] is not None][-1] == ratio
-    assert all(pivot_search.rung_cost(rungs[:k]) <= 6000 - sum(r[1] for r in rungs[:k]) for k in range(len(rungs)))
+    spent = np.cumsum([0] + [t for _, t, _ in rungs])
+    assert all((pivot_search.rung_cost(rungs[:k], r[0]) or 0) <= pivot_search.SLACK * (6000 - spent[k])
+               for k, r in enumerate(rungs))
     lo, hi = search_box(chain)
     q = lo + (hi - lo) * np.random.default_rng(41).random((30000, chain.n))
     assert _lmin(chain, thetas, q).min() >= gamma
 
 
-def test_rung_forecast_and_the_deep_ladder():
-    assert pivot_search.rung_cost([(1.2, 9000, 5000), (1.1, 10_000, 6000)]) == pivot_search.GROWTH * 10_000
-    assert pivot_search.rung_cost([(1.2, 10_000, None)]) == pivot_search.rung_cost([(1.1, 100, 60)]) == 0
-    assert pivot_search.rung_cost([]) == 0
-    ci, deep = pivot_search.ladder_budget(0.5), pivot_search.ladder_budget(pivot_search.DEEP_S)
-    assert ci[2] == pivot_search.LADDER and deep[2] == pivot_search.DEEP_LADDER
-    assert set(pivot_search.DEEP_LADDER) < set(pivot_search.LADDER) and deep[0] > ci[0]
+def test_rung_forecast():
+    rungs = [(1.2, 9000, 5000), (1.1, 10_000, 6000)]
+    assert pivot_search.rung_cost(rungs, 1.1) == pytest.approx(6000)  # the same rung again: each box once
+    assert pivot_search.rung_cost(rungs, 1.05, -1) == pytest.approx(6000 * (2 * 2**pivot_search.GROWTH - 1))
+    assert pivot_search.rung_cost(rungs, 1.05) == pytest.approx(6000 * (2 * (2.1 / 1.1)**pivot_search.GROWTH - 1))
+    assert pivot_search.rung_cost([(1.2, 10_000, None)], 1.1) is pivot_search.rung_cost([(1.1, 100, 60)], 1.05) is None
 
 
 def test_ladder_partition_covers_the_domain_and_forgetting_failed_boxes_is_caught(monkeypatch):

@@ -474,12 +474,11 @@ def _pivot_normality(chain, rng, refine_s, samples, weights, angular, stop):
 
 
 def _ladder(chain, family, values, observed, witness, budget, stop, sign=1.0):
-    """:func:`pivot_ladder` over the chain's search box within ``budget`` (boxes, seconds, rungs) of
-    :func:`ladder_budget`: (gamma, a note on the rung proved, the partition's size and the boxes tested)."""
+    """:func:`pivot_ladder` over the chain's search box within ``budget`` (boxes, seconds): (gamma, a note on the
+    rung proved, the partition's size and the boxes tested)."""
     lo, hi = search_box(chain)
-    boxes, guard_s, rungs = budget
     gamma, tested, size, ratio, _ = pivot_ladder(family, values, observed, witness, lo, hi, free_coordinates(chain),
-                                                 max_boxes=boxes, guard_s=guard_s, stop=stop, sign=sign, ladder=rungs)
+                                                 max_boxes=budget[0], guard_s=budget[1], stop=stop, sign=sign)
     note = ("no target proved" if ratio is None else f"target {observed:.6g}{'/' if sign > 0 else '*'}{ratio:g} "
             f"proved on a partition of {size} boxes ({tested} boxes tested)")
     return gamma, note
@@ -508,10 +507,10 @@ def _form_ladder(chain, forms, refine_s, samples, stop, probe, metrics):
     found = bracket_extreme(lambda q: values(q).min(-1), None, lo, hi, sense="min",
                             quantity_name="inf_q lambda_min of a lower form (pivots)", samples=samples,
                             refine_s=min(refine_s, 2.0), rng=np.random.default_rng(0), free=free)
-    boxes, guard_s, rungs = ladder_budget(min(refine_s, PIVOT_MIN_S) if probe else refine_s)
+    boxes, guard_s = ladder_budget(min(refine_s, PIVOT_MIN_S) if probe else refine_s)
     if probe:  # a share of the ci budget whatever the profile: a form that fails here fails with more too (measured)
         boxes, guard_s = boxes // probe, guard_s / probe
-    gamma, note = _ladder(chain, family, values, found.observed, found.witness, (boxes, guard_s, rungs), stop)
+    gamma, note = _ladder(chain, family, values, found.observed, found.witness, (boxes, guard_s), stop)
     return gamma, found.observed, note
 
 

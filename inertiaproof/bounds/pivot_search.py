@@ -18,8 +18,10 @@ boxes get fine only where the turns lose; so is the
 metric of the turns' loss and its ridge (pivots.METRICS, RIDGES: the pair whose calibration boxes hold widest).
 
 The budget is a count of tested boxes (the same bracket on any machine for a seed) with a wall-clock guard; a
-ladder that runs out keeps its last proved target, and it does not start a rung that :func:`rung_cost` forecasts
-to run out.
+ladder that runs out keeps its last proved target. It does not start a rung that :func:`rung_cost` forecasts to
+run out (a rung that runs out costs the rest of the budget: Panda's five deep brackets spent 20-40% of their boxes
+on it), and it goes on to the furthest rung the forecast has room for, leaving the ones between out (every rung
+tests its whole partition again: Panda's deep Thm4 1.12x -> 1.10x within the same budget).
 """
 
 from __future__ import annotations
@@ -31,12 +33,9 @@ import numpy as np
 
 from .pivots import METRICS, RIDGES, pivot_test
 
-__all__ = ["CHUNK", "DEEP_LADDER", "LADDER", "calibrated_radii", "ladder_budget", "ladder_goal", "pivot_ladder", "rung_cost"]
+__all__ = ["CHUNK", "LADDER", "calibrated_radii", "ladder_budget", "ladder_goal", "pivot_ladder", "rung_cost"]
 
 LADDER = (64.0, 16.0, 8.0, 4.0, 2.8, 1.95, 1.6, 1.45, 1.35, 1.25, 1.18, 1.15, 1.12, 1.1, 1.08, 1.05, 1.03, 1.02, 1.01)  # observed / target
-DEEP_LADDER = tuple(r for r in LADDER if r not in (1.18, 1.12, 1.08))  # every rung tests its whole partition again:
-# on a deep budget fewer rungs go further (Panda, 2 kg: Thm4 1.12x -> 1.10x, Def2 and Thm3 the same in fewer boxes;
-# in ci the fine ladder ends nearer: Def2 1.18x against 1.25x, Thm2 1.33x against 1.41x)
 CHUNK = 4096  # boxes per pivot test call
 GRID = np.geomspace(0.003, 3.0, 11)  # radii tried by the calibration
 BOXES = (40_000, 10_000, 16_000)  # boxes a ladder may test: the first plus the second (from DEEP_S the third) per
@@ -44,19 +43,19 @@ BOXES = (40_000, 10_000, 16_000)  # boxes a ladder may test: the first plus the 
 EXTRA = 6  # after the goal, a ladder goes on with 1/EXTRA of its budget
 DEEP_S = 5.0  # budgets (seconds per bracket) from which a ladder goes on below the issue's 2x (the deep profile)
 FORECAST_MIN = 5_000  # boxes of a rung from which the next rung's cost is forecast (rung_cost)
-GROWTH = 1.7  # the next rung tests this many times the last one's boxes, at least (Panda's deep ladders near their
-# end: x1.7-3.6 per rung, x7 once; the ratio of two rungs forecasts worse: it would have stopped Thm2 at 1.05x)
+GROWTH = 3.0  # a partition's size grows as m^-GROWTH, m of rung_cost (Panda, 2 kg, deep ladders from 1.25x on: 1.4-3.1)
+SLACK = 2.0  # a rung is tried while its forecast is within SLACK times the boxes left (the forecast is high near a
+# ladder's end: Panda's deep Thm2 block form, 1.05x -> 1.03x, forecast 471,000 boxes, tested 176,000)
 CALIBRATION_POINTS = 8  # configurations the calibration looks at: the witness and seeded random ones
 
 
 def ladder_budget(refine_s):
-    """(boxes, seconds, rungs): the count of boxes a ladder may test for a bracket budget of ``refine_s`` seconds (ci
-    0.5 s: 45,000; deep 20 s: 360,000; about 2,000-7,000 boxes a second on 2 cores for 7 joints), the wall-clock
-    guard (a loaded machine ends with a lower, still certified target) and the ladder (LADDER, from DEEP_S
-    DEEP_LADDER). Measured (Panda, 2 kg, sup lambda_max, LADDER): 1.12x after 130,000 boxes, 1.10x after 243,000,
-    1.08x after 471,000."""
-    deep = refine_s >= DEEP_S
-    return int(BOXES[0] + BOXES[1 + deep] * refine_s), 30.0 + 12.0 * refine_s, DEEP_LADDER if deep else LADDER
+    """(boxes, seconds): the count of boxes a ladder may test for a bracket budget of ``refine_s`` seconds (ci 0.5 s:
+    45,000; deep 20 s: 360,000; about 2,000-7,000 boxes a second on 2 cores for 7 joints) and the wall-clock
+    guard (a loaded machine ends with a lower, still certified target). Measured (Panda, 2 kg, sup lambda_max, every
+    rung): 1.12x after 130,000 boxes, 1.10x after 243,000, 1.08x after 471,000."""
+    per_second = BOXES[1] if refine_s < DEEP_S else BOXES[2]
+    return int(BOXES[0] + per_second * refine_s), 30.0 + 12.0 * refine_s
 
 
 def ladder_goal(refine_s):
@@ -125,13 +124,18 @@ def _prove(family, sign, gamma, centres, radii, rho, budget, deadline):
     return (np.concatenate(done_c), np.concatenate(done_r)), tested
 
 
-def rung_cost(rungs):
-    """A forecast of the next rung's tested boxes: ``GROWTH`` times the last proved rung's [(ratio, tested, size)], 0
-    while that is under ``FORECAST_MIN`` boxes. A heuristic (it decides how far a ladder goes, not what it proves):
-    a rung that runs out costs the rest of the budget (Panda's five deep brackets spent 20-40% of their boxes on the
-    rung that failed)."""
-    tested = rungs[-1][1] if rungs and rungs[-1][2] is not None else 0
-    return GROWTH * tested if tested >= FORECAST_MIN else 0.0
+def rung_cost(rungs, ratio, sign=1.0):
+    """A forecast of the boxes that proving ``ratio`` tests, from the last proved rung (r0, tested, size) of
+    ``rungs``: the partition grows to size (m(r0) / m(ratio))^``GROWTH`` with m the target's relative distance from
+    the observed extreme (1 - 1/ratio on the lower side, ratio - 1 on the upper), and every split adds two boxes for
+    one, so the rung tests twice the new size less the old one (exact when nothing fails). None while the last
+    rung tested fewer than ``FORECAST_MIN`` boxes. A heuristic (it decides which rungs a ladder tries, not what they
+    prove)."""
+    if not rungs or rungs[-1][2] is None or rungs[-1][1] < FORECAST_MIN:
+        return None
+    r0, _, size = rungs[-1]
+    margin = (lambda r: 1 - 1 / r) if sign > 0 else (lambda r: r - 1)
+    return size * (2 * (margin(r0) / margin(ratio)) ** GROWTH - 1)
 
 
 def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, guard_s, floor=None, stop=None,
@@ -168,12 +172,16 @@ def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, g
     family.metric, family.ridge = chosen
     centres, radii = (0.5 * (lo + hi))[None], np.where(free, 0.5 * (hi - lo), 0.0)[None]
     best, best_ratio, used, size, reached, rungs = -sign * np.inf, None, 0, 0, False, []
-    for ratio in ladder:
+    for k, ratio in enumerate(ladder):
         gamma = float(observed / ratio if sign > 0 else observed * ratio)
         if sign * gamma <= sign * floor:
             continue
-        if rung_cost(rungs) > max_boxes - used:  # the next rung would run out: end with the last proved target
-            break
+        forecast, left = rung_cost(rungs, ratio, sign), max_boxes - used
+        if forecast is not None:
+            if forecast > SLACK * left:  # it would run out: end with the last proved target
+                break
+            if k + 1 < len(ladder) and rung_cost(rungs, ladder[k + 1], sign) <= left:  # the next fits too: go there
+                continue
         partition, tested = _prove(family, sign, gamma, centres, radii, rho, max_boxes - used, deadline)
         used += tested
         rungs.append((ratio, tested, None if partition is None else len(partition[0])))
