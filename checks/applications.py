@@ -300,8 +300,9 @@ def qj_brackets(ctx, chain, key):
     """(inf_q sigma_min(QJ)^2, sup_q sigma_max(QJ)) brackets of the chain (shared by the checks of a run)."""
     def compute():
         kw = dict(samples=ctx.profile.samples, refine_s=ctx.profile.refine_s, progress=ctx.progress)
-        return (jacobian_normality(chain, rng=ctx.rng(f"{_stream(key)}:APP gamma"), **kw),
-                jacobian_sup(chain, rng=ctx.rng(f"{_stream(key)}:APP sigma"), **kw))
+        name = _stream(key)
+        return (jacobian_normality(chain, rng=ctx.rng(f"{name}:APP gamma"), **kw),
+                jacobian_sup(chain, rng=ctx.rng(f"{name}:APP sigma"), **kw))
     return ctx.shared(("APP QJ brackets", key), compute)
 
 
@@ -516,7 +517,8 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
     phases = (Phase.explicit, Phase.reuse, Phase.generate, Phase.target) + ((Phase.shrink,) if s.shrink else ())
     seen, failures, scenes, witnesses, stiff = {}, [], {}, {}, []
     for key, examples in hunts.items():
-        q_samples = estimates.configurations(scene_of(key).chain, s.configurations, ctx.rng(f"{_stream(key)}:APP escape q"))
+        name = _stream(key)
+        q_samples = estimates.configurations(scene_of(key).chain, s.configurations, ctx.rng(f"{name}:APP escape q"))
 
         def margin(recipe):
             if recipe not in seen:  # Hypothesis replays a failing example once more
@@ -533,7 +535,7 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
             return (data["laws"]["euclidean"]["margin"], data["resolution"]) if data["resolved"] else np.nan
 
         runs_before = len(seen)
-        found = hunt(euclidean_runs((key,), s.hunt_horizon), margin, ctx, label=f"APP-euclidean-escape:{_stream(key)}",
+        found = hunt(euclidean_runs((key,), s.hunt_horizon), margin, ctx, label=f"APP-euclidean-escape:{name}",
                      max_examples=examples or max(n for _, n in s.hunts), phases=phases)
         scenes[key] = {"runs": len(seen) - runs_before, **found.summary()}
         if found.violation is not None:

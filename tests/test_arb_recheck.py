@@ -232,9 +232,12 @@ def _pivot_forms(scene):
 
 PIVOT_CASES = [(robots.panda(payload=2.0), "unit", 0.02, "lmin", "shift"),
                (robots.panda(payload=2.0), "weighted", 0.02, "lmin", "shift"),
-               (robots.panda(payload=2.0), "real", 0.002, "lmin", "shift"), (robots.ur5(), "unit", 0.05, "lmin", "shift"),
-               (robots.panda(payload=2.0), "real", 0.002, "lmin", "abs"), (robots.ur5(), "unit", 0.05, "lmin", "abs"),
-               (robots.panda(payload=2.0), "real", 0.01, "lmax", "shift"), (robots.panda(payload=2.0), "unit", 0.02, "lmax", "shift")]
+               (robots.panda(payload=2.0), "real", 0.002, "lmin", "shift"),
+               (robots.ur5(), "unit", 0.05, "lmin", "shift"),
+               (robots.panda(payload=2.0), "real", 0.002, "lmin", "abs"),
+               (robots.ur5(), "unit", 0.05, "lmin", "abs"),
+               (robots.panda(payload=2.0), "real", 0.01, "lmax", "shift"),
+               (robots.panda(payload=2.0), "unit", 0.02, "lmax", "shift")]
 
 
 @pytest.mark.parametrize("scene, form, radius, what, metric", PIVOT_CASES,

@@ -577,7 +577,7 @@ def mass_inf(chain, thetas, **kw):
     :func:`block_lower_form` (Panda: the form's inf 1.58e-3 against the isotropic form's 1.44e-3 and M's 1.78e-3;
     harder for the pivots). The forms run in the order of their sampled inf, in ci the others' divided by
     ``AXIAL_FIRST`` against the isotropic one's (easier for the pivots; UR5 1.63x -> 1.09x in ci), until the bracket
-    is within the goal (Panda deep: the block form first, Thm2 110 s -> 50 s at the same 1.158x). Where still wider,
+    is within the goal (Panda deep: the block form first, Thm2 120 s -> 54 s at the same 1.158x). Where still wider,
     the ladder on the parameter sets themselves (no form's gap, but anisotropic turns: a probe of 1/``REAL_PROBE``
     of ci's budget first; SO-101's audit in ci 2.87x -> 1.60x). A form whose sampled inf is not above the bracket's
     certified side is skipped (its certified inf cannot be)."""
@@ -657,8 +657,9 @@ def mass_inf(chain, thetas, **kw):
                 run_in_order(later_forms())
         if short(np.inf):  # still short: the bodies themselves (no form's gap; anisotropic turns: a probe first)
             gamma, how = proved(z, REAL_PROBE, METRICS)  # |F| keeps an indefinite P's light directions
-            result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body "
-                                  f"pivots of M(q) - gamma I on each box (inertiaproof.bounds.pivot_search): {how}")
+            result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the "
+                                  "articulated-body pivots of M(q) - gamma I on each box "
+                                  f"(inertiaproof.bounds.pivot_search): {how}")
     return result
 
 
