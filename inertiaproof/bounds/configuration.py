@@ -583,7 +583,7 @@ def mass_inf(chain, thetas, **kw):
     :func:`block_lower_form` (Panda: the form's inf 1.61e-3 against the isotropic form's 1.44e-3 and M's 1.78e-3;
     harder for the pivots). The forms run in the order of their sampled inf, in ci the others' divided by
     ``AXIAL_FIRST`` against the isotropic one's (easier for the pivots; UR5 1.63x -> 1.09x in ci), until the bracket
-    is within the goal (Panda deep: the block form first, Thm2 120 s -> 37 s, 1.158x -> 1.141x). Where still wider,
+    is within the goal (Panda deep: the block form first, Thm2 120 s -> 39 s, 1.158x -> 1.141x). Where still wider,
     the ladder on the parameter sets themselves (no form's gap, but anisotropic turns: a probe of 1/``REAL_PROBE``
     of ci's budget first; SO-101's audit in ci 2.87x -> 1.60x). A form whose sampled inf is not above the bracket's
     certified side is skipped (its certified inf cannot be)."""
