@@ -639,7 +639,7 @@ def mass_inf(chain, thetas, **kw):
                                   "<= Z(Phi_l) (checked with rounding; body by body), its inf certified by a ladder "
                                   f"of targets proved with articulated-body pivots: {how}")
 
-        def later_forms():  # the heavy invariant and block forms, built where needed (about 0.5 s each on Panda)
+        def later_forms():  # the heavy invariant and block forms, built where needed (Panda: 0.5 s and 2 s)
             heavy, invariant = axial_lower_form(chain, thetas, q, heavy=True)
             block_mu, block_nu = block_lower_form(thetas, worst, chain)
             out = [(mass_spectra(chain, _block_rows(block_mu, block_nu)[None], q, "lmin").min(), AXIAL_FIRST,
@@ -650,14 +650,15 @@ def mass_inf(chain, thetas, **kw):
                     "average)")))
             return out
 
-        def run_in_order(candidates):  # (sampled inf, handicap, run): the highest sampled inf / handicap first
-            for sampled_inf, _, run in sorted(candidates, key=lambda c: -c[0] / c[1]):
+        def run_in_order(candidates, handicaps=True):  # (sampled inf, handicap, run): the highest sampled inf
+            # (divided by its handicap) first
+            for sampled_inf, _, run in sorted(candidates, key=lambda c: -c[0] / (c[1] if handicaps else 1.0)):
                 if short(sampled_inf):
                     run()
 
         first = [(iso_values.min(), 1.0, isotropic), (axial_inf, AXIAL_FIRST, axial_form)]
         if refine_s >= DEEP_S:  # a deep ladder nearly closes any form: every form by its sampled inf alone
-            run_in_order([(inf, 1.0, run) for inf, _, run in first + later_forms()])
+            run_in_order(first + later_forms(), handicaps=False)
         else:
             run_in_order(first)
             if short(np.inf):
