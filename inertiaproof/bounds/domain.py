@@ -29,9 +29,12 @@ def certification_obstacle(chain):
 
 
 def search_box(chain):
-    """The configuration box: joint limits, one period for unlimited revolute joints."""
+    """The configuration box: joint limits, one period for unlimited revolute joints, and one period from the lower
+    limit for a revolute joint whose limits span more (UR5's +-2 pi: every quantity bracketed is a function of
+    cos q_j and sin q_j, so the box holds every value the limits allow, and it is half as wide)."""
     lo, hi = chain.coordinate_box()
-    return lo, hi
+    periodic = np.array([j.revolute and j.coordinate.name == "identity" for j in chain.joints], bool)
+    return lo, np.where(periodic, np.minimum(hi, lo + 2 * np.pi), hi)
 
 
 def bernstein_domain(chain):

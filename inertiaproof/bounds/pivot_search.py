@@ -33,7 +33,8 @@ import numpy as np
 
 from .pivots import METRICS, RIDGES, pivot_test
 
-__all__ = ["CHUNK", "LADDER", "calibrated_radii", "ladder_budget", "ladder_goal", "pivot_ladder", "rung_cost"]
+__all__ = ["CHUNK", "LADDER", "calibrated_radii", "ladder_budget", "ladder_goal", "partition", "pivot_ladder",
+           "rung_cost"]
 
 LADDER = (64.0, 16.0, 8.0, 4.0, 2.8, 1.95, 1.6, 1.45, 1.35, 1.25, 1.18, 1.15, 1.12, 1.1, 1.08, 1.05, 1.03, 1.02, 1.01)  # observed / target
 CHUNK = 4096  # boxes per pivot test call
@@ -91,10 +92,26 @@ def calibrated_radii(family, points, values, lo, hi, free, drop=0.1, sign=1.0):
 def _prove(family, sign, gamma, centres, radii, rho, budget, deadline):
     """Halve boxes until every one passes the pivot test of sign (M - gamma I): the passing partition (centres,
     radii) and the boxes tested, or None (and the boxes tested) when the budget or the deadline ran out first."""
+    stack = family.z.shape[0]
+
+    def test(c, r):
+        ok, losses = pivot_test(family, sign, np.full((len(c), stack), -sign * gamma), c, r)
+        return ok.all(1), losses
+
+    def score(r, losses):
+        return r / rho if sign > 0 else np.where(r > 0, losses, -1.0) * (r / rho)
+
+    return partition(test, score, centres, radii, budget, deadline)
+
+
+def partition(test, score, centres, radii, budget, deadline):
+    """Branch and bound: halve the boxes (centres, radii) that fail ``test`` (c, r) -> (ok (K,), losses (K, n)),
+    each in the coordinate of the largest ``score`` (r, losses) (a heuristic), until every box passes: (the passing
+    partition (centres, radii), boxes tested), or (None, boxes tested) when ``budget`` boxes or the ``deadline``
+    ran out first, or a box of radius below 1e-9 failed (the target is above the value there)."""
     pending = [(centres, radii)]
     done_c, done_r = [], []
     tested = 0
-    stack = family.z.shape[0]
     while pending:
         c, r = pending.pop()
         if len(c) > CHUNK:
@@ -103,8 +120,7 @@ def _prove(family, sign, gamma, centres, radii, rho, budget, deadline):
         tested += len(c)
         if tested > budget or time.perf_counter() > deadline:
             return None, tested
-        ok, losses = pivot_test(family, sign, np.full((len(c), stack), -sign * gamma), c, r)
-        ok = ok.all(1)
+        ok, losses = test(c, r)
         losses = losses[~ok]
         done_c.append(c[ok])
         done_r.append(r[ok])
@@ -113,8 +129,7 @@ def _prove(family, sign, gamma, centres, radii, rho, budget, deadline):
             continue
         if r.max() < 1e-9:  # a point fails: gamma is above the value there
             return None, tested
-        score = r / rho if sign > 0 else np.where(r > 0, losses, -1.0) * (r / rho)
-        axis = np.argmax(score, 1)
+        axis = np.argmax(score(r, losses), 1)
         rows = np.arange(len(c))
         half = r.copy()
         half[rows, axis] *= 0.5

@@ -2,7 +2,8 @@
 (Loewner-monotone, O(n) 6 x 6 operations per box and trial value). Used, through the ladder of
 :mod:`inertiaproof.bounds.pivot_search`, for inf_q sigma_min(QJ)^2 (unit bodies, Definition 2) and Theorem 2's
 inf lambda_min(M) >= inf lambda_min(sum_l mu_l QJ_l^T QJ_l) (isotropic bodies), where it is well behaved, in
-profiles with a budget of at least ``PIVOT_MIN_S`` seconds per bracket.
+profiles with a budget of at least ``PIVOT_MIN_S`` seconds per bracket; and by :mod:`inertiaproof.bounds.interface`
+for the two halves of a chain split at a body (:func:`articulated_lower`, :func:`interface_test`, ``top``).
 
 Measured (issue 12, Panda's sampled minimiser, bound / value at the centre for a box of the radius in every free
 joint): unit bodies 0.98 (0.01 rad), 0.90 (0.1 rad), 0.51 (0.3 rad); with real inertias (2 kg) 0.99 (0.03 rad),
@@ -58,8 +59,8 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .spectral import EPS, ROUNDING
 
-__all__ = ["METRICS", "PIVOT_LIMIT", "PIVOT_MIN_S", "PivotFamily", "RIDGE", "RIDGES", "SWITCH", "pivot_bounds",
-           "pivot_test"]
+__all__ = ["METRICS", "PIVOT_LIMIT", "PIVOT_MIN_S", "PivotFamily", "RIDGE", "RIDGES", "SWITCH",
+           "articulated_lower", "interface_test", "pivot_bounds", "pivot_test"]
 
 PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot ladders run (ci and deep; audits skip them)
 PIVOT_LIMIT = 8  # free coordinates up to which the ladders run (a 7-joint arm and its gripper's slide)
@@ -250,48 +251,86 @@ class PivotFamily:
         return np.swapaxes(t, -1, -2) @ q @ t
 
 
-def pivot_test(family: PivotFamily, sign, armature, centres, radii):
+def pivot_test(family: PivotFamily, sign, armature, centres, radii, top=None):
     """Whether sign * M(q) + a I > 0 on each box for every parameter set: (K, V) booleans, and per joint the
-    relative loss of its turn (K, n) (where splitting helps). ``armature`` (K, V). From 2 ``SPLIT`` boxes on, the
-    boxes are split over the cores' threads (batched NumPy and LAPACK release the GIL; the answer is the same)."""
+    relative loss of its turn (K, n) (where splitting helps). ``armature`` (K, V). ``top``: the chain of joints
+    0..top only, body top's inertia that of the family (a head of :mod:`inertiaproof.bounds.interface`).
+    From 2 ``SPLIT`` boxes on, the boxes are split over the cores' threads (batched NumPy and LAPACK release the
+    GIL; the answer is the same)."""
+    return _threaded(lambda *a: _pivot_test(family, sign, *a, top=top), armature, centres, radii)
+
+
+def interface_test(family: PivotFamily, armature, lower, k, centres, radii):
+    """Whether the articulated inertia A_k(q) that the tail (bodies k+1..n-1) hands to body k, with armature a, is
+    >= ``lower`` (V, 6, 6) on each box, every pivot of joints k+1..n-1 positive: (K, V) booleans and the turns'
+    relative losses (K, n). The Loewner lower bound of A_k (:func:`articulated_lower`) less ``lower`` is checked
+    definite with lambda_min moved down by ``ROUNDING`` eps (||A_k bound||_F + ||lower||_F) (Weyl: the bound's last
+    sum Z_k + turned part, the subtraction and the eigensolver)."""
+    def test(armature, centres, radii):
+        ok, a, losses = articulated_lower(family, armature, k, centres, radii)
+        slack = ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + np.linalg.norm(lower, axis=(-2, -1)))
+        return ok & (np.linalg.eigvalsh(a - lower)[..., 0] - slack > 0), losses
+
+    return _threaded(test, armature, centres, radii)
+
+
+def articulated_lower(family: PivotFamily, armature, k, centres, radii):
+    """A Loewner lower bound over each box of A_k(q), the articulated inertia with armature a (K, V) that bodies
+    k+1..n-1 hand to body k (A_k = Z_k + Phi_(k+1)^T P_(k+1) Phi_(k+1)): (whether every pivot of joints k+1..n-1
+    is positive (K, V), the bound (K, V, 6, 6), the turns' relative losses (K, n)). At radius 0: A_k(q) less its
+    rounding allowance."""
+    return _descend(family, family.z, armature, centres, radii, family.chain.n - 1, k, True)
+
+
+def _threaded(test, armature, centres, radii):
     workers = min(THREADS, len(centres) // SPLIT)
     if workers < 2:
-        return _pivot_test(family, sign, armature, centres, radii)
+        return test(armature, centres, radii)
     parts = np.array_split(np.arange(len(centres)), workers)
     with ThreadPoolExecutor(workers) as pool:
-        found = list(pool.map(lambda k: _pivot_test(family, sign, armature[k], centres[k], radii[k]), parts))
+        found = list(pool.map(lambda k: test(armature[k], centres[k], radii[k]), parts))
     return np.concatenate([ok for ok, _ in found]), np.concatenate([loss for _, loss in found])
 
 
-def _pivot_test(family, sign, armature, centres, radii):
-    z = sign * family.z  # (V, N, 6, 6)
-    k_count = len(centres)
-    n = family.chain.n
-    a = np.broadcast_to(z[None, :, n - 1], (k_count,) + z.shape[:1] + (6, 6)).copy()
-    ok = np.ones((k_count, z.shape[0]), bool)
-    losses = np.zeros((k_count, n))
-    for b in range(n - 1, -1, -1):
-        s = family.twists[b]
-        u = a @ s
-        d = u @ s + armature
-        d = d - ROUNDING * EPS * (np.dot(s, s) * np.linalg.norm(a, axis=(-2, -1)) + np.abs(armature))
+def _schur(a, s, armature):
+    """The pivot D = s^T A s + a and the Schur complement P = A - A s s^T A / D, both rounded down (P where D > 0)."""
+    u = a @ s
+    d = u @ s + armature
+    d = d - ROUNDING * EPS * (np.dot(s, s) * np.linalg.norm(a, axis=(-2, -1)) + np.abs(armature))
+    safe = np.where(d > 0, d, 1.0)
+    p = a - u[..., :, None] * u[..., None, :] / safe[..., None, None]
+    p = p - (ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + (u * u).sum(-1) / safe))[..., None, None] * np.eye(6)
+    return d, p
+
+
+def _descend(family, z, armature, centres, radii, top, bottom, relative):
+    """The pivots of joints top..bottom + 1 from A_top = Z_top and the turns between them: (ok (K, V), the Loewner
+    lower bound of A_bottom (K, V, 6, 6), the turns' losses (K, n))."""
+    a = np.broadcast_to(z[None, :, top], (len(centres),) + z.shape[:1] + (6, 6)).copy()
+    ok = np.ones((len(centres), z.shape[0]), bool)
+    losses = np.zeros((len(centres), family.chain.n))
+    for b in range(top, bottom, -1):
+        d, p = _schur(a, family.twists[b], armature)
         ok &= d > 0
-        if b == 0:
-            break
-        safe = np.where(d > 0, d, 1.0)
-        p = a - u[..., :, None] * u[..., None, :] / safe[..., None, None]
-        p = p - (ROUNDING * EPS * (np.linalg.norm(a, axis=(-2, -1)) + (u * u).sum(-1) / safe))[..., None, None] * np.eye(6)
-        if b == 1:  # the last turn is seen only along s_0: its scalar form
-            s0 = family.twists[0]
-            form, form_loss = family.rotated_form_lower(b, p, centres[:, b], radii[:, b], s0)
-            d0 = (z[:, 0] @ s0) @ s0 + form + armature
-            losses[:, b] = (form_loss / np.maximum(np.abs(d0), 1e-300)).max(1)
-            d0 = d0 - ROUNDING * EPS * (np.dot(s0, s0) * np.linalg.norm(z[:, 0], axis=(-2, -1)) + np.abs(form) + np.abs(armature))
-            ok &= d0 > 0
-            break
-        g, loss = family.rotated_lower(b, p, centres[:, b], radii[:, b], relative=sign > 0)
+        g, loss = family.rotated_lower(b, p, centres[:, b], radii[:, b], relative=relative)
         losses[:, b] = loss.max(1)
         a = z[None, :, b - 1] + g
+    return ok, a, losses
+
+
+def _pivot_test(family, sign, armature, centres, radii, top=None):
+    z = sign * family.z  # (V, N, 6, 6)
+    top = family.chain.n - 1 if top is None else top
+    ok, a, losses = _descend(family, z, armature, centres, radii, top, min(top, 1), sign > 0)
+    d, p = _schur(a, family.twists[min(top, 1)], armature)
+    ok &= d > 0
+    if top >= 1:  # the last turn (joint 1) is seen only along s_0: its scalar form
+        s0 = family.twists[0]
+        form, form_loss = family.rotated_form_lower(1, p, centres[:, 1], radii[:, 1], s0)
+        d0 = (z[:, 0] @ s0) @ s0 + form + armature
+        losses[:, 1] = (form_loss / np.maximum(np.abs(d0), 1e-300)).max(1)
+        d0 = d0 - ROUNDING * EPS * (np.dot(s0, s0) * np.linalg.norm(z[:, 0], axis=(-2, -1)) + np.abs(form) + np.abs(armature))
+        ok &= d0 > 0
     return ok, losses
 
 
