@@ -27,7 +27,8 @@ Fourier coefficients); with a Fourier series (at most FOURIER_LIMIT free turning
 coordinates on a grid over their joint limits (:mod:`inertiaproof.bounds.fourier`, :func:`fourier_perron_bound`).
 With a budget of PIVOT_MIN_S or more per bracket and at most PIVOT_LIMIT free coordinates, the infima adopt a
 ladder of targets proved with the articulated-body pivots of M - gamma I (:mod:`inertiaproof.bounds.pivot_search`;
-with a deep budget first the chain split at a body, :mod:`inertiaproof.bounds.interface`), and the suprema, where still wider than the ladder's goal, the same ladder on gamma I - M (:func:`_tighten_by_ladder`).
+with a deep budget first the chain split at a body, :mod:`inertiaproof.bounds.interface`), and the suprema, where
+still wider than the ladder's goal, the same ladder on gamma I - M (:func:`_tighten_by_ladder`).
 Every bracket adopts a sharper certified side only through :meth:`inertiaproof.bounds.extremes.Bracket.tighten`.
 
 Over time, Theta(t) of payloads and scalings lies on segments
@@ -672,7 +673,7 @@ def mass_inf(chain, thetas, **kw):
                                   f"and bound over its own coordinates (inertiaproof.bounds.interface): {how}")
 
         first = [(iso_values.min(), 1.0, isotropic), (axial_inf, AXIAL_FIRST, axial_form)]
-        if refine_s >= DEEP_S:  # the split first (no form's gap; Panda 1.01x in 11 s), then every form by its
+        if refine_s >= DEEP_S:  # the split first (no form's gap; Panda 1.01x in 16 s), then every form by its
             split()  # sampled inf alone (a deep ladder nearly closes any form)
             if short(np.inf):
                 run_in_order(first + later_forms(), handicaps=False)

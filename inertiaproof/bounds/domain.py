@@ -30,7 +30,7 @@ def certification_obstacle(chain):
 
 def search_box(chain):
     """The configuration box: joint limits, one period for unlimited revolute joints, and one period from the lower
-    limit for a revolute joint whose limits span more (UR5's +-2 pi: every quantity bracketed is a function of
+    limit for a revolute joint whose limits span more (example-robot-data's UR5: +-2 pi; every quantity bracketed is a function of
     cos q_j and sin q_j, so the box holds every value the limits allow, and it is half as wide)."""
     lo, hi = chain.coordinate_box()
     periodic = np.array([j.revolute and j.coordinate.name == "identity" for j in chain.joints], bool)
