@@ -133,11 +133,12 @@ def test_an_interface_inertia_raised_is_refused_by_the_tail_and_caught_without_i
     refuses it (nothing proved). With a tail test that passes every box the split claims that target, and the
     sample check catches it."""
     chain, thetas, q, values = _panda()
-    real = interface._interfaces
+    real, found = interface._interfaces, []
 
-    def raised(chain, family, z, k, gamma, margin, q_tail, q_head):
-        lower, floors = real(chain, family, z, k, gamma / 1.2, margin, q_tail, q_head)[0]
-        return [(lower + 0.05 * np.eye(6), np.full(len(lower), np.inf))]
+    def raised(chain, family, z, k, gamma, margin, q_tail, q_head):  # both runs: the same rung, one SDP
+        if not found:
+            found.append(real(chain, family, z, k, gamma / 1.2, margin, q_tail, q_head)[0][0])
+        return [(found[0] + 0.05 * np.eye(6), np.full(len(found[0]), np.inf))]
 
     monkeypatch.setattr(interface, "_interfaces", raised)
     monkeypatch.setattr(interface, "RUNGS", (1 / 1.1,))

@@ -56,7 +56,7 @@ from .domain import (
 from .extremes import bracket_extreme
 from .fourier import PAIR_CELLS, SINGLE_CELLS, FourierFamily, certified_entry_sups, perron_of
 from .axial_form import axial_lower_form, form_lmin
-from .interface import split_ladder
+from .interface import EVIDENCE, split_ladder
 from .pivot_search import DEEP_S, EXTRA, ladder_budget, ladder_goal, pivot_ladder
 from .pivots import METRICS, PIVOT_LIMIT, PIVOT_MIN_S, PivotFamily
 from .taylor import MassFamily, box_bounds, perron_bound
@@ -433,12 +433,11 @@ def jacobian_normality(chain, **kw):
                    "certified side from the block-triangular structure of QJ (unit twist of joint l in column l of "
                    "body l's block, lengths bound the rest): valid for every q")
     refine_s = kw.get("refine_s", 0.0)
-    if _ladders_run(chain, refine_s) and refine_s >= DEEP_S:  # the split first (Panda 1.01x in 6 s, the ladder's
-        gamma, how = split_ladder(chain, unit, result.observed, refine_s, floor=result.lower)  # 1.03x in 32 s)
-        result.tighten(gamma, "(QJ)^T QJ - gamma I > 0 from the chain split at a body (unit bodies: the tail's "
-                              "articulated inertia above an interface inertia L, the head's pivots with L; each proved "
-                              f"by branch and bound over its own coordinates, inertiaproof.bounds.interface): {how}")
-    if _ladders_run(chain, refine_s) and (refine_s < DEEP_S or result.upper > ladder_goal(refine_s) * result.lower):
+    ladders = _ladders_run(chain, refine_s)
+    if ladders and refine_s >= DEEP_S:  # the split first (Panda 1.01x in 6 s, the ladder's 1.03x in 32 s)
+        gamma, how = split_ladder(chain, unit, result.observed, refine_s, floor=result.lower)
+        result.tighten(gamma, f"(QJ)^T QJ - gamma I > 0 (unit bodies) {EVIDENCE}: {how}")
+    if ladders and (refine_s < DEEP_S or result.upper > ladder_goal(refine_s) * result.lower):
         gamma, how = pivot_normality(chain, refine_s, kw.get("samples", 2000), detail=True)
         result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body "
                               f"pivots of (QJ)^T QJ - gamma I on each box (inertiaproof.bounds.pivot_search): {how}")
@@ -668,9 +667,7 @@ def mass_inf(chain, thetas, **kw):
 
         def split():
             gamma, how = split_ladder(chain, thetas, result.observed, refine_s, floor=result.lower)
-            result.tighten(gamma, "M(q) - gamma I > 0 from the chain split at a body: the tail's articulated inertia "
-                                  "above an interface inertia L and the head's pivots with L, each proved by branch "
-                                  f"and bound over its own coordinates (inertiaproof.bounds.interface): {how}")
+            result.tighten(gamma, f"M(q) - gamma I > 0 {EVIDENCE}: {how}")
 
         first = [(iso_values.min(), 1.0, isotropic), (axial_inf, AXIAL_FIRST, axial_form)]
         if refine_s >= DEEP_S:  # the split first (no form's gap; Panda 1.01x in 16 s), then every form by its

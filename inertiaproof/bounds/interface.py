@@ -36,10 +36,13 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .domain import free_coordinates, search_box
 from .pivot_search import ladder_budget, partition
-from .pivots import PivotFamily, articulated_lower, interface_test, pivot_test
+from .pivots import PivotFamily, _sym, articulated_lower, interface_test, pivot_test
 
-__all__ = ["RUNGS", "SAMPLES", "SPLIT_MIN", "head_terms", "interface_inertia", "split_body", "split_ladder"]
+__all__ = ["EVIDENCE", "RUNGS", "SAMPLES", "SPLIT_MIN", "head_terms", "interface_inertia", "split_body", "split_ladder"]
 
+EVIDENCE = ("from the chain split at a body: the tail's articulated inertia above an interface inertia L and the "
+            "head's pivots with L, each proved by branch and bound over its own coordinates "
+            "(inertiaproof.bounds.interface)")  # how a bracket cites the split's certified side
 RUNGS = (1.01, 1.02, 1.05, 1.1, 1.25, 1.6, 1.95)  # observed / target, the most ambitious first (each its own L)
 SAMPLES = 4000  # configurations each side of the SDP is checked on (the cutting planes come from them)
 SPLIT_MIN = 4  # free coordinates from which a chain is split (3R's two: the ladders over both prove 1.01x, the split
@@ -123,8 +126,7 @@ def interface_inertia(tail, metric, fixed, jac, tail_margin, head_floor):
 def _abs_metric(a):
     """|A| plus 1e-2 of its largest |eigenvalue|: the tail's margin is relative in every direction."""
     w, u = np.linalg.eigh(a)
-    w = np.abs(w) + 1e-2 * np.abs(w).max(-1, keepdims=True)
-    return (u * w[..., None, :]) @ np.swapaxes(u, -1, -2)
+    return _sym(u, np.abs(w) + 1e-2 * np.abs(w).max(-1, keepdims=True))
 
 
 def _interfaces(chain, family, z, k, gamma, margin, q_tail, q_head):
