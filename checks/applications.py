@@ -28,6 +28,7 @@ from hypothesis import Phase
 
 from inertiaproof.bounds import formulas
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup
+from inertiaproof.checks.normality import refutations, unit_bodies
 from inertiaproof.counterexamples.adaptive_runs import euclidean_runs
 from inertiaproof.dynamics import motion
 from inertiaproof.model.inertia import pseudo_inertia
@@ -342,13 +343,17 @@ def bound_case(chain, run, q_samples, gamma, sigma, xi=None, zeta=None):
 
 
 def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, xi_override=None):
-    """APP-estimate-bounds on the GRE runs of the scenes' studies; the overrides feed wrong inputs (tests)."""
+    """APP-estimate-bounds on the GRE runs of the scenes' studies; the overrides feed wrong inputs (tests).
+    A QJ bracket whose certified side lies beyond the value attained at its witness (an inverted bracket) refutes
+    the certificate the constants rest on: VIOLATED whatever the runs show, with a "bound-bracket" counterexample
+    (checks.normality.bracket_refuted)."""
     s = settings_for(ctx)
     cases, verdicts, figures, brackets = {}, [], {}, {}
-    violation = None
+    violation, refuted = None, []
     for key in keys:
         st = study(ctx, key)
-        chain = scene_of(key).chain
+        scene = scene_of(key)
+        chain = scene.chain
         stiff = [(r, run) for r, run in zip(st["recipes"], st["runs"])
                  if r.plant == "gre" and run.status in tracking.NOT_STARTED]
         if stiff and len(stiff) == sum(r.plant == "gre" for r in st["recipes"]):  # no run to check: no brackets
@@ -357,6 +362,10 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
                     "status": run.status, "applicable": False, "why": run.note}
             continue
         gamma_b, sigma_b = qj_brackets(ctx, chain, key)
+        found = refutations("APP-estimate-bounds", [(scene, gamma_b, unit_bodies(chain)[None], "lmin"),
+                                                    (scene, sigma_b, unit_bodies(chain)[None], "lmax", True)])
+        verdicts += [f[0] for f in found]
+        refuted += found
         gamma = gamma_b.lower if gamma_override is None else gamma_override
         sigma = sigma_b.upper if sigma_override is None else sigma_override
         brackets[key] = {
@@ -402,6 +411,9 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
     if not verdicts:
         verdicts = [Verdict.INCONCLUSIVE]
     verdict = combine(verdicts)
+    lead = next((f for f in refuted if f[0] == Verdict.VIOLATED), refuted[0] if refuted else None)
+    if lead is not None and lead[3] is not None:  # the refuted certificate before any run's margin
+        violation = lead[3]
     worst = min(applicable, key=lambda c: min(c["lower_margin"], c["upper_margin"])) if applicable else None
     natural = [c for name, c in cases.items() if ", natural," in name]
     stiff = [c for c in cases.values() if c["status"] in tracking.NOT_STARTED]
@@ -411,6 +423,8 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
                   f"(tightness alpha1 / inf lambda_min {worst['tightness_lower']:.2g}, "
                   f"sup lambda_max / alpha2 {worst['tightness_upper']:.2g})" if worst else "no run to check")
                + (f"; {len(stiff)} runs {stiff[0]['status']}, {stiff[0]['why']}" if stiff else ""))
+    if lead is not None:
+        summary = f"{lead[1]}; {summary}"
     evidence = {"runs": rows, "qj_brackets": brackets, "figures": figures,
                 "smallest_margin": quantity(min((min(c["lower_margin"], c["upper_margin"]) for c in applicable),
                                                 default=np.nan), "margin",
@@ -421,7 +435,10 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
                         "are sampled (the run's configurations, random ones and the brackets' witnesses): a sampled "
                         "inf is an upper estimate, so a negative margin is a true violation, a positive one is not "
                         "a proof."}
-    return Result("APP-estimate-bounds", verdict, summary, evidence, counterexample=violation)
+    if refuted:
+        evidence["refuted_certificates"] = {f[1]: f[2] for f in refuted}
+    return Result("APP-estimate-bounds", verdict, summary, evidence,
+                  counterexample=violation if verdict == Verdict.VIOLATED else None)
 
 
 def _case_row(case):

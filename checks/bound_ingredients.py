@@ -8,11 +8,12 @@ or the composite mass matrix):
 
 - configuration brackets (inf sigma_min(QJ)^2, sup sigma_max(QJ), inf
   lambda_min(M), sup lambda_max(M)): the observed value is the value at its
-  witness, and no sampled configuration (with Theta(t) at a sampled time of
-  the trajectory itself) lies beyond the certified side;
+  witness, and neither the witness nor any sampled configuration (with
+  Theta(t) at a sampled time of the trajectory itself) lies beyond the
+  certified side (a certified side beyond the witness: an inverted bracket);
 - time extremes (lambda_min/max of f(Phi_l(t)) and Z(Phi_l(t)), sigma_max of
   f(Phidot), Z(Phidot)) and the lumped velocity bounds Psi*, dPsi*: no time of a
-  fine grid lies beyond the certified side;
+  fine grid, nor the value the extreme attains, lies beyond the certified side;
 - constants: the paper's alpha1 = xi gamma and alpha2 = 2 zeta S^2 from the
   bracketed ingredients by the paper's formulas, and the sharpest certified
   constants no sharper than their certified ingredients allow;
@@ -91,25 +92,30 @@ def configuration_findings(ctx, scene, thetas):
     s = _singular_values(chain, q)
     lam = _sampled_mass_eigenvalues(scene, q, rng)
     at = lambda b: np.asarray(b.witness, float)[None]  # noqa: E731
+    witness = {"gamma": _singular_values(chain, at(gamma))[0, -1] ** 2,
+               "sigma": _singular_values(chain, at(sigma))[0, 0],
+               "low": _mass_eigenvalues(chain, at(low), thetas)[0, :, 0].min(),
+               "high": _mass_eigenvalues(chain, at(high), thetas)[0, :, -1].max()}
     out = {
-        "inf sigma_min(QJ)^2: value at the witness": _mismatch(_singular_values(chain, at(gamma))[0, -1] ** 2,
-                                                               gamma.observed),
-        "sup sigma_max(QJ): value at the witness": _mismatch(_singular_values(chain, at(sigma))[0, 0], sigma.observed),
-        "inf lambda_min(M): value at the witness": _mismatch(_mass_eigenvalues(chain, at(low), thetas)[0, :, 0].min(),
-                                                             low.observed),
-        "sup lambda_max(M): value at the witness": _mismatch(_mass_eigenvalues(chain, at(high), thetas)[0, :, -1].max(),
-                                                             high.observed),
+        "inf sigma_min(QJ)^2: value at the witness": _mismatch(witness["gamma"], gamma.observed),
+        "sup sigma_max(QJ): value at the witness": _mismatch(witness["sigma"], sigma.observed),
+        "inf lambda_min(M): value at the witness": _mismatch(witness["low"], low.observed),
+        "sup lambda_max(M): value at the witness": _mismatch(witness["high"], high.observed),
         "M of the brackets = (QJ)^T Z QJ": _mismatch(composite.mass_matrix(chain, q[:, None], thetas[None]),
                                                      np.stack([terms.mass_matrix(chain.body_jacobian(q), th)
                                                                for th in thetas], 1)),
     }
-    for name, bracket, values, sense in (("inf sigma_min(QJ)^2", gamma, s[:, -1] ** 2, "min"),
-                                         ("sup sigma_max(QJ)", sigma, s[:, 0], "max"),
-                                         ("inf lambda_min(M(q, Theta(t)))", low, lam[..., 0], "min"),
-                                         ("sup lambda_max(M(q, Theta(t)))", high, lam[..., -1], "max")):
+    for name, key, bracket, values, sense in (("inf sigma_min(QJ)^2", "gamma", gamma, s[:, -1] ** 2, "min"),
+                                              ("sup sigma_max(QJ)", "sigma", sigma, s[:, 0], "max"),
+                                              ("inf lambda_min(M(q, Theta(t)))", "low", low, lam[..., 0], "min"),
+                                              ("sup lambda_max(M(q, Theta(t)))", "high", high, lam[..., -1], "max")):
         side = bracket.lower if sense == "min" else bracket.upper
         if np.isfinite(side):
             out[f"{name}: samples within the certified side"] = _beyond(values, side, sense)
+            # a certified side beyond the value attained at the witness (an inverted bracket) refutes the certificate
+            at_witness = [v for v in (float(witness[key]), float(bracket.observed)) if np.isfinite(v)]
+            if at_witness:
+                out[f"{name}: witness within the certified side"] = _beyond(at_witness, side, sense)
     return out, {"gamma": gamma, "sigma": sigma, "low": low, "high": high, "q": q, "lam": lam}
 
 
@@ -142,6 +148,9 @@ def time_findings(trajectory, extremes):
         found = extremes[name]
         if np.isfinite(found["certified"]) and finite.any():
             out[f"{name}: grid within the certified side"] = _beyond(values[finite], found["certified"], found["sense"])
+        if np.isfinite(found["certified"]) and np.isfinite(found["observed"]):  # the attained value: an inverted one
+            out[f"{name}: attained value within the certified side"] = _beyond([found["observed"]], found["certified"],
+                                                                               found["sense"])
     if trajectory.internal_motion:
         psi, psi_dot = trajectory.psi(t)
         bounds = lumped_velocity_bounds(trajectory)

@@ -5,13 +5,22 @@ judged from a Bracket of the true extreme (inertiaproof.bounds.extremes) and the
 range the constant can take given its bracketed ingredients, and from the
 proof's pointwise inequality at sampled (q, t) (checks.pointwise):
 
-- VIOLATED: a value attained at a witness lies beyond every value the
-  constant can have, by more than the resolution; or a sampled point breaks
-  the pointwise inequality by more than its resolution;
+- VIOLATED, whatever else holds: the certified side of the extreme lies
+  beyond a value attained at its witness (an inverted bracket: the
+  certificate is refuted); or a value attained at a witness lies beyond every
+  value the constant can have; or a sampled point breaks the pointwise
+  inequality, or a reported constant fails against a sampled left-hand side,
+  by more than the resolution;
 - HOLDS: the certified side of the extreme lies within every value the
   constant can have; or the proof covers the constant (its key step is
   certified for all Phi) and no sampled point breaks the pointwise inequality;
 - INCONCLUSIVE otherwise.
+
+Brackets are shared by the checks of a run (:func:`cached`) under the scene's name and a digest of its chain
+and trajectory: two scenes that share a name (hunted scenes are named by their sample seed) never share a
+bracket. A "bound-bracket" counterexample carries the certified side with the witness and the parameter sets,
+and the case replays it before it reports it (:func:`replay_bound_bracket`): a VIOLATED the saved file cannot
+show is not reported as one.
 
 The ``constants`` evidence (the report plots it) says what each number is:
 ``paper`` is the paper's constant evaluated with certified ingredients (an
@@ -23,6 +32,9 @@ samples (a one-sided estimate of the true extreme).
 """
 
 from __future__ import annotations
+
+import hashlib
+import json
 
 import numpy as np
 from inertiaproof.checks.pointwise import (
@@ -47,14 +59,23 @@ from inertiaproof.result import Result, Verdict, combine, quantity
 from inertiaproof.suite.registry import replayer
 
 __all__ = [
-    "cached", "case_result", "constants_evidence", "judge", "key_step_evidence", "kw", "parameter_stack",
-    "pointwise_on_scene", "replay_bound_bracket", "REPORTED_KINDS", "replay_bracket", "run_scenes", "sampled_bracket",
-    "scene_samples", "shown", "time_and_configuration_bracket", "time_quantities",
+    "bracket_refutation", "cached", "case_result", "constants_evidence", "inverted_bracket", "inverted_extreme",
+    "judge", "key_step_evidence", "kw", "parameter_stack", "pointwise_on_scene", "replay_bound_bracket",
+    "REPORTED_KINDS", "replay_bracket", "run_scenes", "sampled_bracket", "scene_digest", "scene_samples", "shown",
+    "time_and_configuration_bracket", "time_quantities",
 ]
 
 def cached(ctx, scene, what, fn):
-    """fn() once per run, scene and quantity: corollaries reuse the theorems' brackets."""
-    return ctx.shared(("bracket", scene.name, scene.description, what), fn)
+    """fn() once per run, scene and quantity: corollaries reuse the theorems' brackets. The key holds a digest of
+    the scene's chain and trajectory (:func:`scene_digest`), not only its name: hunted scenes are named by their
+    sample seed, which Hypothesis draws again and again (0 above all) with other chains and trajectories."""
+    return ctx.shared(("bracket", scene.name, scene.description, scene_digest(scene), what), fn)
+
+
+def scene_digest(scene):
+    """SHA-256 of what a scene's brackets are computed from: its chain and its parameter trajectory."""
+    text = json.dumps([scene.chain.to_data(), trajectory_to_data(scene.trajectory)], sort_keys=True, default=repr)
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def kw(ctx, scene, what, share=1.0):
@@ -135,25 +156,62 @@ def _reported_evidence(reported):
                            "(times the factor for the paper's)") for name, v in reported.items()}
 
 
+def inverted_bracket(lhs):
+    """Whether the certified side of a Bracket lies beyond the value attained at its witness by more than the
+    resolution (a certified sup below, or a certified inf above, a value attained at the witness): the certificate
+    is refuted by its own witness."""
+    with np.errstate(invalid="ignore"):
+        return bool(lhs.upper < lhs.lower - RESOLUTION * (abs(lhs.lower) + abs(lhs.upper)))
+
+
+def inverted_extreme(found):
+    """Whether the certified side of a time extreme (inertiaproof.bounds.time.time_extreme: observed, certified,
+    sense) lies beyond the value it attains on its time grid by more than the resolution: an inverted bracket."""
+    certified, observed = float(found["certified"]), float(found["observed"])
+    if not (np.isfinite(certified) and np.isfinite(observed)):
+        return False
+    tol = RESOLUTION * (abs(certified) + abs(observed))
+    return bool(certified > observed + tol if found["sense"] == "min" else certified < observed - tol)
+
+
+def bracket_refutation(sense, lhs, constant_lower, constant_upper):
+    """Why the bracket of the extreme alone refutes 'extreme <= (upper) / >= (lower) the constant' (an inverted
+    bracket, or a value attained at the witness beyond every value the constant can have), or None."""
+    if inverted_bracket(lhs):
+        side = "upper" if lhs.sense == "max" else "lower"
+        return (f"the certified {side} side of the extreme ({float(lhs.certified):.6g}) lies beyond a value attained "
+                f"at the witness ({float(lhs.observed):.6g}): the certificate is refuted")
+    bound = constant_upper if np.isfinite(constant_upper) else constant_lower
+    tol = RESOLUTION * (abs(lhs.observed) + abs(bound))
+    if sense == "upper" and lhs.observed > constant_upper + tol:
+        return "a value attained at the witness exceeds the largest value the constant can have"
+    if sense != "upper" and lhs.observed < constant_lower - tol:
+        return "a value attained at the witness is below the smallest value the constant can have"
+    return None
+
+
 def judge(sense, lhs, constant_lower, constant_upper, *, proof_covers, pointwise_violated):
     """(verdict, why) of 'extreme of the left-hand side <= (upper) / >= (lower) the constant'.
 
     ``lhs`` is a Bracket of the true extreme; the constant lies in [constant_lower, constant_upper].
+    ``pointwise_violated``: a sampled (q, t) breaks the proof's pointwise inequality, or a reported constant fails
+    against a sampled left-hand side (:func:`pointwise_on_scene`). Refutations come first, whatever else holds: an
+    inverted bracket, a value attained beyond the constant, a pointwise violation; then the certified side.
     """
+    why = bracket_refutation(sense, lhs, constant_lower, constant_upper)
+    if why is not None:
+        return Verdict.VIOLATED, why
+    if pointwise_violated:
+        return Verdict.VIOLATED, ("the proof's pointwise inequality, or a constant the check reports, fails at a "
+                                  "sampled (q, t) beyond its resolution")
     bound = constant_upper if np.isfinite(constant_upper) else constant_lower
     tol = RESOLUTION * (abs(lhs.observed) + abs(bound))
     if sense == "upper":
-        if lhs.observed > constant_upper + tol:
-            return Verdict.VIOLATED, "a value attained at the witness exceeds the largest value the constant can have"
         if lhs.upper < constant_lower - tol:
             return Verdict.HOLDS, "the certified upper side of the extreme is below the constant"
     else:
-        if lhs.observed < constant_lower - tol:
-            return Verdict.VIOLATED, "a value attained at the witness is below the smallest value the constant can have"
         if lhs.lower > constant_upper + tol:
             return Verdict.HOLDS, "the certified lower side of the extreme is above the constant"
-    if pointwise_violated:
-        return Verdict.VIOLATED, "the proof's pointwise inequality fails at a sampled (q, t) beyond its resolution"
     if proof_covers:
         return Verdict.HOLDS, ("the certified proof covers this constant (key step certified for all Phi) and its "
                                "pointwise inequality held at every sample")
@@ -194,11 +252,33 @@ def case_result(check_id, scene, sense, lhs, constant_range, k, proof_factor, po
         **extra,
     }
     counterexample = None
-    if verdict == Verdict.VIOLATED:
-        counterexample = pointwise["counterexample"] if pointwise["violated"] else {"kind": "bound-bracket", "data": {
-            "id": check_id, "scene": scene.name, "factor": k, "sense": sense, "chain": scene.chain.to_data(),
-            "witness": np.asarray(lhs.witness).tolist(), "observed": lhs.observed, "constant_upper": hi,
-            "constant_lower": lo, **{key: np.asarray(v).tolist() for key, v in (replay or {}).items()}}}
+    if verdict == Verdict.VIOLATED and bracket_refutation(sense, lhs, lo, hi) is None:  # the samples refute it
+        counterexample = pointwise["counterexample"]
+        if counterexample is not None and counterexample["kind"] == "bound-constant":
+            why = (f"the reported {counterexample['data']['constant']} constant fails against a sampled left-hand "
+                   f"side beyond the resolution")
+        else:
+            why = "the proof's pointwise inequality fails at a sampled (q, t) beyond its resolution"
+        evidence["why"] = why
+    elif verdict == Verdict.VIOLATED:  # the bracket refutes it: its witness and parameter sets show it
+        certified = None if lhs.certified is None or not np.isfinite(lhs.certified) else float(lhs.certified)
+        counterexample = {"kind": "bound-bracket", "data": {
+            "id": check_id, "scene": scene.name, "description": scene.description, "factor": k, "sense": sense,
+            "chain": scene.chain.to_data(), "trajectory": trajectory_to_data(scene.trajectory),
+            "witness": np.asarray(lhs.witness).tolist(), "observed": lhs.observed, "certified": certified,
+            "bracket_sense": lhs.sense, "constant_upper": hi, "constant_lower": lo,
+            **{key: np.asarray(v).tolist() for key, v in (replay or {}).items()}}}
+        if replay:  # the file must show what the check saw: replay it before reporting it
+            replayed = replay_bound_bracket(counterexample["data"], None)
+            if replayed.verdict != Verdict.VIOLATED:
+                why = (f"{why}; but on the parameter sets the check saves, the left-hand side at the witness is "
+                       f"{replayed.evidence['value']['value']:.6g} and refutes nothing: the bracket's attained value "
+                       f"was not computed on the scene's parameters")
+                verdict, counterexample = Verdict.INCONCLUSIVE, None
+                if pointwise["violated"]:
+                    verdict, counterexample = Verdict.VIOLATED, pointwise["counterexample"]
+                    why += "; the samples refute the bound"
+                evidence["why"] = why
     return verdict, why, evidence, counterexample
 
 
@@ -238,7 +318,8 @@ def time_quantities(d, what):
     return {"quantity": what,
             "observed": quantity(d["observed"], "sampled", f"on a time grid, at t = {d['witness_time']:.4g}, body "
                                                            f"{d['body'] + 1}"),
-            "certified": quantity(d["certified"], "lower_bound" if inf else "upper_bound", d["how"])}
+            "certified": {**quantity(d["certified"], "lower_bound" if inf else "upper_bound", d["how"]),
+                          **({"certificate": d["certificate"]} if d.get("certificate") else {})}}
 
 
 def sampled_bracket(value, chain, name, sense, ctx, scene, note):
@@ -297,11 +378,26 @@ def replay_bracket(data):
 
 @replayer("bound-bracket")
 def replay_bound_bracket(data, ctx):
+    """Recompute the left-hand side at the saved witness on the saved parameter sets and compare it with the
+    constant's bound and, where the file saves it, with the certified side of the bracket (an inverted bracket)."""
     value, bound = replay_bracket(data)
     upper = data["sense"] == "upper"
-    beyond = value > bound if upper else value < bound
-    verdict = Verdict.VIOLATED if beyond and abs(value - bound) > RESOLUTION * (abs(value) + abs(bound)) else Verdict.HOLDS
-    return Result(data["id"], verdict, f"at the witness the left-hand side is {value:.6g}; the constant (factor "
-                  f"{data['factor']:g}) is at {'most' if upper else 'least'} {bound:.6g}",
-                  {"value": quantity(value, "value"),
-                   "bound": quantity(bound, "upper_bound" if upper else "lower_bound")})
+
+    def past(a, b, above):  # a beyond b (above or below) by more than the resolution
+        return (a > b if above else a < b) and abs(a - b) > RESOLUTION * (abs(a) + abs(b))
+
+    beyond = past(value, bound, upper)
+    summary = (f"at the witness the left-hand side is {value:.6g}; the constant (factor {data['factor']:g}) is at "
+               f"{'most' if upper else 'least'} {bound:.6g}")
+    evidence = {"value": quantity(value, "value"), "bound": quantity(bound, "upper_bound" if upper else "lower_bound")}
+    certified = data.get("certified")
+    refuted = False
+    if certified is not None and np.isfinite(float(certified)):
+        certified = float(certified)
+        above = data.get("bracket_sense", "max" if upper else "min") == "max"
+        refuted = past(value, certified, above)
+        summary += (f"; the certified {'upper' if above else 'lower'} side of the extreme is {certified:.6g}"
+                    + (", beyond the value at the witness: the certificate is refuted" if refuted else ""))
+        evidence["certified"] = quantity(certified, "upper_bound" if above else "lower_bound")
+    verdict = Verdict.VIOLATED if beyond or refuted else Verdict.HOLDS
+    return Result(data["id"], verdict, summary, evidence)

@@ -29,7 +29,7 @@ from inertiaproof.checks.pointwise import (
     state_at,
 )
 
-from inertiaproof.checks.bound_verdicts import REPORTED_KINDS
+from inertiaproof.checks.bound_verdicts import REPORTED_KINDS, scene_digest
 from inertiaproof.dynamics.chain import Chain
 from inertiaproof.dynamics.trajectory_data import trajectory_from_data
 from inertiaproof.result import Result, Verdict, quantity
@@ -38,8 +38,8 @@ from inertiaproof.suite.context import Context
 from inertiaproof.suite.hunt import hunt
 from inertiaproof.suite.registry import replayer
 
-__all__ = ["case_function", "HUNT_REFINE_S", "HUNT_SAMPLES", "HUNT_SHARE", "light_context", "replay_bound_constant",
-           "reported_hunt", "with_reported_hunt"]
+__all__ = ["CASES", "case_function", "example_key", "HUNT_REFINE_S", "HUNT_SAMPLES", "HUNT_SHARE", "hunted_case",
+           "hunted_scene", "light_context", "replay_bound_constant", "reported_hunt", "with_reported_hunt"]
 
 HUNT_SAMPLES = 200  # configurations per bracket and (q, t) pairs per comparison on a hunted scene
 HUNT_REFINE_S = 0.02  # seconds of narrowing per bracket on a hunted scene (a count of rounds: deterministic)
@@ -50,19 +50,47 @@ HUNT_SHARE = {"Asm3/Thm5": 20}  # profile.examples // HUNT_SHARE scenes per chec
 LOADS = {True: "moving masses", False: "payload ramps", None: "payload ramps or moving masses"}
 
 
-def case_function(check_id):
-    """The function a check runs on one scene: (ctx, scene, k) -> (verdict, why, evidence, counterexample)."""
-    from inertiaproof.checks.mass_matrix_bounds import lower_bound_case, upper_bound_case
-    from inertiaproof.checks.other_components import acceleration_case, lumped_velocity_case, rate_case
+CASES = {}  # check id -> its case function, registered by the module that defines it (:func:`hunted_case`)
 
-    return {"Thm2": lower_bound_case, "Thm3": upper_bound_case, "Thm4": rate_case, "EQ-acc": acceleration_case,
-            "Asm3/Thm5": lumped_velocity_case}[check_id]
+
+def hunted_case(check_id):
+    """Register the decorated function as the case function of ``check_id`` (the modules of the checks register
+    theirs, so that this module imports none of them: issue 25)."""
+    def register(fn):
+        CASES[check_id] = fn
+        return fn
+    return register
+
+
+def case_function(check_id):
+    """The function a check runs on one scene: (ctx, scene, k) -> (verdict, why, evidence, counterexample).
+
+    Registered with :func:`hunted_case` by the check's module (checks.mass_matrix_bounds: Thm2, Thm3;
+    checks.other_components: Thm4, EQ-acc, Asm3/Thm5), which must have been imported (the runner's and
+    ``inertiaproof replay``'s :func:`inertiaproof.suite.discovery.load_checks` imports them all)."""
+    try:
+        return CASES[check_id]
+    except KeyError:
+        raise KeyError(f"no case function registered for {check_id!r} (registered: {sorted(CASES)}); import the "
+                       "module of its check first (inertiaproof.suite.discovery.load_checks)") from None
 
 
 def light_context(ctx, samples=HUNT_SAMPLES, refine_s=HUNT_REFINE_S, seed=None):
     """A context with the run's seed and budget and a light profile for hunted scenes."""
     return Context(replace(ctx.profile, samples=samples, refine_s=refine_s), seed=ctx.seed if seed is None else seed,
                    budget=ctx.budget)
+
+
+def hunted_scene(example):
+    """The scene of a hunted example (chain, trajectory, seed): named by its seed, which several examples share (the
+    brackets are cached under the scene's chain and trajectory too, see checks.bound_verdicts.cached)."""
+    chain, traj, seed = example
+    return Scene(f"hunted-{seed}", chain, traj, description=f"random {chain.name}, {chain.n} joints")
+
+
+def example_key(example):
+    """What tells hunted examples apart: the seed and a digest of the chain and the trajectory."""
+    return example[2], scene_digest(hunted_scene(example))
 
 
 def reported_hunt(check_id, ctx, moving_mass, examples=None):
@@ -74,11 +102,10 @@ def reported_hunt(check_id, ctx, moving_mass, examples=None):
     found_cx, tally = {}, {"compared": 0, "nothing to compare": 0}
 
     def margin(example):
-        chain, traj, seed = example
-        scene = Scene(f"hunted-{seed}", chain, traj, description=f"random {chain.name}, {chain.n} joints")
+        scene = hunted_scene(example)
         verdict, _, evidence, cx = case(light, scene, 1.0)
         if verdict == Verdict.VIOLATED:
-            found_cx[seed] = cx
+            found_cx[example_key(example)] = cx  # the seed alone names many examples (Hypothesis draws 0 often)
             return -1.0, 0.0
         against = evidence["pointwise"].get("against_reported", {})
         values = [float(v["value"]) for v in against.values()]
@@ -102,7 +129,7 @@ def reported_hunt(check_id, ctx, moving_mass, examples=None):
                         f"case function with {HUNT_SAMPLES} samples and {HUNT_REFINE_S:g} s of narrowing per bracket; "
                         "margin: the smallest relative margin of sampled left-hand sides against the constants it "
                         "reports (paper's with certified ingredients, sharpest certified)"}
-    cx = found_cx.get(found.violation[2]) if found.violation is not None else None
+    cx = found_cx.get(example_key(found.violation)) if found.violation is not None else None
     return evidence, cx
 
 
@@ -113,9 +140,14 @@ def with_reported_hunt(ctx, result, moving_mass, examples=None):
     if cx is not None and result.verdict != Verdict.VIOLATED:
         result.verdict = Verdict.VIOLATED
         data = cx["data"]
-        what = data.get("constant", "its constant")
-        result.summary = (f"on a hunted random chain ({len(data['chain']['joints'])} joints) the reported {what} "
-                          f"constant fails: " + result.summary)
+        joints = len(data["chain"]["joints"])
+        if cx["kind"] == "bound-constant":
+            what = f"the reported {data['constant']} constant fails"
+        elif cx["kind"] == "bound-bracket":
+            what = "the bracket of the extreme refutes the bound (see the counterexample)"
+        else:
+            what = f"the pointwise inequality of {data.get('constant', 'a constant')} fails"
+        result.summary = f"on a hunted random chain ({joints} joints) {what}: " + result.summary
         result.counterexample = cx
     return result
 

@@ -15,6 +15,7 @@ from inertiaproof.checks.bound_verdicts import (
     cached,
     case_result,
     constants_evidence,
+    inverted_extreme,
     key_step_evidence,
     kw,
     parameter_stack,
@@ -24,7 +25,7 @@ from inertiaproof.checks.bound_verdicts import (
     shown,
     time_quantities,
 )
-from inertiaproof.checks.constant_hunt import with_reported_hunt
+from inertiaproof.checks.constant_hunt import hunted_case, with_reported_hunt
 from inertiaproof.checks.pointwise import with_hunt
 
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
@@ -63,6 +64,7 @@ def _extreme_over_time(ctx, scene, kind, what):
         "moving mass: Theta(t) is not affine in the profile, the extreme over t is sampled on 64 times"))
 
 
+@hunted_case("Thm2")
 def lower_bound_case(ctx, scene, k=1.0):
     """Theorem 2 (LowerBoundedness) on a scene; k multiplies the paper's alpha1 = xi gamma."""
     chain, traj = scene.chain, scene.trajectory
@@ -87,6 +89,7 @@ def lower_bound_case(ctx, scene, k=1.0):
                        replay={"thetas": parameter_stack(traj, False), "spectral": "lmin"})
 
 
+@hunted_case("Thm3")
 def upper_bound_case(ctx, scene, k=1.0):
     """Theorem 3 (UpperBoundedness) on a scene; k multiplies the paper's alpha2 = 2 zeta S^2."""
     chain, traj = scene.chain, scene.trajectory
@@ -165,10 +168,12 @@ def cor1_result(ctx, scenes, k_lower=1.0, k_upper=1.0):
 
 def def3_result(trajectories, spatial=spatial_inertia):
     """Definition 3 on trajectories, and the key step on their samples: lambda_min(Z) >= lambda_min(f), lambda_max(Z) <= 2 lambda_max(f)."""
-    rows, worst = {}, np.inf
+    rows, worst, inverted = {}, np.inf, []
     cert = key_step_certificate()
     for name, traj in trajectories.items():
         xi, zeta = time_extreme(traj, "lmin_f"), time_extreme(traj, "lmax_f")
+        inverted += [f"{name}: {what}" for what, found in (("inf lambda_min(f)", xi), ("sup lambda_max(f)", zeta))
+                     if inverted_extreme(found)]  # a certified side beyond the value attained: refuted
         theta, _ = traj.theta(traj.times(2001))
         f, z = np.linalg.eigvalsh(pseudo_inertia(theta)), np.linalg.eigvalsh(spatial(theta))
         scale = np.abs(f).max(-1) + np.abs(z).max(-1)
@@ -183,10 +188,12 @@ def def3_result(trajectories, spatial=spatial_inertia):
                                  "certified": quantity(zeta["certified"], "upper_bound", zeta["how"])},
             "key_step_slack": quantity(float(slack.min()), "margin", "min over samples of the key steps' relative slack"),
         }
-    verdict = Verdict.VIOLATED if worst < -1e-12 else Verdict.HOLDS
+    verdict = Verdict.VIOLATED if worst < -1e-12 or inverted else Verdict.HOLDS
+    refuted = (f"; the certified side lies beyond the value attained on the time grid (the certificate is refuted): "
+               f"{', '.join(inverted)}") if inverted else ""
     return Result("Def3", verdict, "; ".join(
         f"{n}: {'uniformly consistent' if r['uniformly_consistent'] else 'NOT uniformly consistent'}, "
-        f"{'upper bounded' if r['upper_bounded'] else 'NOT upper bounded'}" for n, r in rows.items()),
+        f"{'upper bounded' if r['upper_bounded'] else 'NOT upper bounded'}" for n, r in rows.items()) + refuted,
         {"trajectories": rows, "key_step": key_step_evidence(),
          "tolerance": quantity(1e-12, "tolerance", "relative slack below which the key step counts as broken")})
 

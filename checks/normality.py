@@ -1,9 +1,18 @@
-"""Normality and boundedness of QJ and the two counterexamples (Section 4.1): Def2, CX-normal, CX-sphere, Lem1, Asm2/Lem2, Cor2."""
+"""Normality and boundedness of QJ and the two counterexamples (Section 4.1): Def2, CX-normal, CX-sphere, Lem1, Asm2/Lem2, Cor2.
+
+Def2, Lem1, Asm2/Lem2 and Cor2 decide from the certified sides of brackets of QJ and M. A bracket whose certified
+side lies beyond the value attained at its witness (an inverted bracket,
+:func:`inertiaproof.checks.bound_verdicts.inverted_bracket`) refutes its own certificate: the check is VIOLATED
+whatever else holds, with a "bound-bracket" counterexample that ``inertiaproof replay`` re-computes
+(:func:`bracket_refuted`).
+"""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
-from inertiaproof.checks.bound_verdicts import cached, kw
+from inertiaproof.checks.bound_verdicts import cached, case_result, inverted_bracket, kw
 from inertiaproof.checks.forward_kinematics import kinematics_result, with_kinematics
 
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
@@ -16,12 +25,66 @@ from inertiaproof.scene import robots
 from inertiaproof.suite.registry import check
 
 __all__ = [
-    "asm2_lem2", "asm2_lem2_result", "cor2", "cor2_result", "cx_normal", "cx_normal_result", "cx_sphere",
-    "cx_sphere_result", "def2", "def2_result", "EPS", "gram_identity_residual", "growth_result", "lem1",
-    "lem1_result", "normality_scenes", "sphere_result", "unit_bodies",
+    "asm2_lem2", "asm2_lem2_result", "bracket_refuted", "cor2", "cor2_result", "cx_normal", "cx_normal_result",
+    "cx_sphere", "cx_sphere_result", "def2", "def2_result", "EPS", "gram_identity_residual", "growth_result", "lem1",
+    "lem1_result", "normality_scenes", "refutations", "sphere_result", "unit_bodies",
 ]
 
 EPS = np.finfo(float).eps
+NO_CONSTANT = {"lower": (-np.inf, -np.inf), "upper": (np.inf, np.inf)}  # the bracket alone is on trial
+ALONE = {"violated": False, "counterexample": None,
+         "evidence": {"note": "no (q, t) sampled: the bracket is judged against its own witness"}}
+
+
+def bracket_refuted(check_id, scene, bracket, thetas, kind, square=False):
+    """None unless ``bracket`` is inverted (its certified side beyond the value attained at its witness by more than
+    the resolution: :func:`inertiaproof.checks.bound_verdicts.inverted_bracket`); then (verdict, why, evidence,
+    counterexample) of :func:`inertiaproof.checks.bound_verdicts.case_result` on the bracket alone (no constant:
+    the range is -inf or +inf, so only the certificate is judged): VIOLATED with a "bound-bracket" counterexample
+    that replays VIOLATED, or INCONCLUSIVE without one where the saved file cannot show it.
+
+    The value replayed is ``kind`` ('lmin', 'lmax') of M(witness, Theta_v) over the stack ``thetas`` (V, N, 10):
+    for brackets of QJ, the unit bodies, whose M is (QJ)^T QJ. ``square``: the bracket is of sigma_max(QJ), not
+    of its square; its sides go to the file squared (sign kept, so the order and the refutation are kept: a
+    relative gap only grows when squared)."""
+    if not inverted_bracket(bracket):
+        return None
+    sense = "lower" if bracket.sense == "min" else "upper"
+    lhs = bracket
+    if square:
+        def sq(x):
+            return None if x is None else float(x) * abs(float(x))
+        lhs = dataclasses.replace(bracket, quantity=f"({bracket.quantity})^2", observed=sq(bracket.observed),
+                                  certified=sq(bracket.certified), convergence=[], certify=None, proof=None)
+    verdict, why, evidence, counterexample = case_result(
+        check_id, scene, sense, lhs, NO_CONSTANT[sense], 1.0, 1.0, ALONE, {}, {},
+        replay={"thetas": np.asarray(thetas, float), "spectral": kind, "quantity": lhs.quantity})
+    why = f"{scene.name}, {lhs.quantity}: {why}"
+    evidence["why"] = why
+    if square:
+        evidence["replayed_bracket"] = lhs.evidence()
+        evidence["bracket"] = bracket.evidence()
+    return verdict, why, evidence, counterexample
+
+
+def refutations(check_id, items):
+    """The refutations of the inverted brackets among ``items`` (scene, bracket, thetas, kind[, square]), in order:
+    a list of (verdict, why, evidence, counterexample)."""
+    return [found for found in (bracket_refuted(check_id, *item) for item in items) if found is not None]
+
+
+def _refuted_result(check_id, found, verdicts, summary, evidence, counterexample=None):
+    """A Result whose verdict also counts the refutations ``found``; the first refutation's counterexample leads
+    (a VIOLATED one before the others), its why opens the summary."""
+    if not found:
+        return Result(check_id, combine(verdicts), summary, evidence, counterexample=counterexample)
+    verdict = combine(list(verdicts) + [f[0] for f in found])
+    lead = next((f for f in found if f[0] == Verdict.VIOLATED), found[0])
+    evidence = {**evidence, "refuted_certificates": {f[1]: f[2] for f in found}}
+    if lead[3] is not None:
+        counterexample = lead[3]
+    return Result(check_id, verdict, f"{lead[1]}; {summary}", evidence,
+                  counterexample=counterexample if verdict == Verdict.VIOLATED else None)
 
 
 def unit_bodies(chain):
@@ -46,7 +109,7 @@ def normality_scenes(ctx):
 
 def def2_result(ctx, scenes, theta_for_identity=None):
     """Definition 2 per chain: the bracket of inf_q sigma_min(QJ)^2 and the identity M(q, unit bodies) = (QJ)^T QJ."""
-    rows, verdicts = {}, []
+    rows, verdicts, found = {}, [], []
     for scene in scenes:
         chain = scene.chain
         gamma = cached(ctx, scene, "gamma", lambda: jacobian_normality(chain, **kw(ctx, scene, "gamma")))
@@ -55,7 +118,10 @@ def def2_result(ctx, scenes, theta_for_identity=None):
         residual = gram_identity_residual(chain, q, theta_for_identity)
         ok = residual <= 64 * EPS * chain.n
         verdicts.append(Verdict.HOLDS if ok else Verdict.VIOLATED)
-        status = ("normal (certified)" if gamma.lower > 0 else
+        refuted = refutations("Def2", [(scene, gamma, unit_bodies(chain)[None], "lmin")])
+        found += refuted
+        status = ("certificate refuted: the certified lower side lies above the value attained at its witness"
+                  if refuted else "normal (certified)" if gamma.lower > 0 else
                   "not normal (sigma_min(QJ) = 0 attained)" if gamma.observed <= 64 * EPS else
                   "undecided: certified lower side 0, observed > 0")
         rows[scene.name] = {"status": status, "bracket": gamma.evidence(),
@@ -64,10 +130,10 @@ def def2_result(ctx, scenes, theta_for_identity=None):
                             "tolerance": quantity(64 * EPS * chain.n, "tolerance")}
     verdict = combine(verdicts)
     first = next(iter(rows.values()))
-    return Result("Def2", verdict, "; ".join(f"{n}: {r['status']}" for n, r in rows.items()),
-                  {"chains": rows, "bracket": first["bracket"]},
-                  counterexample=None if verdict != Verdict.VIOLATED else
-                  {"kind": "gram-identity", "data": {"scene": next(n for n, r in rows.items())}})
+    return _refuted_result("Def2", found, verdicts, "; ".join(f"{n}: {r['status']}" for n, r in rows.items()),
+                           {"chains": rows, "bracket": first["bracket"]},
+                           counterexample=None if verdict != Verdict.VIOLATED else
+                           {"kind": "gram-identity", "data": {"scene": next(n for n, r in rows.items())}})
 
 
 @check("Def2", needs={"chain"})
@@ -120,8 +186,9 @@ def lem1(ctx):
 
 def lem1_result(ctx, scenes):
     """Lemma 1 both ways: normal chains give a certified positive inf lambda_min(M); a non-normal one gives 0.
-    A scene whose bodies break the lemma's hypothesis (not consistent) may show lambda_min(M) < 0: VIOLATED."""
-    rows, verdicts = {}, []
+    A scene whose bodies break the lemma's hypothesis (not consistent) may show lambda_min(M) < 0: VIOLATED.
+    An inverted bracket (of inf sigma_min(QJ)^2 or of inf lambda_min(M)) refutes its certificate: VIOLATED."""
+    rows, verdicts, found = {}, [], []
     for scene in scenes:
         gamma = cached(ctx, scene, "gamma", lambda: jacobian_normality(scene.chain, **kw(ctx, scene, "gamma")))
         low = cached(ctx, scene, "mass_inf_const", lambda: mass_inf(
@@ -134,6 +201,8 @@ def lem1_result(ctx, scenes):
                                                            scene.trajectory.base))).max()
         bad = gamma.lower > 0 and low.observed < -64 * EPS * at_witness  # below what rounding can do there
         verdicts.append(Verdict.VIOLATED if bad else Verdict.HOLDS if ok else Verdict.INCONCLUSIVE)
+        found += refutations("Lem1", [(scene, gamma, unit_bodies(scene.chain)[None], "lmin"),
+                                      (scene, low, scene.trajectory.base[None], "lmin")])
         rows[scene.name] = {"direction": "normal => positive lower bound", "normality": gamma.evidence(),
                             "inf_lambda_min_M": low.evidence(),
                             "certified_lower_bound": quantity(certified, "lower_bound",
@@ -142,9 +211,8 @@ def lem1_result(ctx, scenes):
     cx = cx_normal_result(robots.non_normal_2r())
     verdicts.append(cx.verdict)
     rows["non-normal-2r"] = {"direction": "not normal => inf lambda_min(M) = 0 for the unit bodies", **cx.evidence}
-    verdict = combine(verdicts)
-    return Result("Lem1", verdict, f"certified inf lambda_min(M) > 0 on the normal chains "
-                  f"({', '.join(list(rows)[:-1])}); exactly 0 on the non-normal 2R", {"chains": rows})
+    return _refuted_result("Lem1", found, verdicts, f"certified inf lambda_min(M) > 0 on the normal chains "
+                           f"({', '.join(list(rows)[:-1])}); exactly 0 on the non-normal 2R", {"chains": rows})
 
 
 def growth_result(scale_points=(1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6), claimed_offset=None):
@@ -180,20 +248,22 @@ def asm2_lem2_result(ctx, claimed_offset=None):
     finite = np.isfinite(s_b.upper) and np.isfinite(m_b.upper)
     lower_growth = bool(np.all(lam >= m2 * np.maximum(x - offset, 0) ** 2 * (1 - 1e-12)))
     verdict = Verdict.HOLDS if growth and finite and lower_growth else Verdict.VIOLATED
-    return Result("Asm2/Lem2", verdict,
-                  f"unlimited slide: sigma_max(QJ) >= |x| - {offset:.2g} and lambda_max(M) >= m_2 (|x| - "
-                  f"{offset:.2g})^2 (lambda_max/x^2 -> {ratio[-1]:.4g}, m_2 = {m2:g}): both suprema infinite; slide "
-                  f"limited to 1 m: sup sigma_max(QJ) in [{s_b.lower:.4g}, {s_b.upper:.4g}], sup lambda_max(M) in "
-                  f"[{m_b.lower:.4g}, {m_b.upper:.4g}]",
-                  {"unbounded": {"x": x.tolist(), "sigma_max_QJ": sigma.tolist(), "lambda_max_M": lam.tolist(),
-                                 "lever_offset": quantity(offset, "exact", "sum of the fixed offsets"),
-                                 "linear_growth_certified": growth, "quadratic_growth_of_M": lower_growth,
-                                 "series": {"title": "growth with the slide", "x_label": "x", "y_label": "value",
-                                            "x_log": True, "y_log": True,
-                                            "lines": {"sigma_max(QJ)": np.stack([x, sigma], -1).tolist(),
-                                                      "lambda_max(M)": np.stack([x, lam], -1).tolist()}}},
-                   "bounded": {"sup_sigma_max_QJ": s_b.evidence(), "sup_lambda_max_M": m_b.evidence()},
-                   "bracket": m_b.evidence()})
+    found = refutations("Asm2/Lem2", [(bounded, s_b, unit_bodies(bounded.chain)[None], "lmax", True),
+                                      (bounded, m_b, bounded.trajectory.base[None], "lmax")])
+    summary = (f"unlimited slide: sigma_max(QJ) >= |x| - {offset:.2g} and lambda_max(M) >= m_2 (|x| - "
+               f"{offset:.2g})^2 (lambda_max/x^2 -> {ratio[-1]:.4g}, m_2 = {m2:g}): both suprema infinite; slide "
+               f"limited to 1 m: sup sigma_max(QJ) in [{s_b.lower:.4g}, {s_b.upper:.4g}], sup lambda_max(M) in "
+               f"[{m_b.lower:.4g}, {m_b.upper:.4g}]")
+    evidence = {"unbounded": {"x": x.tolist(), "sigma_max_QJ": sigma.tolist(), "lambda_max_M": lam.tolist(),
+                              "lever_offset": quantity(offset, "exact", "sum of the fixed offsets"),
+                              "linear_growth_certified": growth, "quadratic_growth_of_M": lower_growth,
+                              "series": {"title": "growth with the slide", "x_label": "x", "y_label": "value",
+                                         "x_log": True, "y_log": True,
+                                         "lines": {"sigma_max(QJ)": np.stack([x, sigma], -1).tolist(),
+                                                   "lambda_max(M)": np.stack([x, lam], -1).tolist()}}},
+                "bounded": {"sup_sigma_max_QJ": s_b.evidence(), "sup_lambda_max_M": m_b.evidence()},
+                "bracket": m_b.evidence()}
+    return _refuted_result("Asm2/Lem2", found, [verdict], summary, evidence)
 
 
 @check("Cor2", needs=())
@@ -220,10 +290,12 @@ def cor2_result(ctx, non_normal):
     _, x, sigma, lam, _, growth, _, _ = growth_result()
     rows["rp-unbounded"] = {"normal_and_bounded": False, "why": f"not bounded: lambda_max(M) = {lam[-1]:.3g} at x = {x[-1]:g}"}
     verdicts.append(Verdict.HOLDS if growth else Verdict.VIOLATED)
-    verdict = combine(verdicts)
-    return Result("Cor2", verdict, f"normal and bounded planar 2R has certified 0 < alpha1 = "
-                  f"{lo.lower:.4g} <= alpha2 = {hi.upper:.4g}; the non-normal 2R has no positive alpha1; the unlimited "
-                  f"RP chain has no finite alpha2", {"chains": rows})
+    found = refutations("Cor2", [(normal, g, unit_bodies(normal.chain)[None], "lmin"),
+                                 (normal, lo, normal.trajectory.base[None], "lmin"),
+                                 (normal, hi, normal.trajectory.base[None], "lmax")])
+    return _refuted_result("Cor2", found, verdicts, f"normal and bounded planar 2R has certified 0 < alpha1 = "
+                           f"{lo.lower:.4g} <= alpha2 = {hi.upper:.4g}; the non-normal 2R has no positive alpha1; the "
+                           f"unlimited RP chain has no finite alpha2", {"chains": rows})
 
 
 def sphere_result(rates=(-0.5, 0.5), times=np.linspace(0.0, 60.0, 241), radius=0.1, claimed_radius=None):

@@ -22,7 +22,7 @@ from inertiaproof.checks.bound_verdicts import (
     time_and_configuration_bracket,
     time_quantities,
 )
-from inertiaproof.checks.constant_hunt import with_reported_hunt
+from inertiaproof.checks.constant_hunt import hunted_case, with_reported_hunt
 from inertiaproof.checks.pointwise import with_hunt
 
 from inertiaproof.bounds import formulas
@@ -41,6 +41,7 @@ __all__ = [
 ]
 
 
+@hunted_case("Thm4")
 def rate_case(ctx, scene, k=1.0):
     """Theorem 4 (BoundedEffectofVaryingParam): k multiplies the paper's chi = sqrt(69 N) mu S^2."""
     chain, traj = scene.chain, scene.trajectory
@@ -84,6 +85,7 @@ def rate_case(ctx, scene, k=1.0):
                        replay={"thetas": parameter_stack(traj, True), "spectral": "absmax"})
 
 
+@hunted_case("EQ-acc")
 def acceleration_case(ctx, scene, k=1.0):
     """(LumpedAccelerationBounding): ||J^T Q^T Psidot|| <= k dPsi* sup_q sigma_max(QJ)."""
     chain, traj = scene.chain, scene.trajectory
@@ -113,6 +115,7 @@ def acceleration_case(ctx, scene, k=1.0):
                        replay={"psi_dot": traj.psi(np.array(t_worst))[1]})
 
 
+@hunted_case("Asm3/Thm5")
 def lumped_velocity_case(ctx, scene, k=1.0):
     """Theorem 5 (BoundedEffectOfLumpedVel): k multiplies sqrt(6N) Psi* max_p sup_q sigma_max(Y_p)."""
     chain, traj = scene.chain, scene.trajectory

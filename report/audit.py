@@ -119,10 +119,13 @@ def _glance(files, keys, names):
             rows.append((where, cell("-"), cell("-"), cell("-"), cell(Badge("unreadable", "VIOLATED")), cell("-")))
             continue
         singular = Counter(c["singular"]["verdict"] for c in f["chains"].values())
-        rows.append((where, cell(code(f["robot"])), cell(code(str(len(f["links"])))),
+        counted = str(len(f["links"]))
+        if "counts" in f:  # how many of them are judged (joint frames, massless frames, fixed bases are not)
+            counted += f" ({len(f['links']) - f['counts'].get('not_judged', 0)})"
+        rows.append((where, cell(code(f["robot"])), cell(code(counted)),
                      cell(code(str(len(f["not_consistent"])))), cell(_file_badge(f)),
                      cell(", ".join(f"{v} ({n})" for v, n in singular.items()) or "no chains")))
-    columns = (Column("file", 0.37), Column("robot", 0.19), Column("links", 0.07, "r"),
+    columns = (Column("file", 0.35), Column("robot", 0.18), Column("links (judged)", 0.1, "r"),
                Column("not consistent", 0.11, "r"), Column("verdict", 0.13), Column("M(q) singular", 0.13))
     return table(columns, rows, "Every file at a glance", limit=None)
 
@@ -161,7 +164,8 @@ def _file(path, f, key, name, figs):
 
 
 def _links(links):
-    frames = [name for name, link in links.items() if link["massless_frame"]]
+    frames = [name for name, link in links.items() if link["massless_frame"] and link["role"] != "joint_frame"]
+    joint_frames = [name for name, link in links.items() if link["role"] == "joint_frame"]
     rows = []
     for name, link in links.items():
         if link["massless_frame"]:
@@ -180,6 +184,10 @@ def _links(links):
         names = [x for i, name in enumerate(frames) for x in ([Text(", ")] if i else []) + [code(name)]]
         out.append(Paragraph((Text(f"Massless frames ({len(frames)}): ", "strong"), *names,
                               Text(". No mass and no inertia: frames, not bodies, so not judged."))))
+    if joint_frames:
+        names = [x for i, name in enumerate(joint_frames) for x in ([Text(", ")] if i else []) + [code(name)]]
+        out.append(Paragraph((Text(f"Joint frames ({len(joint_frames)}): ", "strong"), *names,
+                              Text(". Frames between two joints of one MuJoCo body: not bodies, so not judged."))))
     return out
 
 
@@ -228,7 +236,7 @@ def _numbers(q):
 def _bodies(bodies):
     rows = [(cell(code(name)), cell(code(b["joint"] or "-")), cell(code(", ".join(b["links"]))),
              cell(Badge(b["verdict"], LINK_TONES.get(b["verdict"], "INCONCLUSIVE"))), cell(b["reason"]))
-            for name, b in bodies.items() if b["verdict"] != "consistent"]
+            for name, b in bodies.items() if b["verdict"] != "consistent" and b.get("judged", True)]
     if not rows:
         return []
     columns = (Column("body", 0.16), Column("joint", 0.16), Column("links", 0.2), Column("verdict", 0.13),

@@ -19,7 +19,7 @@ import sympy
 from sympy.polys.domains import QQ
 from sympy.polys.rings import PolyElement
 
-from inertiaproof.suite.paths import cache_dir
+from inertiaproof.suite.paths import cache_dir, cache_unwritable
 
 __all__ = ["CODE", "code_version", "decode", "encode", "FORMAT", "key", "load", "store"]
 
@@ -100,9 +100,20 @@ def load(k, ring=None):
 
 
 def store(k, obj):
+    """File obj under key k; returns its path, or None when the cache cannot be written (said once on stderr: a
+    read-only cache is read, never a reason for a check to fail)."""
     path = _path(k)
-    path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(f".{id(obj)}.tmp")
-    tmp.write_bytes(pickle.dumps(encode(obj), protocol=pickle.HIGHEST_PROTOCOL))
-    tmp.replace(path)
+    data = pickle.dumps(encode(obj), protocol=pickle.HIGHEST_PROTOCOL)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp.write_bytes(data)
+        tmp.replace(path)
+    except OSError as exc:
+        try:
+            tmp.unlink(missing_ok=True)
+        except OSError:
+            pass
+        cache_unwritable(path.parent, exc)
+        return None
     return path

@@ -139,7 +139,7 @@ def _ladder(scene, form, boxes=6000):
 @pytest.mark.parametrize("scene, form", [(robots.ur5(), 0), (robots.ur5(), 1), (robots.panda(payload=2.0), 0)],
                          ids=["ur5-unit", "ur5-weighted", "panda-unit"])
 def test_ladder_is_below_every_sampled_value(scene, form):
-    chain, thetas, (gamma, tested, size, ratio, rungs) = _ladder(scene, form)
+    chain, thetas, (gamma, tested, size, ratio, rungs, _) = _ladder(scene, form)
     assert gamma > 0 and ratio is not None and tested <= 6000 + pivot_search.CHUNK
     assert sum(r[1] for r in rungs) == tested and [r[0] for r in rungs if r[2] is not None][-1] == ratio
     spent = np.cumsum([0] + [t for _, t, _ in rungs])
@@ -305,7 +305,7 @@ def _upper_ladder(scene, form, boxes=6000):
                                                 (robots.panda(payload=2.0), 2, 1500)],
                          ids=["ur5-real", "panda-unit", "panda-rates"])
 def test_upper_ladder_is_above_every_sampled_value(scene, form, boxes):
-    chain, thetas, (gamma, tested, size, ratio, rungs) = _upper_ladder(scene, form, boxes)
+    chain, thetas, (gamma, tested, size, ratio, rungs, _) = _upper_ladder(scene, form, boxes)
     assert np.isfinite(gamma) and ratio is not None and ratio < 2 and tested <= boxes + pivot_search.CHUNK
     lo, hi = search_box(chain)
     q = lo + (hi - lo) * np.random.default_rng(43).random((30000, chain.n))

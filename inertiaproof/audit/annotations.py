@@ -50,7 +50,17 @@ def _uri(path):
 
 
 def findings(doc):
-    """(rule, level, file, location or None, message, link entry or None) for every finding, in file order."""
+    """(rule, level, file, location or None, message, link entry or None) for every finding, in file order.
+
+    A location in an expanded text (a xacro file's) is not one in the file: the message names its line instead."""
+    for rule, level, path, where, message, link in _findings(doc):
+        if where is not None and where.get("expanded"):
+            message += f" (line {where['startLine']} of the text {where['expanded']} expands the file to)"
+            where = None
+        yield rule, level, path, where, message, link
+
+
+def _findings(doc):
     for path, f in doc["files"].items():
         if f["status"] != "ok":
             yield "unreadable", "error", path, None, f["error"], None

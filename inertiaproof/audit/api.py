@@ -25,8 +25,8 @@ from .repair import DEFAULT_SLACK
 __all__ = ["Audit", "audit_urdf", "RECORD_FIELDS"]
 
 RECORD_FIELDS = (
-    "file", "robot", "format", "link", "role", "moving", "source", "line", "verdict", "reason", "triangle_slack_rel",
-    "lambda_min_rel", "mass", "com_x", "com_y", "com_z", "ixx", "iyy", "izz", "ixy", "iyz", "ixz", "signs",
+    "file", "robot", "format", "link", "role", "moving", "judged", "source", "line", "verdict", "reason",
+    "triangle_slack_rel", "lambda_min_rel", "mass", "com_x", "com_y", "com_z", "ixx", "iyy", "izz", "ixy", "iyz", "ixz", "signs",
     "mujoco", "drake", "pybullet", "gazebo", "repair",
 )
 
@@ -47,7 +47,10 @@ class Audit:
         return self.exit_status == 0
 
     def to_records(self):
-        """One flat dict per link of every readable file (keys: ``RECORD_FIELDS``), for ``pandas.DataFrame``."""
+        """One flat dict per link of every readable file (keys: ``RECORD_FIELDS``), for ``pandas.DataFrame``.
+
+        ``verdict`` is the verdict of the numbers as written; only the ``judged`` links (moving, with mass or
+        inertia) count: count verdicts over those, not over joint frames, massless frames or fixed bases."""
         out = []
         for path, f in self.document["files"].items():
             if f["status"] != "ok":
@@ -60,7 +63,8 @@ class Audit:
                 repair = link["repair"] or {}
                 out.append({
                     "file": path, "robot": f["robot"], "format": f["format"], "link": name, "role": link["role"],
-                    "moving": link["moving"], "source": link["source"],
+                    "moving": link["moving"], "judged": link["moving"] and not link["massless_frame"],
+                    "source": link["source"],
                     "line": (link["location"] or {}).get("startLine"), "verdict": link["verdict"],
                     "reason": link["reason"], "triangle_slack_rel": link["triangle_slack_rel"],
                     "lambda_min_rel": link["lambda_min_rel"], "mass": written.get("mass"),
@@ -92,17 +96,18 @@ class Audit:
         return f"<Audit: {s['files']} file(s), exit status {s['exit_status']}>"
 
 
-def audit_urdf(path, *, profile="ci", bounds="arms", floating_base=False, slack=DEFAULT_SLACK, seed=0):
-    """The audit of a URDF or MJCF file, or of every one in a folder, as an :class:`Audit`.
+def audit_urdf(path, *, profile="ci", bounds="arms", floating_base=False, slack=DEFAULT_SLACK, seed=0,
+               xacro_args=None):
+    """The audit of a URDF, MJCF or xacro file, or of every URDF and MJCF file in a folder, as an :class:`Audit`.
 
-    The options are those of ``inertiaproof audit``; a file that cannot be
-    read is an entry with ``status: error`` (and ``exit_status`` 2), not an
-    exception.
+    The options are those of ``inertiaproof audit`` (``xacro_args``: {name: value}, its ``--xacro-arg``); a file
+    that cannot be read is an entry with ``status: error`` (and ``exit_status`` 2), not an exception.
     """
     budget = PROFILES[profile]
     start = time.perf_counter()
+    extra = {"xacro_args": dict(xacro_args)} if xacro_args else {}
     with np.errstate(all="ignore"):
         files = audit_paths([path], samples=budget.audit_samples, refine_s=budget.audit_refine_s, bounds=bounds,
-                            floating_base=floating_base, slack=slack, seed=seed)
+                            floating_base=floating_base, slack=slack, seed=seed, **extra)
     return Audit(document(files, profile=profile, seed=seed, bounds=bounds, floating_base=floating_base, slack=slack,
                           runtime_s=time.perf_counter() - start, versions=versions("yourdfpy", "mujoco")))

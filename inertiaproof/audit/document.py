@@ -17,7 +17,10 @@ eigenvalue extremes of M(q) over the file's joint limits
 Exit status: 0 every moving link and every body is consistent; 1 some is not;
 2 some input could not be read (the others are still audited). A link moves
 when a movable joint moves it; a massless frame (no mass, no inertia) is not
-a body and is not judged, but a body made only of massless frames is.
+a body and is not judged, but a body made only of massless frames is. The
+counts (``counts``, ``not_judged``, ``body_counts`` per file; ``summary``)
+keep the judged links and bodies apart from the rest: MuJoCo joint frames,
+massless frames and bases, links of a fixed base.
 """
 
 from __future__ import annotations
@@ -41,14 +44,17 @@ from .mjcf import is_mjcf, read_mjcf
 from .repair import DEFAULT_SLACK, nearest_consistent_inertia, written_inertia
 from .rewrite import replacement
 from .urdf import read_urdf
+from .xacro_files import is_xacro, read_xacro
 
 __all__ = [
     "audit_paths", "audit_robot", "BOUNDS_MODES", "chain_bounds", "document", "exit_status",
-    "is_serial_arm", "read_robot", "SCHEMA",
+    "is_serial_arm", "NOT_JUDGED_LINKS", "read_robot", "SCHEMA",
 ]
 
 SCHEMA = "inertiaproof.audit/1"
 BOUNDS_MODES = ("arms", "all", "none")
+NOT_JUDGED_LINKS = ("joint_frames", "massless_frames", "fixed_base")  # why a link is not judged, in that order
+
 def chain_bounds(chain, theta, *, samples, refine_s, seed=0):
     """Theorems 2 and 3 on one chain over its joint limits, from :func:`inertiaproof.bounds.mass_matrix_bounds`.
 
@@ -159,6 +165,13 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
             "singular": _singularity(sc, codes, names, found, frames),
         }
     not_consistent = [name for name, v in judged if v != "consistent"]
+    judged_links = {name for name, _ in judged if name in link_out}
+    apart = {kind: 0 for kind in NOT_JUDGED_LINKS}
+    for name, entry in link_out.items():
+        if name not in judged_links:
+            apart["joint_frames" if entry["role"] == "joint_frame" else
+                  "massless_frames" if entry["massless_frame"] else "fixed_base"] += 1
+    judged_bodies = [b["verdict"] for b in body_out.values() if b["judged"]]
     return {
         "status": "ok",
         "robot": robot.name,
@@ -172,7 +185,10 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
         "joint_frames": sorted(frames),
         "mimic_joints": [{"joint": j.name, "mimics": j.mimic} for j in robot.joints if j.mimic is not None],
         "counts": {label: sum(v == label for name, v in judged if name in link_out) for label in LABELS}
-        | {"not_judged": len(link_out) - sum(name in link_out for name, _ in judged)},
+        | {"not_judged": len(link_out) - len(judged_links)},
+        "not_judged": apart,  # the links not judged, by why: joint frames, massless frames, links of a fixed base
+        "body_counts": {label: judged_bodies.count(label) for label in LABELS}
+        | {"not_judged": len(body_out) - len(judged_bodies)},
         "links": link_out,
         "bodies": body_out,
         "chains": chains_out,
@@ -232,6 +248,8 @@ def _location(source):
     """Where the link's inertia element stands: file, line, and column and end where the markup was paired."""
     if source is None or source.span is None:
         return None
+    if source.expanded:  # lines of the expanded text (e.g. what `xacro FILE` prints), not of the file
+        return {"path": source.path, "expanded": source.expanded, **source.span.region()}
     return {"path": source.path, **source.span.region()}
 
 
@@ -256,7 +274,7 @@ def _repair(mass, inertia, slack, source):
             out["written_slack_rel"] = quantity(written[1], "margin", "triangle slack of the numbers as written, "
                                                 "relative to tr(I_CoM)")
             if source is not None and source.span is not None and source.span.column is not None \
-                    and source.kind in ("urdf", "diaginertia", "fullinertia"):
+                    and source.kind in ("urdf", "diaginertia", "fullinertia") and not source.expanded:
                 out["replacement"] = {"path": source.path, **source.span.region(), "start": source.span.start,
                                       "end": source.span.end, "text": replacement(source, written[0])}
         out.update(
@@ -273,7 +291,9 @@ def _repair(mass, inertia, slack, source):
 def _bodies(tree, links, verdicts, massless, floating_base, frames=()):
     """The verdict of every group the mass matrix sees: exact as written when one link carries all the mass.
 
-    A joint frame (between two joints of one MJCF body) is not a body and is not judged."""
+    A joint frame (between two joints of one MJCF body) is not a body and is not judged; nor is a base without
+    mass (a world frame, a floating base's massless root: the free coordinates move the whole robot, whose mass
+    is elsewhere)."""
     index = {link.name: k for k, link in enumerate(links)}
     groups = [g for g in tree.groups.values() if g.is_body or floating_base]
     summed = physical_consistency(np.array([g.phi for g in groups])) if groups else None
@@ -287,21 +307,27 @@ def _bodies(tree, links, verdicts, massless, floating_base, frames=()):
             verdict, reason = LABELS[summed.verdict[i]], summed.reason(i)
         if g.anchor in frames:
             reason = "a frame between two joints of one MuJoCo body, not a body"
+        elif not massive and not g.is_body:
+            reason = "no link of the base carries mass: a frame, not a body"
         elif not massive:
             reason = "no link of the body carries mass"
         out[g.anchor] = {"joint": g.joint, "links": list(g.links), "massless": not massive, "verdict": verdict,
                          "reason": reason, "mass": quantity(g.phi[0], "value", unit="kg"),
-                         "judged": (g.is_body or floating_base) and g.anchor not in frames}
+                         "judged": (g.is_body or (floating_base and bool(massive))) and g.anchor not in frames}
     return out
 
 
-def read_robot(path):
-    """A URDF or MJCF file (MJCF: a root element ``<mujoco>``), read into links and joints."""
+def read_robot(path, xacro_args=None):
+    """A URDF or MJCF file (MJCF: a root element ``<mujoco>``), or a xacro file expanded into a URDF, read into
+    links and joints."""
+    if is_xacro(path):
+        return read_xacro(path, xacro_args)
     return read_mjcf(path) if Path(path).suffix.lower() != ".urdf" and is_mjcf(path) else read_urdf(path)
 
 
 def audit_paths(paths, executor=None, **options):
-    """Every robot under ``paths`` (files, or folders searched for *.urdf and MJCF *.xml): {path: entry}.
+    """Every robot under ``paths`` (files, or folders searched for *.urdf and MJCF *.xml; a *.xacro file given by
+    name is expanded with ``options["xacro_args"]``): {path: entry}.
 
     The files are audited as independent tasks of ``executor`` (:mod:`inertiaproof.suite.execution`; default: one
     after the other in this process), and listed in the order of ``paths`` whatever order they finish in."""
@@ -334,8 +360,10 @@ def _audit_task(options, path):
 
 
 def _audit_one(path, options):
+    options = dict(options)
+    xacro_args = options.pop("xacro_args", None)
     try:
-        return audit_robot(read_robot(path), **options)
+        return audit_robot(read_robot(path, xacro_args), **options)
     except InputError as exc:
         return {"status": "error", "error": str(exc)}
     except MemoryError:
@@ -367,6 +395,8 @@ def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s, v
             "files_consistent": sum(f["consistent"] for f in ok),
             "files_not_consistent": sum(not f["consistent"] for f in ok),
             "links": {label: sum(f["counts"][label] for f in ok) for label in (*LABELS, "not_judged")},
+            "links_not_judged": {kind: sum(f["not_judged"][kind] for f in ok) for kind in NOT_JUDGED_LINKS},
+            "bodies": {label: sum(f["body_counts"][label] for f in ok) for label in (*LABELS, "not_judged")},
             "moving_not_consistent": sum(len(f["not_consistent"]) for f in ok),
             "signs": signs,
             "exit_status": exit_status(files),

@@ -59,6 +59,7 @@ class Source:
     span: Span | None
     kind: str
     attributes: tuple = ()  # MJCF <inertial>: (name, value) in file order
+    expanded: str | None = None  # "xacro": the span is in the text xacro made of the file, not in the file
 
 
 def decode(data):

@@ -24,10 +24,15 @@ hinge about the axis through its ``pos`` and applies a body's joints in
 order, so a body with k joints becomes k - 1 massless joint frames
 (``body/joint``) and the body, each frame placed at its joint's pivot;
 a range is relative to the joint's ``ref`` (qpos0).
+
+MuJoCo's parser does not expand DTD entities: a model (or a file it
+includes) that uses internal ones is given to MuJoCo with them expanded in
+place, after the checks of :mod:`.entities` (external entities refused).
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -36,6 +41,7 @@ from lxml import etree
 from inertiaproof.errors import InputError
 from inertiaproof.model.inertia import urdf_inertia
 
+from . import entities
 from .locate import Source, decode, element_spans
 from .urdf import Inertial, Link, Robot, UrdfJoint
 
@@ -47,11 +53,28 @@ X_AXIS = np.array([1.0, 0.0, 0.0])
 def is_mjcf(path):
     """Whether a file's root element is ``<mujoco>`` (read up to the first start tag)."""
     try:
-        for _, element in etree.iterparse(str(path), events=("start",), resolve_entities=False, no_network=True):
+        for _, element in etree.iterparse(str(path), events=("start",), resolve_entities=False, no_network=True,
+                                          load_dtd=False, huge_tree=False):
             return element.tag == "mujoco"
-    except (OSError, etree.XMLSyntaxError):
+    except OSError:
         return False
+    except etree.XMLSyntaxError:  # e.g. an entity in the root's start tag: its name decides (the reader names the rest)
+        return _root_name(path) == "mujoco"
     return False
+
+
+def _root_name(path):
+    """The name of the first start tag after the prolog (comments, processing instructions, DOCTYPE), or None."""
+    try:
+        with open(path, "rb") as f:
+            text = decode(f.read(1 << 20))[0]
+    except OSError:
+        return None
+    span = entities.doctype_span(text)
+    if span is not None:
+        text = text[:span[0]] + text[span[1]:]
+    found = re.search(r"<([A-Za-z_][\w.\-]*)", re.sub(r"<!--.*?-->|<\?.*?\?>", "", text, flags=re.S))
+    return found.group(1) if found else None
 
 
 def read_mjcf(path):
@@ -61,8 +84,14 @@ def read_mjcf(path):
         import mujoco  # the optional extra inertiaproof[mjcf]
     except ImportError:
         raise InputError(f"{path}: reading MJCF needs the mujoco package: pip install 'inertiaproof[mjcf]'") from None
+    expanded = _expanded(path)
     try:
-        spec = mujoco.MjSpec.from_file(str(path))
+        if expanded is None:
+            spec = mujoco.MjSpec.from_file(str(path))
+        else:  # entities expanded in place: MuJoCo's line numbers stay the file's
+            text, include = expanded
+            spec = mujoco.MjSpec.from_string(text, include=include or None)
+            spec.modelfiledir = str(path.parent)  # meshes, textures and hfields as from the file
     except Exception as exc:  # MuJoCo raises ValueError with its parser's message
         raise InputError(f"{path}: MuJoCo {mujoco.__version__} cannot read it: {_one_line(exc)}") from None
     compiler = {"balanceinertia": bool(spec.compiler.balanceinertia), "boundmass": float(spec.compiler.boundmass),
@@ -82,6 +111,39 @@ def read_mjcf(path):
     links, joints, sources = _tree(model, written, located, str(path), mujoco)
     return Robot(spec.modelname or path.stem, str(path), tuple(links), tuple(joints), sources=sources,
                  format="mjcf", compiler=compiler)
+
+
+def _expanded(path):
+    """(text, {include file: bytes}) for MuJoCo when the model or a file it includes uses internal DTD entities,
+    which MuJoCo's parser does not expand: each such file with its entities expanded in place
+    (:func:`.entities.expanded_text`, InputError for what is refused); None when none does, or when a file cannot
+    be read (MuJoCo then names the problem)."""
+    texts, include, any_expanded = {}, {}, False
+
+    def walk(file, key):
+        nonlocal any_expanded
+        try:
+            data = Path(file).read_bytes()
+            root = entities.parse(data, file)
+        except (OSError, etree.XMLSyntaxError, ValueError) as exc:
+            if isinstance(exc, InputError):
+                raise
+            return False
+        text = entities.expanded_text(data, file)
+        any_expanded |= text is not None
+        if key is None:
+            texts[None] = text if text is not None else decode(data)[0]
+        elif key not in include:
+            include[key] = data if text is None else text.encode("utf-8")
+        for element in root.iter("include"):
+            name = element.get("file", "")
+            if name and name not in include and not walk(Path(path).parent / name, name):
+                return False
+        return True
+
+    if not walk(path, None) or not any_expanded:
+        return None
+    return texts[None], include
 
 
 def _one_line(exc):
@@ -109,8 +171,8 @@ def _locate(path, count):
     def walk(file):
         try:
             data = Path(file).read_bytes()
-            root = etree.fromstring(data, etree.XMLParser(remove_comments=True, resolve_entities=False, no_network=True))
-        except (OSError, etree.XMLSyntaxError):
+            root = entities.parse(data, file)
+        except (OSError, etree.XMLSyntaxError, ValueError):  # InputError included: MuJoCo read it, so not here
             return
         spans = element_spans(decode(data)[0], root)
         for element in root.iter("body", "include"):

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-__all__ = ["engine_actions", "format_audit", "format_file", "headline", "remarks", "role", "totals"]
+__all__ = [
+    "engine_actions", "format_audit", "format_file", "headline", "NOT_JUDGED_WORDS", "reason", "remarks", "role",
+    "totals", "verdict",
+]
 
 
 def _number(q):
@@ -38,10 +41,29 @@ def role(link):
 
 
 def headline(f):
-    """One readable file's robot, sizes and state, e.g. "robot 'panda', 13 links, ...: consistent"."""
+    """One readable file's robot, sizes and state, e.g. "robot 'panda', 13 links (8 judged), 7 bodies, ...:
+    consistent"; bodies are the judged ones (not MuJoCo joint frames nor massless bases)."""
     state = "consistent" if f["consistent"] else f"NOT CONSISTENT: {', '.join(f['not_consistent'])}"
-    return (f"robot '{f['robot']}', {_count(f['links'], 'link')}, {_count(f['bodies'], 'body', 'bodies')}, "
+    links = _count(f["links"], "link")
+    bodies = [b for b in f["bodies"].values() if b.get("judged", True)]
+    if "counts" in f:
+        links += f" ({len(f['links']) - f['counts'].get('not_judged', 0)} judged)"
+    return (f"robot '{f['robot']}', {links}, {_count(bodies, 'body', 'bodies')}, "
             f"{_count(f['chains'], 'chain')}{', serial arm' if f['serial_arm'] else ''}: {state}")
+
+
+def verdict(link):
+    """The verdict a reader sees: a massless frame or a joint frame has none."""
+    return "not judged" if link["massless_frame"] or link["role"] == "joint_frame" else link["verdict"]
+
+
+def reason(link):
+    """Why the link has its verdict, or why it is not judged."""
+    if link["role"] == "joint_frame":
+        return "a frame between two joints of one MuJoCo body -- a massless frame, not a body: not judged"
+    if link["massless_frame"]:
+        return "no mass, no inertia -- a massless frame, not a body: not judged"
+    return link["reason"]
 
 
 def remarks(f):
@@ -64,9 +86,8 @@ def format_file(path, f):
     engines = {name: engine_actions(link) for name, link in links.items()}
     out.append(f"  {'link':<{width}}  {'role':<{role_width}}  {'verdict':<12}  {ENGINE_HEADER:<{ENGINE_WIDTH}}  reason")
     for name, link in links.items():
-        reason = link["reason"] + (" -- a massless frame, not a body: not judged" if link["massless_frame"] else "")
-        out.append(f"  {name:<{width}}  {roles[name]:<{role_width}}  {link['verdict']:<12}  "
-                   f"{engines[name]:<{ENGINE_WIDTH}}  {reason}")
+        out.append(f"  {name:<{width}}  {roles[name]:<{role_width}}  {verdict(link):<12}  "
+                   f"{engines[name]:<{ENGINE_WIDTH}}  {reason(link)}")
     if f.get("format") == "mjcf":
         out.append(f"  (MJCF: source {', '.join(sorted({str(link['source']) for link in links.values()}))}; "
                    "'geoms': the inertia MuJoCo computed from the body's geoms)")
@@ -90,7 +111,7 @@ def format_file(path, f):
                    f"(relative Frobenius), {r['change_spectral']['value']:.3g} kg m^2 (spectral); principal moments "
                    f"({moments}) -> ({fixed}); <inertia {six}/> ({r['note']})")
     for name, body in f["bodies"].items():
-        if body["verdict"] != "consistent":
+        if body["verdict"] != "consistent" and body.get("judged", True):  # not MuJoCo joint frames, massless bases
             out.append(f"  body    {name} (joint {body['joint']}; links {', '.join(body['links'])}): "
                        f"{body['verdict']}: {body['reason']}")
     for leaf, c in f["chains"].items():
@@ -104,14 +125,27 @@ def format_file(path, f):
     return "\n".join(out)
 
 
+NOT_JUDGED_WORDS = {"joint_frames": ("joint frame", "joint frames"),
+                    "massless_frames": ("massless frame or base", "massless frames or bases"),
+                    "fixed_base": ("link of a fixed base", "links of a fixed base")}
+
+
 def totals(summary):
-    """The audit's counts (its ``summary``) after the number of files, e.g. "43 consistent, ...; signs: ..."."""
+    """The audit's counts (its ``summary``) after the number of files, e.g. "43 consistent, ...; judged links: ...;
+    judged bodies: ...; signs: ...". Joint frames, massless frames and bases and the links of a fixed base are
+    counted apart from the judged links, whatever their verdict as written."""
     links = ", ".join(f"{n} {label}" for label, n in summary["links"].items() if label != "not_judged")
-    links += f"; {summary['links'].get('not_judged', 0)} not judged (fixed base, massless or joint frames)"
+    apart = summary.get("links_not_judged")
+    why = ", ".join(f"{n} {NOT_JUDGED_WORDS[k][n != 1]}" for k, n in apart.items() if n and k in NOT_JUDGED_WORDS) \
+        if apart is not None else "fixed base, massless or joint frames"
+    links += f"; {summary['links'].get('not_judged', 0)} not judged" + (f" ({why})" if why else "")
+    bodies = summary.get("bodies")
+    judged_bodies = "" if bodies is None else "judged bodies: " + ", ".join(
+        f"{n} {label}" for label, n in bodies.items() if label != "not_judged") + "; "
     signs = ", ".join(f"{k} {v}" for k, v in sorted(summary["signs"].items())) or "none"
     return (f"{summary['files_consistent']} consistent, {summary['files_not_consistent']} not consistent, "
-            f"{summary['unreadable']} unreadable; links: {links}; moving links or bodies not consistent: "
-            f"{summary['moving_not_consistent']}; signs: {signs}")
+            f"{summary['unreadable']} unreadable; judged links: {links}; {judged_bodies}moving links or bodies not "
+            f"consistent: {summary['moving_not_consistent']}; signs: {signs}")
 
 
 def format_audit(doc):

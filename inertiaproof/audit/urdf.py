@@ -17,6 +17,8 @@ blank lines or followed by NUL bytes; leftover xacro elements and
 more numbers than a vector needs (the first ones, as pybullet); a second
 ``<axis>`` (the first, as urdfdom); limits with lower > upper (no limits, as
 Bullet); ``spherical`` joints (reported and left out, like floating ones).
+Internal DTD entities (``<!DOCTYPE robot [<!ENTITY m "2.5">]>``, ``value="&m;"``)
+are expanded after checks, external ones refused (:mod:`.entities`).
 Geometry (``<visual>``, ``<collision>``) is not read at all. The decimals of
 ``<mass>`` and ``<inertia>`` are kept as written: the verdict is decided on them.
 
@@ -41,6 +43,7 @@ import numpy as np
 from inertiaproof.errors import LARGEST, InputError
 from inertiaproof.model.inertia import from_urdf, pack, urdf_inertia
 
+from . import entities
 from .locate import urdf_sources
 
 __all__ = [
@@ -133,17 +136,23 @@ class Robot:
         return phis
 
 
-def read_urdf(path):
-    """The robot in a URDF file; raises InputError with one line naming the bad element."""
+def read_urdf(path, *, data=None, expanded=None, warnings=()):
+    """The robot in a URDF file; raises InputError with one line naming the bad element.
+
+    ``data``: the text to read instead of the file's (``expanded`` says by what, e.g. "xacro": the positions are
+    then in that text, and each Source says so); ``warnings``: what the expansion said."""
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read: {exc.strerror}") from None
-    warnings = []
+    if data is None:
+        try:
+            data = path.read_bytes()
+        except OSError as exc:
+            raise InputError(f"{path}: cannot read: {exc.strerror}") from None
+    warnings = list(warnings)
     root = _parse_xml(data, path, warnings)
     written, unlimited = _check(root, path, warnings)
     sources = urdf_sources(data, root, path)
+    if expanded is not None:
+        sources = {name: replace(source, expanded=expanded) for name, source in sources.items()}
     spherical = {j.get("name") for j in root.iter("joint") if j.get("type") == "spherical"}
     robot = _from_yourdfpy(_as_engines_read_it(root), path, written, unlimited | spherical, spherical)
     return replace(robot, sources=sources, warnings=tuple(warnings))
@@ -159,9 +168,10 @@ def _parse_xml(data, path, warnings):
     if not data.strip():
         raise InputError(f"{path}: empty file")
     data = _tolerated(data, warnings)
-    parser = etree.XMLParser(remove_comments=True, resolve_entities=False, no_network=True, huge_tree=False)
     try:
-        root = etree.fromstring(data, parser=parser)
+        root = entities.parse(data, path)  # internal DTD entities expanded safely, or refused (see .entities)
+    except InputError:
+        raise
     except etree.XMLSyntaxError as exc:
         line = f" at line {exc.lineno}" if exc.lineno else ""
         raise InputError(f"{path}: not well-formed XML{line}: {' '.join(exc.msg.split())}") from None

@@ -2,6 +2,7 @@
 of Theorems 2-5.
 
 - ``domain``: the configuration box and where certification stops
+- ``lengths``: what the link lengths bound for every q (columns of QJ), and unit bodies (Z = I)
 - ``spectral``: spectral functions and their convexity
 - ``extremes``: two-sided brackets of an extreme (a certified side and a side attained at a witness)
 - ``configuration``: brackets over configurations (a-priori bounds, Taylor bounds, branch and bound)

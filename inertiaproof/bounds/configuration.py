@@ -56,7 +56,9 @@ from .domain import (
 from .extremes import bracket_extreme
 from .fourier import PAIR_CELLS, SINGLE_CELLS, FourierFamily, certified_entry_sups, perron_of
 from .axial_form import axial_lower_form, form_lmin
+from .certificate import PivotProof, SpectrumClaim, partition_tree
 from .interface import EVIDENCE, split_ladder
+from .lengths import _block_rows, _unit_bodies, column_bounds, lever_bounds
 from .pivot_search import DEEP_S, EXTRA, ladder_budget, ladder_goal, pivot_ladder
 from .pivots import METRICS, PIVOT_LIMIT, PIVOT_MIN_S, PivotFamily
 from .taylor import MassFamily, box_bounds, perron_bound
@@ -72,6 +74,9 @@ __all__ = [
 
 REAL_PROBE = 3  # the real inertias' probe: 1/3 of the ci budget (SO-101: 64x proved after 9,000 boxes, 1.45x at 45,000)
 AXIAL_FIRST = 1.1  # in ci another form runs before the isotropic one where its sampled inf is this much higher
+REPROVABLE = 1 + 2**-10  # the narrowest bracket reported: a certified side within 1e-6 of an extreme attained along a
+# curve (spatial 3R's sup lambda_max((QJ)^T QJ)) is beyond the independent checker's boxes (not within 50,000 cuts;
+# 1e-4 away: 49,000 boxes; 1e-3: 1,400), so a narrower bracket is widened to this ratio (Bracket.widen)
 VERTEX_LIMIT = 6  # free coordinates up to which the 2^d vertices of the linear part are enumerated (exact linear part)
 
 # -- matrix families A(q) with derivatives --------------------------------------
@@ -261,48 +266,6 @@ def value_for_norm(evaluate, kind):
     return value
 
 
-def lever_bounds(chain):
-    """Certified |u_k x (z_l - p_k)| <= |z_l - p_k| (l >= k) for all q: the sum of the translations of the fixed
-    transforms and of the slides from joint k's axis to body l's origin (rotations keep lengths), the first offset
-    of a turning joint counted by its part across the axis (:func:`_axis_distance`). Lower triangle of an n x n array; a slide
-    without limits counts as 0 only as the first joint (it moves the joint points too): see certification_obstacle."""
-    lengths = []
-    for joint in chain.joints:
-        slide = 0.0 if joint.revolute or joint.limits is None else max(abs(joint.limits[0]), abs(joint.limits[1]))
-        lengths.append((np.linalg.norm(joint.before[:3, 3]), np.linalg.norm(joint.after[:3, 3]), slide))
-    out = np.zeros((chain.n, chain.n))
-    for l in range(chain.n):
-        for k in range(l + 1):
-            out[l, k] = sum(lengths[m][1] + lengths[m][2] for m in range(k, l + 1)) + sum(
-                lengths[m][0] for m in range(k + 1, l + 1))
-            if chain.joints[k].revolute:  # only the distance from joint k's axis counts: |u_k x (z_l - p_k)|
-                out[l, k] = min(out[l, k], _axis_distance(chain, k, l, lengths))
-    return out * (1 + 4 * chain.n * EPS)
-
-
-def _axis_distance(chain, k, l, lengths):
-    """A bound of the distance of body l's origin from joint k's axis for every q: the offset fixed to joint k's
-    turn (its after transform and joint k+1's before transform, in joint k's frame with the axis on z) counts by
-    its part across the axis; the later translations and slides by their lengths."""
-    z = chain.z_joints[k]
-    offset = z.after[:3, 3].copy()
-    if l > k:
-        offset = offset + z.after[:3, :3] @ chain.z_joints[k + 1].before[:3, 3]
-    rest = sum(lengths[m][1] + lengths[m][2] for m in range(k + 1, l + 1)) + sum(
-        lengths[m][0] for m in range(k + 2, l + 1))
-    return float(np.hypot(offset[0], offset[1])) + rest
-
-
-def column_bounds(chain):
-    """Certified bounds (n x n, lower triangle) of the linear and angular parts of column k of body l's block:
-    revolute R_l^T (u_k x (z_l - p_k), u_k) gives (|z_l - p_k|, 1), prismatic (R_l^T u_k, 0) gives (1, 0)."""
-    revolute = np.array([j.revolute for j in chain.joints])
-    mask = np.tril(np.ones((chain.n, chain.n), bool))
-    linear = np.where(mask, np.where(revolute[None, :], lever_bounds(chain), 1.0), 0.0)
-    angular = np.where(mask, np.where(revolute[None, :], 1.0, 0.0), 0.0)
-    return linear, angular
-
-
 def apriori_jacobian_blocks(chain):
     """Certified ||QJ_l||_F per body l for all q, from lengths alone (identity coordinate maps, bounded slides)."""
     linear, angular = column_bounds(chain)
@@ -387,11 +350,6 @@ def apriori_bound(chain, thetas, kind):
 
 # -- the ingredients over configurations ----------------------------------------------
 
-def _unit_bodies(chain):
-    """Parameter rows (1, N, 10) of unit bodies (Z = I): their mass matrix is (QJ)^T QJ."""
-    return _block_rows(np.ones(chain.bodies), np.ones(chain.bodies))[None]
-
-
 def jacobian_sup(chain, **kw):
     """sup_q sigma_max(QJ) (SVD). Beyond ``VERTEX_LIMIT`` free coordinates: the square root of the bracket of
     sup_q lambda_max((QJ)^T QJ), the mass matrix of unit bodies (Z = I), whose box bounds are polynomial."""
@@ -401,17 +359,19 @@ def jacobian_sup(chain, **kw):
             unit = _unit_bodies(chain)
             _tighten_by_fourier(b, chain, unit, kw.get("refine_s", 0.0), square=False)
             _tighten_by_ladder(b, chain, unit, kw.get("refine_s", 0.0), square=False)
-        return b
+            b.certify = SpectrumClaim(chain, unit, "lambda_max", square=True)
+        return b.widen(REPROVABLE)
     unit = _unit_bodies(chain)
     b = configuration_bracket(chain, mass_family(chain, unit), "lmax", value_kind="smax", square=True,
                               quantity_name="sup_q sigma_max(QJ)", thetas=unit, **kw)
     _tighten_by_fourier(b, chain, unit, kw.get("refine_s", 0.0), square=True)
     _tighten_by_ladder(b, chain, unit, kw.get("refine_s", 0.0), square=True)
     root = (lambda x: None if x is None else float(np.sqrt(max(x, 0.0))))
-    b.observed, b.certified = root(b.observed), root(b.certified)
+    b.observed, b.certified = root(b.observed), None if b.certified is None else _root_up(max(b.certified, 0.0))
     b.convergence = [[t, root(lo), root(hi)] for t, lo, hi in b.convergence]
     b.note += "; square roots of the bracket of sup_q lambda_max((QJ)^T QJ) (unit bodies)"
-    return b
+    b.certify = SpectrumClaim(chain, unit, "lambda_max", square=True)
+    return b.widen(REPROVABLE)
 
 
 def _ladders_run(chain, refine_s):
@@ -429,6 +389,7 @@ def jacobian_normality(chain, **kw):
     unit = _unit_bodies(chain)
     result = configuration_bracket(chain, mass_family(chain, unit), "lmin", value_kind="smin", square=True,
                                    quantity_name="inf_q sigma_min(QJ)^2", thetas=unit, **kw)
+    result.certify = SpectrumClaim(chain, unit, "lambda_min")
     result.tighten(triangular_normality_floor(chain),
                    "certified side from the block-triangular structure of QJ (unit twist of joint l in column l of "
                    "body l's block, lengths bound the rest): valid for every q")
@@ -438,10 +399,11 @@ def jacobian_normality(chain, **kw):
         gamma, how = split_ladder(chain, unit, result.observed, refine_s, floor=result.lower)
         result.tighten(gamma, f"(QJ)^T QJ - gamma I > 0 (unit bodies) {EVIDENCE}: {how}")
     if ladders and (refine_s < DEEP_S or result.upper > ladder_goal(refine_s) * result.lower):
-        gamma, how = pivot_normality(chain, refine_s, kw.get("samples", 2000), detail=True)
+        gamma, how, proof = pivot_normality(chain, refine_s, kw.get("samples", 2000), detail=True)
         result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body "
-                              f"pivots of (QJ)^T QJ - gamma I on each box (inertiaproof.bounds.pivot_search): {how}")
-    return result
+                              f"pivots of (QJ)^T QJ - gamma I on each box (inertiaproof.bounds.pivot_search): {how}",
+                       proof)
+    return result.widen(REPROVABLE)
 
 
 def pivot_normality(chain, refine_s, samples, weights=None, stop=None, detail=False, angular=None):
@@ -451,7 +413,7 @@ def pivot_normality(chain, refine_s, samples, weights=None, stop=None, detail=Fa
     (:func:`inertiaproof.bounds.pivot_search.pivot_ladder`); -inf where none was proved. The ladder stops once
     its bound is ``stop`` or more (default: the form's own observed inf over :func:`ladder_goal`). Its own seed,
     so the same chain and budget give the same number; cached by content. ``detail``: (bound, a note on the
-    ladder: the rung proved, boxes tested, partition size)."""
+    ladder: the rung proved, boxes tested, partition size, its :class:`PivotProof`)."""
     weights = np.ones((1, chain.bodies)) if weights is None else np.asarray(weights, float)
     weights = weights.min(0, keepdims=True)
     angular = weights if angular is None else np.asarray(angular, float).reshape(weights.shape)
@@ -477,18 +439,21 @@ def _pivot_normality(chain, rng, refine_s, samples, weights, angular, stop):
                             quantity_name="inf_q lambda_min of the unit form (pivots)", samples=samples,
                             refine_s=refine_s, rng=rng, free=free)
     stop = found.observed / ladder_goal(refine_s) if stop is None else stop
-    return _ladder(chain, family, values, found.observed, found.witness, ladder_budget(refine_s), stop)
+    return _ladder(chain, family, values, found.observed, found.witness, ladder_budget(refine_s), stop, forms=True)
 
 
-def _ladder(chain, family, values, observed, witness, budget, stop, sign=1.0):
+def _ladder(chain, family, values, observed, witness, budget, stop, sign=1.0, forms=False):
     """:func:`pivot_ladder` over the chain's search box within ``budget`` (boxes, seconds): (gamma, a note on the
-    rung proved, the partition's size and the boxes tested)."""
+    rung proved, the partition's size and the boxes tested, its :class:`PivotProof` or None; ``forms``: the family's
+    bodies are lower forms of the claim's, which the proof carries)."""
     lo, hi = search_box(chain)
-    gamma, tested, size, ratio, _ = pivot_ladder(family, values, observed, witness, lo, hi, free_coordinates(chain),
-                                                 max_boxes=budget[0], guard_s=budget[1], stop=stop, sign=sign)
-    note = ("no target proved" if ratio is None else f"target {observed:.6g}{'/' if sign > 0 else '*'}{ratio:g} "
-            f"proved on a partition of {size} boxes ({tested} boxes tested)")
-    return gamma, note
+    found = pivot_ladder(family, values, observed, witness, lo, hi, free_coordinates(chain), max_boxes=budget[0],
+                         guard_s=budget[1], stop=stop, sign=sign)
+    note = ("no target proved" if found.ratio is None else f"target {observed:.6g}{'/' if sign > 0 else '*'}"
+            f"{found.ratio:g} proved on a partition of {found.size} boxes ({found.tested} boxes tested)")
+    proof = None if found.partition is None else PivotProof(partition_tree(*found.partition, lo, hi),
+                                                            family.z if forms else None)
+    return found.gamma, note, proof
 
 
 def form_ladder(chain, forms, refine_s, samples, stop, probe=0, metrics=METRICS[:1]):
@@ -497,7 +462,8 @@ def form_ladder(chain, forms, refine_s, samples, stop, probe=0, metrics=METRICS[
     (:func:`inertiaproof.bounds.pivot_search.pivot_ladder`), stopping once its bound is ``stop`` or more; -inf where
     none was proved. ``probe`` k > 0: 1/k of the ci budget only (k = EXTRA: 7,500 boxes; a form the pivots cannot
     handle costs little). ``metrics``: the loss metrics the ladder may calibrate (pivots.METRICS).
-    Returns (bound, the form's sampled inf, a note on the ladder); its own seed, cached by content."""
+    Returns (bound, the form's sampled inf, a note on the ladder, its :class:`PivotProof`); its own seed, cached by
+    content."""
     forms = np.ascontiguousarray(forms, float)
     key = (chain_key(chain), refine_s, samples, forms.tobytes(), stop, probe, metrics)
     return content_memo(_PIVOT_CACHE, key, lambda: _form_ladder(chain, forms, refine_s, samples, stop, probe, metrics))
@@ -517,17 +483,9 @@ def _form_ladder(chain, forms, refine_s, samples, stop, probe, metrics):
     boxes, guard_s = ladder_budget(min(refine_s, PIVOT_MIN_S) if probe else refine_s)
     if probe:  # a share of the ci budget whatever the profile: a form that fails here fails with more too (measured)
         boxes, guard_s = boxes // probe, guard_s / probe
-    gamma, note = _ladder(chain, family, values, found.observed, found.witness, (boxes, guard_s), stop)
-    return gamma, found.observed, note
-
-
-def _block_rows(linear, angular):
-    """Parameter rows (N, 10) of the spatial inertias diag(linear_l I3, angular_l I3) (mass, no first moment,
-    isotropic rotational inertia): invariant under every rotation of the body frame."""
-    rows = np.zeros((len(linear), 10))
-    rows[:, 0] = linear
-    rows[:, 4:7] = np.asarray(angular)[:, None]
-    return rows
+    gamma, note, proof = _ladder(chain, family, values, found.observed, found.witness, (boxes, guard_s), stop,
+                                 forms=True)
+    return gamma, found.observed, note, proof
 
 
 def block_lower_form(thetas, points, chain, grid=64):
@@ -599,6 +557,7 @@ def mass_inf(chain, thetas, **kw):
     certified side is skipped (its certified inf cannot be)."""
     result = configuration_bracket(chain, mass_family(chain, thetas), "lmin",
                                    quantity_name="inf lambda_min(M(q, Theta))", thetas=thetas, **kw)
+    result.certify = SpectrumClaim(chain, thetas, "lambda_min")
     z = spatial_inertia(np.asarray(thetas, float))
     z_min = float((spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")).min())  # less its rounding
     floor = max(z_min, 0.0) * triangular_normality_floor(chain) * (1 - ROUNDING * EPS)
@@ -623,30 +582,30 @@ def mass_inf(chain, thetas, **kw):
             return result.upper > ladder_goal(refine_s) * result.lower and sampled_inf > result.lower
 
         def isotropic():
-            gamma, how = pivot_normality(chain, refine_s, samples, mu, stop, detail=True)
+            gamma, how, proof = pivot_normality(chain, refine_s, samples, mu, stop, detail=True)
             result.tighten(gamma, "M(q) >= sum_l mu_l QJ_l^T QJ_l with mu_l <= lambda_min(Z(Phi_l)) (key step, body "
                                   "by body), its inf certified by a ladder of targets proved with articulated-body "
-                                  f"pivots (inertiaproof.bounds.pivot_search): {how}")
+                                  f"pivots (inertiaproof.bounds.pivot_search): {how}", proof)
 
         def proved(forms, probe=EXTRA, metrics=METRICS[:1]):  # a probe first: forms the pivots cannot handle cost
-            gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop, probe, metrics)  # 1/probe of ci's budget
-            if -np.inf < gamma < stop:
-                gamma, _, how = form_ladder(chain, forms, refine_s, samples, stop, 0, metrics)
-            return gamma, how
+            gamma, _, how, proof = form_ladder(chain, forms, refine_s, samples, stop, probe, metrics)  # 1/probe of
+            if -np.inf < gamma < stop:  # ci's budget
+                gamma, _, how, proof = form_ladder(chain, forms, refine_s, samples, stop, 0, metrics)
+            return gamma, how, proof
 
         def axial_form(forms=forms, axial=axial, kind="mu_l I + kappa_l w_l w_l^T (an inertia about joint l's own axis)"):
-            gamma, how = proved(forms)
+            gamma, how, proof = proved(forms)
             bodies = ", ".join(str(l + 1) for l in np.flatnonzero(axial))
             result.tighten(gamma, "M(q) >= sum_l QJ_l^T Y_l QJ_l with Y_l <= Z(Phi_l) (checked with rounding; body by "
                                   f"body), Y_l = {kind} for bodies {bodies} (inertiaproof.bounds.axial_form), "
                                   "lambda_min(Z_l) I for the others, its inf certified by a ladder of targets proved "
-                                  f"with articulated-body pivots: {how}")
+                                  f"with articulated-body pivots: {how}", proof)
 
         def block_form(mu, nu):
-            gamma, how = pivot_normality(chain, refine_s, samples, mu[None], stop, detail=True, angular=nu)
+            gamma, how, proof = pivot_normality(chain, refine_s, samples, mu[None], stop, detail=True, angular=nu)
             result.tighten(gamma, "M(q) >= sum_l QJ_l^T diag(mu_l I3, nu_l I3) QJ_l with diag(mu_l I3, nu_l I3) "
                                   "<= Z(Phi_l) (checked with rounding; body by body), its inf certified by a ladder "
-                                  f"of targets proved with articulated-body pivots: {how}")
+                                  f"of targets proved with articulated-body pivots: {how}", proof)
 
         def later_forms():  # the heavy invariant and block forms, built where needed (Panda: 0.5 s and 2 s)
             heavy, invariant = axial_lower_form(chain, thetas, q, heavy=True)
@@ -679,11 +638,11 @@ def mass_inf(chain, thetas, **kw):
             if short(np.inf):
                 run_in_order(later_forms())
         if short(np.inf):  # still short: the bodies themselves (no form's gap; anisotropic turns: a probe first)
-            gamma, how = proved(z, REAL_PROBE, METRICS)  # |F| keeps an indefinite P's light directions
+            gamma, how, proof = proved(z, REAL_PROBE, METRICS)  # |F| keeps an indefinite P's light directions
             result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the "
                                   "articulated-body pivots of M(q) - gamma I on each box "
-                                  f"(inertiaproof.bounds.pivot_search): {how}")
-    return result
+                                  f"(inertiaproof.bounds.pivot_search): {how}", proof)
+    return result.widen(REPROVABLE)
 
 
 def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **kw):
@@ -694,7 +653,8 @@ def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **k
     _tighten_by_fourier(result, chain, thetas, kw.get("refine_s", 0.0), square=True)
     if kind == "absmax":  # sigma_max(M) = max(lambda_max(M), lambda_max(-M)): the stack and its negatives
         thetas = np.concatenate([np.asarray(thetas, float), -np.asarray(thetas, float)])
-    return _tighten_by_ladder(result, chain, thetas, kw.get("refine_s", 0.0), square=True)
+    result.certify = SpectrumClaim(chain, thetas, "lambda_max")
+    return _tighten_by_ladder(result, chain, thetas, kw.get("refine_s", 0.0), square=True).widen(REPROVABLE)
 
 
 UPPER_TRIGGER = 1.25  # a sup bracket wider than this (or than the ladder's goal) runs the upper ladder
@@ -716,13 +676,13 @@ def _tighten_by_ladder(result, chain, thetas, refine_s, square):
     thetas = np.asarray(thetas, float)
     thetas = np.unique(thetas.reshape(len(thetas), -1), axis=0).reshape((-1,) + thetas.shape[1:])  # the set once
     key = (chain_key(chain), refine_s, thetas.shape, thetas.tobytes(), observed, np.asarray(result.witness).tobytes())
-    gamma, how = content_memo(_PIVOT_CACHE, key, lambda: _pivot_sup(chain, thetas, refine_s, observed,
-                                                                    result.witness, goal))
+    gamma, how, proof = content_memo(_PIVOT_CACHE, key, lambda: _pivot_sup(chain, thetas, refine_s, observed,
+                                                                           result.witness, goal))
     if np.isfinite(gamma) and not square:
         gamma = _root_up(gamma)
     result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body pivots "
                           "of gamma I - M on each box (inertiaproof.bounds.pivot_search)"
-                          + ("" if square else ", unit bodies, square root") + f": {how}")
+                          + ("" if square else ", unit bodies, square root") + f": {how}", proof)
     return result
 
 

@@ -42,6 +42,8 @@ class Bracket:
     convergence: list = field(default_factory=list)  # [seconds, lower, upper]
     boxes: int = 0
     note: str = ""
+    certify: object = None  # certified side -> its certificate (inertiaproof.bounds.certificate), where one exists
+    proof: object = None  # what the certificate of the certified side carries of its proof (a PivotProof), if any
 
     @property
     def lower(self):
@@ -59,23 +61,35 @@ class Bracket:
     def width(self):
         return self.upper - self.lower
 
-    def tighten(self, certified, how):
+    def tighten(self, certified, how, proof=None):
         """Adopt another certified bound of the same extreme where it is sharper (a larger lower bound of an inf, a
         smaller upper bound of a sup, or any where there was none): the one place a bracket is tightened. ``how``
-        joins the note; the convergence record's certified side follows. Returns whether it was adopted."""
+        joins the note, ``proof`` (the proof's partition and forms) goes to the certificate; the convergence record's
+        certified side follows. Returns whether it was adopted."""
         if certified is None or np.isnan(certified):
             return False
         sign = 1.0 if self.sense == "min" else -1.0
         current = self.certified if self.certified is not None and np.isfinite(self.certified) else -sign * np.inf
         if not sign * float(certified) > sign * current:
             return False
-        self.certified = float(certified)
+        self.certified, self.proof = float(certified), proof
         self.note = (self.note + "; " if self.note else "") + how
         side = 1 if self.sense == "min" else 2
         for point in self.convergence:
             old = point[side]
             point[side] = float(certified) if old is None else (max(old, certified) if sign > 0 else min(old, certified))
         return True
+
+    def widen(self, ratio):
+        """The bracket with its certified side moved out to ``ratio`` times (an inf: 1/ratio of) the observed side
+        where it lies between the two (a larger upper bound is as certified; an inverted bracket stays as it is, for
+        the checks to see); returns the bracket."""
+        if self.certified is not None and np.isfinite(self.certified) and self.observed > 0:
+            far = self.observed * ratio if self.sense == "max" else self.observed / ratio
+            if self.observed <= self.certified < far if self.sense == "max" else far < self.certified <= self.observed:
+                self.certified = float(far)
+                self.note += f"; widened to {ratio:.6g}x of the observed side, so the independent checker re-proves it"
+        return self
 
     def evidence(self):
         """The ``bracket`` evidence the report plots (inertiaproof.result)."""
@@ -89,8 +103,13 @@ class Bracket:
                             f"certified by branch and bound over {self.boxes} boxes" + (f"; {self.note}" if self.note else ""))
         obs = quantity(self.observed, "sampled", sampled)
         lower, upper = (cert, obs) if self.sense == "min" else (obs, cert)
-        return {"quantity": self.quantity, "lower": lower, "upper": upper,
-                "witness": np.asarray(self.witness).tolist(), "convergence": self.convergence}
+        out = {"quantity": self.quantity, "lower": lower, "upper": upper,
+               "witness": np.asarray(self.witness).tolist(), "convergence": self.convergence}
+        certificate = (self.certify(self.certified, self.note, np.asarray(self.witness, float), self.proof)
+                       if self.certify and self.certified is not None else None)
+        if certificate is not None:
+            (lower if self.sense == "min" else upper)["certificate"] = certificate
+        return out
 
 
 def local_search(value, q, lo, hi, free, *, sign, rounds=40, step=0.25):

@@ -18,7 +18,7 @@ margin relative to |A_k|, and then the tail's margin as large as possible while 
 Both sides bound their turns in the |F| metric with ridge 1e-3 (L is indefinite: A_k with armature -gamma is
 negative along the motions the tail can absorb).
 
-Measured (deep budget, ``python -m inertiaproof.bounds.interface``): Panda 2 kg, split at body 4, Thm2 1.01x
+Measured (deep budget, ``python bench/split_interface.py``): Panda 2 kg, split at body 4, Thm2 1.01x
 proved on 9,870 tail and 15,794 head boxes (51,326 tested, 16 s; the ladder over all six coordinates with the best
 rotation-invariant body form: 1.14x, and an SDP caps every such form at 1.105x), Definition 2's unit bodies 1.01x
 in 6 s (the ladder: 1.03x in 32 s); UR5, split at body 3, 1.01x in 1-3 s for both; example-robot-data's UR5
@@ -251,20 +251,3 @@ def _prove_split(chain, tail_family, z, k, gamma, lower, head, free, lo, hi, bud
 def _all(found):
     ok, losses = found
     return ok.all(1), losses
-
-
-if __name__ == "__main__":
-    from inertiaproof.bounds.configuration import _unit_bodies
-    from inertiaproof.bounds.time import parameter_vertices
-    from inertiaproof.dynamics import composite
-    from inertiaproof.scene import robots
-
-    for scene in (robots.panda(payload=2.0), robots.ur5()):
-        chain, lo_hi = scene.chain, search_box(scene.chain)
-        q = np.where(free_coordinates(chain), lo_hi[0] + (lo_hi[1] - lo_hi[0]) * np.random.default_rng(0).random(
-            (50000, chain.n)), 0.5 * (lo_hi[0] + lo_hi[1]))
-        for name, thetas in (("Thm2", parameter_vertices(scene.trajectory)[0]), ("Def2", _unit_bodies(chain))):
-            observed = float(np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], thetas[None]))[..., 0].min())
-            start = time.perf_counter()
-            gamma, note = split_ladder(chain, thetas, observed, 20.0)
-            print(f"{scene.name} {name}: {observed / gamma:.4g}x in {time.perf_counter() - start:.1f} s; {note}")

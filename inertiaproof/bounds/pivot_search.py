@@ -28,12 +28,13 @@ from __future__ import annotations
 
 import itertools
 import time
+from typing import NamedTuple
 
 import numpy as np
 
 from .pivots import METRICS, RIDGES, pivot_test
 
-__all__ = ["CHUNK", "LADDER", "calibrated_radii", "ladder_budget", "ladder_goal", "partition", "pivot_ladder",
+__all__ = ["CHUNK", "LADDER", "Ladder", "calibrated_radii", "ladder_budget", "ladder_goal", "partition", "pivot_ladder",
            "rung_cost"]
 
 LADDER = (64.0, 16.0, 8.0, 4.0, 2.8, 1.95, 1.6, 1.45, 1.35, 1.25, 1.18, 1.15, 1.12, 1.1, 1.08, 1.05, 1.03, 1.02, 1.01)  # observed / target
@@ -48,6 +49,19 @@ GROWTH = 3.0  # a partition's size grows as m^-GROWTH, m of rung_cost (Panda, 2 
 SLACK = 2.0  # a rung is tried while its forecast is within SLACK times the boxes left (the forecast is high near a
 # ladder's end: Panda's deep Thm2 block form, 1.05x -> 1.03x, forecast 471,000 boxes, tested 176,000)
 CALIBRATION_POINTS = 8  # configurations the calibration looks at: the witness and seeded random ones
+
+
+class Ladder(NamedTuple):
+    """What :func:`pivot_ladder` proved: the certified side gamma, the boxes tested, the partition's size, the ratio
+    of the rung proved, the rungs tried, and the partition (centres, radii) every box of which passed gamma (None
+    when no rung was proved)."""
+
+    gamma: float
+    tested: int
+    size: int
+    ratio: float | None
+    rungs: list
+    partition: tuple | None = None
 
 
 def ladder_budget(refine_s):
@@ -160,8 +174,8 @@ def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, g
     branch and bound over the box [lo, hi] (fixed coordinates at the centre) within ``max_boxes`` tested boxes and
     ``guard_s`` seconds: a certified lower bound of inf lambda_min(M(q, Theta_v)) over the box and the stack, or
     -inf when none was proved. ``observed`` must be attained (at ``witness``); ``value(q)`` (K, n) -> (K, V) the
-    lambda_min per parameter set, for the calibration only. Returns (gamma, boxes tested, the partition's size,
-    ratio, [(ratio, boxes tested, partition size or None where it ran out)] per rung tried).
+    lambda_min per parameter set, for the calibration only. Returns a :class:`Ladder` (its rungs
+    [(ratio, boxes tested, partition size or None where it ran out)] per rung tried).
 
     ``sign`` -1, the upper side: the smallest gamma = observed * ratio (only targets below ``floor``, stopping
     once gamma <= ``stop``) for which gamma I - M(q, Theta_v) > 0 is proved, a certified upper bound of
@@ -170,7 +184,7 @@ def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, g
     floor = -sign * np.inf if floor is None else floor
     stop = sign * np.inf if stop is None else stop
     if not observed > 0:
-        return -sign * np.inf, 0, 0, None, []
+        return Ladder(-sign * np.inf, 0, 0, None, [])
     deadline = time.perf_counter() + guard_s
     rng = np.random.default_rng(0)
     points = np.vstack([np.asarray(witness, float)[None],
@@ -186,7 +200,7 @@ def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, g
             best_score, rho, chosen = np.log(trial).sum(), trial, choice
     family.metric, family.ridge = chosen
     centres, radii = (0.5 * (lo + hi))[None], np.where(free, 0.5 * (hi - lo), 0.0)[None]
-    best, best_ratio, used, size, reached, rungs = -sign * np.inf, None, 0, 0, False, []
+    best, best_ratio, used, size, reached, rungs, proved = -sign * np.inf, None, 0, 0, False, [], None
     for k, ratio in enumerate(ladder):
         gamma = float(observed / ratio if sign > 0 else observed * ratio)
         if sign * gamma <= sign * floor:
@@ -202,7 +216,7 @@ def pivot_ladder(family, value, observed, witness, lo, hi, free, *, max_boxes, g
         rungs.append((ratio, tested, None if partition is None else len(partition[0])))
         if partition is None:
             break
-        (centres, radii), best, best_ratio, size = partition, gamma, ratio, len(partition[0])
+        (centres, radii), best, best_ratio, size, proved = partition, gamma, ratio, len(partition[0]), partition
         if sign * best >= sign * stop and not reached:  # the goal: go on only as far as a small extra budget goes
             reached, max_boxes = True, min(max_boxes, used + max_boxes // EXTRA)
-    return best, used, size, best_ratio, rungs
+    return Ladder(best, used, size, best_ratio, rungs, proved)

@@ -10,7 +10,7 @@ joint): unit bodies 0.98 (0.01 rad), 0.90 (0.1 rad), 0.51 (0.3 rad); with real i
 0.91 (0.1 rad), nothing at 0.3 rad (joint 6 alone: 0.97 at 0.1 rad; before the loss about the centre's derivative:
 0.93 at 0.03, nothing at 0.1). A Loewner lower bound of Phi(x)^T P Phi(x) over an interval of x must drop heavy
 directions of an anisotropic articulated inertia onto its light ones, which the real inertias' wrist (light
-eigenvalue 1e-3 of M against heavy 5) feels most. ``python -m inertiaproof.bounds.pivots`` prints the bound
+eigenvalue 1e-3 of M against heavy 5) feels most. ``python bench/pivot_radius.py`` prints the bound
 against the radius.
 
 M(q) + a I > 0 exactly when every pivot of its tip-first LDL^T factorisation is positive. In body coordinates
@@ -357,20 +357,3 @@ def pivot_bounds(family: PivotFamily, kind, centres, radii, start, *, steps=40):
         good = np.where(ok, mid, good)
     gamma = np.where(np.isnan(good), -sign * np.inf, start - sign * np.nan_to_num(good) * span)
     return (gamma.min(1) if kind == "lmin" else gamma.max(1)), losses
-
-
-if __name__ == "__main__":
-    from inertiaproof.bounds.configuration import mass_inf
-    from inertiaproof.bounds.time import parameter_vertices
-    from inertiaproof.dynamics import composite
-    from inertiaproof.scene import robots
-
-    scene = robots.panda(payload=2.0)
-    chain, stack = scene.chain, parameter_vertices(scene.trajectory)[0]
-    witness = mass_inf(chain, stack, samples=2000, refine_s=0.3, rng=np.random.default_rng(0)).witness
-    start = np.linalg.eigvalsh(composite.mass_matrix(chain, witness[None, None], stack[None]))[..., 0]
-    lo, hi = chain.coordinate_box()
-    for radius in (0.0, 0.01, 0.03, 0.1):
-        r = np.minimum(radius, 0.5 * (hi - lo))[None]
-        r[0, 0] = 0.0
-        print(radius, float(pivot_bounds(PivotFamily(chain, stack), "lmin", witness[None], r, start)[0][0]))

@@ -43,6 +43,7 @@ from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import spatial_inertia
 
 from .domain import bernstein_domain, certification_obstacle, chain_key, content_memo, free_coordinates
+from .lengths import column_bounds
 from .spectral import EPS, ROUNDING
 
 __all__ = [
@@ -79,8 +80,6 @@ def entry_sups(chain, thetas):
     ||x||_W^2 <= lambda_max(W_vv) lin^2 + 2 ||W_vw|| lin ang + lambda_max(W_ww) ang^2 (column bounds of QJ from
     lengths).
     """
-    from .configuration import column_bounds
-
     linear, angular = column_bounds(chain)  # (bodies, joints)
     n = chain.n
     z = spatial_inertia(np.asarray(thetas, float))  # (V, N, 6, 6)

@@ -15,7 +15,8 @@ import numpy as np
 from inertiaproof.dynamics.trajectory import MovingMass, Payload, Scaling
 from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
 
-from .spectral import spectral
+from .certificate import body_spectrum_certificate
+from .spectral import EPS, ROUNDING, spectral
 
 __all__ = [
     "ACCELERATION_PEAK", "affine_loads", "BODY_FUNCTIONS", "lumped_velocity_bounds", "parameter_vertices",
@@ -127,9 +128,11 @@ BODY_FUNCTIONS = {  # name: (matrix of Phi, spectral kind, uses Thetadot)
 def time_extreme(trajectory, name, *, samples=2001, horizon=None):
     """min over bodies of inf_t (lmin_*) or max over bodies of sup_t (the others) of a body function, bracketed.
 
-    Returns dict(observed, certified, witness_time, body, how). The observed side
-    is a true value on a time grid; the certified side comes from the segment
-    ends (payloads, scalings) or from positivity and rate bounds (moving masses).
+    Returns dict(observed, certified, witness_time, body, how, sense), and ``certificate`` (kind ``body-spectrum``,
+    :func:`.certificate.body_spectrum_certificate`) when the certified side comes from the vertices and is finite.
+    The observed side is a true value on a time grid; the certified side comes from the segment ends (payloads,
+    scalings) or from positivity and rate bounds (moving masses). Eigenvalues computed in floating point are moved
+    outwards by the rounding allowance ROUNDING eps |lambda|_max of their matrix (lower sides down, upper sides up).
     """
     build, kind, rate = BODY_FUNCTIONS[name]
     t = trajectory.times(samples, horizon)
@@ -139,29 +142,43 @@ def time_extreme(trajectory, name, *, samples=2001, horizon=None):
     flat = np.argmin(vals) if sense == "min" else np.argmax(vals)
     ti, body = np.unravel_index(flat, vals.shape)
     observed = float(vals[ti, body])
-    verts = parameter_vertices(trajectory)
+    verts, certificate = parameter_vertices(trajectory), None
     if verts is not None:
         stack = verts[1] if rate else verts[0]
         finite = np.all(np.isfinite(stack), axis=(-2, -1))
-        cvals = spectral(build(stack[finite]), kind)
+        cvals = _rounded(build(stack[finite]), kind)
+        rounding = (f"; each vertex's eigenvalue {'lowered' if sense == 'min' else 'raised'} by the rounding "
+                    f"allowance {ROUNDING:g} eps |lambda|_max of its matrix")
         if finite.all():
             certified = float(cvals.min() if sense == "min" else cvals.max())
             how = ("exact: the extreme over t is at an end of the segment Theta_base + s Phi_load (one load per body)"
-                   if len(trajectory.loads) <= 1 else "the hull of the loads' segments (an outer bound)")
+                   if len(trajectory.loads) <= 1 else "the hull of the loads' segments (an outer bound)") + rounding
+            certificate = body_spectrum_certificate(stack, name, certified, how)
         elif sense == "min":
             certified = float(cvals.min())
-            how = "a scaling grows without bound on the span; growth of a consistent body only raises lambda_min"
+            how = ("a scaling grows without bound on the span; growth of a consistent body only raises lambda_min"
+                   + rounding)
         else:
             certified, how = np.inf, "a profile grows without bound on the span: the supremum is infinite"
     else:
         certified, how = _moving_mass_bound(trajectory, name), "positivity of the loads and their rate bounds"
-    return {"observed": observed, "certified": certified, "witness_time": float(t[ti]), "body": int(body), "how": how,
-            "sense": sense}
+    found = {"observed": observed, "certified": certified, "witness_time": float(t[ti]), "body": int(body), "how": how,
+             "sense": sense}
+    if certificate is not None:
+        found["certificate"] = certificate
+    return found
+
+
+def _rounded(matrices, kind):
+    """Spectral function ``kind`` of a batch of symmetric matrices, moved outwards by its rounding allowance:
+    ROUNDING eps |lambda|_max (down for lambda_min, up for lambda_max and |lambda|_max)."""
+    allowance = ROUNDING * EPS * spectral(matrices, "absmax")
+    return spectral(matrices, kind) + (-allowance if kind == "lmin" else allowance)
 
 
 def _moving_mass_bound(trajectory, name):
     build, kind, rate = BODY_FUNCTIONS[name]
-    base = spectral(build(trajectory.base), kind)
+    base = _rounded(build(trajectory.base), kind)
     extra = np.zeros(trajectory.bodies)
     for load in trajectory.loads:
         if not isinstance(load, MovingMass):

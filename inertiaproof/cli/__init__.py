@@ -31,6 +31,7 @@ COMMANDS = {  # name: (module, help)
     "gate": ("inertiaproof.symbolic.gate", "fingerprint derivations and compare with the lockfile"),
     "report": ("inertiaproof.report.cli", "write report.html, report.tex (and report.pdf) from a results folder"),
     "audit": ("inertiaproof.cli.audit", "audit URDF robots for physical consistency and mass-matrix bounds"),
+    "verify": ("inertiaproof.verify.cli", "re-prove certificates with the independent checker"),
     "adapt": ("inertiaproof.cli.adapt", "adaptive tracking of a scene's reference: time series of errors and spectra"),
 }
 

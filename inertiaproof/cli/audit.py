@@ -1,6 +1,8 @@
 """``inertiaproof audit ROBOT.urdf|MODEL.xml|DIR ...``: the audit of robot descriptions.
 
-Printed as tables, or as JSON (``--json``), GitHub Actions annotations
+A ``*.xacro`` file is expanded with the ``xacro`` package (``--xacro-arg
+NAME:=VALUE``) and audited as the URDF it expands to; its positions are lines
+of the expanded text. Printed as tables, or as JSON (``--json``), GitHub Actions annotations
 (``--github``) or the unified diff of repaired copies (``--write-repaired``);
 also as SARIF 2.1.0 (``--sarif FILE``) and as a report (``--report DIR``).
 When stdout carries annotations or a diff, the tables go to stderr.
@@ -23,6 +25,7 @@ from inertiaproof.audit.document import BOUNDS_MODES, audit_paths, document
 from inertiaproof.audit.repair import DEFAULT_SLACK
 from inertiaproof.audit.rewrite import repaired_copies, unified_diff
 from inertiaproof.audit.text import format_audit
+from inertiaproof.audit.xacro_files import parse_arguments
 from inertiaproof.budget import Budget, enforced
 from inertiaproof.errors import InputError
 from inertiaproof.suite.environment import versions
@@ -34,7 +37,8 @@ __all__ = ["configure", "main", "write_repaired", "write_report"]
 
 def configure(parser):
     parser.add_argument("paths", nargs="+", metavar="URDF_MJCF_OR_DIR",
-                        help="URDF or MJCF files, or folders searched for *.urdf and MJCF *.xml")
+                        help="URDF or MJCF files, xacro files (*.xacro, expanded with the xacro package), or folders "
+                             "searched for *.urdf and MJCF *.xml")
     shown = parser.add_mutually_exclusive_group()
     shown.add_argument("--json", action="store_true", help="print the audit as JSON instead of tables")
     shown.add_argument("--github", action="store_true",
@@ -53,6 +57,9 @@ def configure(parser):
     parser.add_argument("--repair-slack", type=float, default=DEFAULT_SLACK, metavar="EPS",
                         help="relative triangle slack the repaired inertia keeps (default %(default)g)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
+                        help="an argument for the xacro files (repeat for more); their positions are in the expanded "
+                             "text, as `xacro FILE NAME:=VALUE` prints it")
     parser.add_argument("--workers", type=int, metavar="N",
                         help="audit the files on N workers (a Dask LocalCluster; needs inertiaproof[distributed]); "
                              "default: 1 in ci, the number of cores in deep")
@@ -68,6 +75,9 @@ def main(args):
     start = time.perf_counter()
     options = dict(samples=profile.audit_samples, refine_s=profile.audit_refine_s, bounds=args.bounds,
                    floating_base=args.floating_base, slack=args.repair_slack, seed=args.seed)
+    xacro_args = parse_arguments(args.xacro_arg)
+    if xacro_args:
+        options["xacro_args"] = xacro_args
     memory = Budget(memory_bytes=profile.memory_mb * 2**20)
     say = (lambda message: print(message, file=sys.stderr)) if args.workers or args.scheduler else None
     with np.errstate(all="ignore"), enforced(memory, grace=0.0), \

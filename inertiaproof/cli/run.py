@@ -32,6 +32,8 @@ def configure(parser):
     parser.add_argument("--counterexamples", default="counterexamples/found", metavar="DIR",
                         help="where counterexamples are saved (default: counterexamples/found)")
     parser.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    parser.add_argument("--no-verify", action="store_true", help="write the certificates (OUT/certificates) but do "
+                        "not re-prove them with the independent checker")
     parser.add_argument("--workers", type=int, metavar="N",
                         help="workers for splittable work (hunt shards): 1 runs everything in this process without Dask; "
                              "N > 1 starts a Dask LocalCluster (needs inertiaproof[distributed]); default: 1 in ci, the "
@@ -55,12 +57,14 @@ def main(args):
     found = checked_outputs(out, args.junit, args.counterexamples, lambda message: print(message, file=sys.stderr))
     with executor_for(args.workers, args.scheduler, profile=args.profile, say=say) as executor:
         run = runner.run_checks(profile=profile, seed=args.seed, only=args.only, scene=scene, symbolic=args.symbolic,
-                                out_dir=out, counterexample_dir=found, progress=say, executor=executor)
+                                out_dir=out, counterexample_dir=found, progress=say, executor=executor,
+                                verify=not args.no_verify)
         runner.write_execution_log(out / "execution.json", executor)
     doc = runner.results_document(run, profile=args.profile, seed=args.seed, scene=args.scene)
     path = runner.write_results(out / "results.json", doc)
     print(runner.format_table(run))
     print(f"results: {path}")
+    print(runner.certificate_line(run))
     if args.junit:
         print(f"junit: {runner.write_junit(args.junit, run)}")
     if args.report:

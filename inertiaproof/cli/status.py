@@ -30,6 +30,8 @@ EXIT_STATUS = {  # command -> the meaning of its exit status (shown by --help)
     "gate": f"exit status: {HOLDS} every derived object means what the lockfile says (or --update wrote it); "
             f"{VIOLATED} a meaning changed, or an object is new or gone",
     "report": f"exit status: {HOLDS} written; {BAD_INPUT} the results folder cannot be read",
+    "verify": f"exit status: {HOLDS} every claim re-proved; {VIOLATED} some claim refuted; {BAD_INPUT} a bad "
+              f"certificate or bad usage; {INCONCLUSIVE} some claim not decided and none refuted",
     "audit": f"exit status: {HOLDS} every moving link and every body is consistent; {VIOLATED} some is not; "
              f"{BAD_INPUT} some file cannot be read (the others are still audited)",
 }

@@ -44,6 +44,7 @@ KINDS = {  # kind of work: where it runs on a LocalCluster
     "audit": "processes",  # XML reading, SymPy-free but Python-bound; MuJoCo per file
     "symbolic": "processes",  # SymPy holds the GIL
     "boxes": "threads",  # batched NumPy of branch and bound (releases the GIL)
+    "verify": "processes",  # the independent checker's ball arithmetic (python-flint, Python-bound)
 }
 INSTALL_HINT = "more than one worker needs Dask: pip install 'inertiaproof[distributed]'"
 

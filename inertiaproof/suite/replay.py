@@ -9,6 +9,7 @@ from inertiaproof.budget import Budget, OutOfBudget, enforced
 from inertiaproof.errors import InputError, read_text
 from inertiaproof.result import Result, Verdict
 
+from . import certificates  # noqa: F401  (registers the replayer of refuted certificates)
 from .context import Context
 from .discovery import load_checks
 from .outputs import COUNTEREXAMPLE_SCHEMA

@@ -35,6 +35,7 @@ from inertiaproof.errors import InputError
 from inertiaproof.result import Result, Verdict
 
 from . import catalog
+from .certificates import cited_entries, settle
 from .context import Context
 from .discovery import load_checks
 from .environment import versions
@@ -97,12 +98,14 @@ def select(checks, *, only=None, scene=None, symbolic=False):
 
 
 def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, out_dir=None,
-               counterexample_dir=Path("counterexamples/found"), progress=None, executor=None):
+               counterexample_dir=Path("counterexamples/found"), progress=None, executor=None, verify=True):
     """Run the selected checks and return a :class:`Run`.
 
     ``profile`` is a name of PROFILES or a :class:`Profile`; each check runs within its budget (the profile's
     ``check_s`` and ``memory_mb``, inside the run's ``run_s``) and ends INCONCLUSIVE when it runs out. Splittable
-    work (hunt shards) goes to ``executor`` (:mod:`.execution`; default: this process)."""
+    work (hunt shards) goes to ``executor`` (:mod:`.execution`; default: this process). The certificates a check's
+    evidence cites are written under ``out_dir``/certificates and, with ``verify``, re-proved by the independent
+    checker (:mod:`.certificates`)."""
     profile = PROFILES[profile] if isinstance(profile, str) else profile
     checks = load_checks()
     specs, skipped = select(checks, only=only, scene=scene, symbolic=symbolic)
@@ -113,10 +116,12 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
         executor = Executor()
     if progress is not None and executor.say is None:
         executor.say = lambda message: say(f"      {message}")
-    if out_dir is not None:  # the journal of violations as they arrive is this run's own
+    if out_dir is not None:  # the journal of violations as they arrive, and the certificates, are this run's own
         journal_path(out_dir).unlink(missing_ok=True)
+        for old in (Path(out_dir) / "certificates").glob("*.json"):
+            old.unlink()
     run = Run(skipped=skipped)
-    memo = {}
+    memo, proofs = {}, {}
     start = time.perf_counter()
     run_ends = time.monotonic() + profile.run_s
     for i, spec in enumerate(specs, 1):
@@ -128,6 +133,7 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
         t0 = time.perf_counter()
         result = _run_one(spec, ctx, profile)
         result.runtime_s = time.perf_counter() - t0
+        settle(result, out_dir=out_dir, budget=profile.verify_cuts, verify=verify, memo=proofs, executor=executor)
         result.check, result.seed, result.profile = spec.name, seed, profile.name
         result.scene = getattr(scene, "source", None) or getattr(scene, "name", None)
         result.artifacts = list(outputs.artifacts)
@@ -229,6 +235,17 @@ def write_junit(path, run):
     path.parent.mkdir(parents=True, exist_ok=True)
     ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
     return path
+
+
+def certificate_line(run):
+    """How many certified numbers cite a certificate, and what the independent checker said of them."""
+    rows = {}
+    for result in run.results:
+        for holder in cited_entries(result.evidence):
+            rows[holder["file"]] = holder.get("status", "not verified")
+    counts = {status: sum(s == status for s in rows.values()) for status in dict.fromkeys(rows.values())}
+    return (f"certificates: {len(rows)} (OUT/certificates)" + ("; " if counts else "")
+            + ", ".join(f"{n} {status}" for status, n in counts.items()))
 
 
 def format_table(run, width=110):

@@ -1,0 +1,146 @@
+"""Certificates of the certified sides of the mass-matrix brackets, for the independent checker.
+
+A certificate (schema ``inertiaproof.certificate/1``, documented in the README) is self-contained: the claim,
+the chain, the parameter sets and the configuration box, every number an exact rational ("p/q") equal to the
+float64 the prover used. ``inertiaproof verify`` (:mod:`inertiaproof.verify`, which shares no code with this
+package) re-proves it. :meth:`inertiaproof.bounds.extremes.Bracket.evidence` cites the certificate of its
+certified side; the runner writes it under ``OUT/certificates/``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+
+from .domain import certification_obstacle, search_box
+
+__all__ = ["SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "spectrum_certificate"]
+
+SCHEMA = "inertiaproof.certificate/1"
+STATEMENT = {"lambda_min": "lambda_min(M(q, Theta)) >= {bound}", "lambda_max": "lambda_max(M(q, Theta)) <= {bound}"}
+
+
+def exact(x):
+    """The float64 x (or a Fraction) as the exact rational it is, "p/q" (or "p")."""
+    return str(x if isinstance(x, Fraction) else Fraction(float(x)))
+
+
+def _rows(a):
+    return [[exact(v) for v in row] for row in np.asarray(a, float)]
+
+
+@dataclass(frozen=True)
+class PivotProof:
+    """What a pivot ladder hands to its certificate: the partition that proved its rung as a tree
+    (:func:`partition_tree`; None where its boxes do not tile the domain, which the checker rejects) and the body
+    matrices proved on, ``forms`` (V, N, 6, 6): lower forms Y_l <= Z(Phi_l) of a
+    lower claim, or None where they are the parameter sets' own."""
+
+    tree: str
+    forms: np.ndarray | None = None
+
+
+def partition_tree(centres, radii, lo, hi):
+    """The prefix code (:mod:`inertiaproof.verify.tree`) of a partition of the box [lo, hi] into boxes (centres, radii)
+    (K, n) made by halving (a coordinate of radius 0 is left whole); None when the boxes are not such a partition.
+    A box is cut along a coordinate whose middle no box straddles (any such cut is one the halving made or could
+    have made: every box lies in one half)."""
+    centres, radii = np.asarray(centres, float), np.asarray(radii, float)
+    moving = radii.max(0) > 0
+    tokens, stack = [], [(np.arange(len(centres)), np.asarray(lo, float), np.asarray(hi, float))]
+    while stack:
+        rows, a, b = stack.pop()
+        middle, tol = 0.5 * (a + b), 1e-9 * (b - a)
+        if len(rows) == 1:
+            c, r = centres[rows[0]], radii[rows[0]]
+            if np.any(moving & ((np.abs(c - middle) > tol) | (np.abs(r - 0.5 * (b - a)) > tol))):
+                return None
+            tokens.append(".")
+            continue
+        low = centres[rows] + radii[rows] <= middle + tol
+        high = centres[rows] - radii[rows] >= middle - tol
+        cuts = np.flatnonzero(moving & (low | high).all(0) & low.any(0) & high.any(0))
+        if not len(rows) or not len(cuts):
+            return None
+        k = int(cuts[0])
+        tokens.append(str(k))
+        upper_a, lower_b = a.copy(), b.copy()
+        upper_a[k] = lower_b[k] = middle[k]
+        stack.append((rows[high[:, k]], upper_a, b))
+        stack.append((rows[low[:, k]], a, lower_b))
+    return " ".join(tokens)
+
+
+def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=None, proof=None):
+    """The certificate of "for all q in the chain's search box and Theta in the convex hull of ``thetas`` (V, N, 10),
+    lambda_min(M(q, Theta)) >= bound" (``quantity`` "lambda_min"; "lambda_max": <= bound); None where the checker
+    has no claim of this kind for the chain (a coordinate map other than the identity, an unbounded slide). The
+    ``witness``, a configuration where the prover saw the extreme, is where the checker looks first; ``proof`` (a
+    :class:`PivotProof`) gives the partition it starts from and, for a lower claim, the forms it proves on."""
+    if certification_obstacle(chain) is not None or not np.isfinite(float(bound)):
+        return None
+    lo, hi = search_box(chain)
+    thetas = np.asarray(thetas, float)
+    forms = proof.forms if proof is not None and quantity == "lambda_min" else None
+    if forms is not None and len(forms) == len(thetas) > 1:  # forms paired with the parameter sets: keep their order
+        sets = thetas
+    else:
+        sets = np.unique(thetas.reshape(len(thetas), -1), axis=0).reshape((-1,) + thetas.shape[1:])
+    joints = [{"kind": j.kind, "axis": [exact(a) for a in j.axis], "before": _rows(j.before), "after": _rows(j.after),
+               "coordinate": j.coordinate.name} for j in chain.joints]
+    return {"schema": SCHEMA,
+            "claim": {"kind": "mass-matrix-spectrum", "quantity": quantity, "bound": exact(bound),
+                      "statement": f"for all q in the box and Theta in the hull of the {len(sets)} parameter set(s): "
+                                   + STATEMENT[quantity].format(bound=f"{float(bound):.10g}")},
+            "chain": {"name": chain.name, "joints": joints},
+            "domain": [[exact(a), exact(b)] for a, b in zip(lo, hi)],
+            "parameters": [_rows(s) for s in sets],
+            "tree": "." if proof is None else proof.tree,  # None: the prover's boxes were no partition
+            **({"forms": [[_rows(y) for y in form] for form in forms]} if forms is not None else {}),
+            **({"witness": [exact(x) for x in np.clip(witness, lo, hi)]} if witness is not None else {}),
+            "provenance": provenance}
+
+
+@dataclass(frozen=True)
+class SpectrumClaim:
+    """bound -> the certificate of a bracket's certified side (``square``: the bracket is of a square root, so the
+    claim is of bound^2, exactly); plain data, so a Bracket that carries it can be pickled."""
+
+    chain: object
+    thetas: np.ndarray
+    quantity: str
+    square: bool = False
+
+    def __call__(self, bound, note="", witness=None, proof=None):
+        bound = Fraction(float(bound)) ** 2 if self.square else bound
+        return spectrum_certificate(self.chain, self.thetas, self.quantity, bound, note, witness, proof)
+
+
+BODY_CLAIMS = {  # inertiaproof.bounds.time.BODY_FUNCTIONS name: (matrix, quantity, statement)
+    "lmin_f": ("pseudo_inertia", "lambda_min", "lambda_min(f(Phi_l)) >= {bound}"),
+    "lmax_f": ("pseudo_inertia", "lambda_max", "lambda_max(f(Phi_l)) <= {bound}"),
+    "lmin_Z": ("spatial_inertia", "lambda_min", "lambda_min(Z(Phi_l)) >= {bound}"),
+    "lmax_Z": ("spatial_inertia", "lambda_max", "lambda_max(Z(Phi_l)) <= {bound}"),
+    "smax_fdot": ("pseudo_inertia", "sigma_max", "sigma_max(f(Phidot_l)) <= {bound}"),
+    "smax_Zdot": ("spatial_inertia", "sigma_max", "sigma_max(Z(Phidot_l)) <= {bound}"),
+}
+
+
+def body_spectrum_certificate(stack, name, bound, provenance=""):
+    """The certificate (kind ``body-spectrum``) of the certified side ``bound`` of the time extreme ``name`` (a key
+    of :data:`BODY_CLAIMS`): for every body l and Phi_l in the convex hull of the rows of body l in ``stack`` (V, N,
+    10; the vertices of Theta or Thetadot), e.g. lambda_min(f(Phi_l)) >= bound. None when a row or the bound is not
+    finite (an unbounded scaling): the checker has no claim then."""
+    stack = np.asarray(stack, float)
+    if not (np.all(np.isfinite(stack)) and np.isfinite(float(bound))):
+        return None
+    matrix, quantity, statement = BODY_CLAIMS[name]
+    sets = np.unique(stack.reshape(len(stack), -1), axis=0).reshape(-1, *stack.shape[1:])
+    return {"schema": SCHEMA,
+            "claim": {"kind": "body-spectrum", "matrix": matrix, "quantity": quantity, "bound": exact(bound),
+                      "statement": f"for every body l and Phi_l in the hull of its rows in the {len(sets)} parameter "
+                                   f"set(s): " + statement.format(bound=f"{float(bound):.10g}")},
+            "parameters": [_rows(s) for s in sets],
+            "provenance": provenance}

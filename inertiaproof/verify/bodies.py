@@ -1,0 +1,93 @@
+"""The ``body-spectrum`` claim, decided exactly: a spectral bound of each body's matrix over the hull of its rows.
+
+It says: for every body l and every Phi in the convex hull of the rows of body l in the parameter sets
+(``parameters``), with F = f(Phi) (``matrix`` "pseudo_inertia", 4x4) or Z(Phi) ("spatial_inertia", 6x6),
+
+- ``lambda_min``: lambda_min(F) >= bound, proved as F - bound I >= 0;
+- ``lambda_max``: lambda_max(F) <= bound, proved as bound I - F >= 0;
+- ``sigma_max``: max |eigenvalue of F| <= bound, proved as bound I - F >= 0 and bound I + F >= 0.
+
+F is linear in Phi, so each condition holds on the hull when it holds at every row (the semidefinite cone is
+convex). Every row is decided in exact rational arithmetic (:func:`.exact.semidefinite`): no rounding, no boxes.
+"""
+
+from __future__ import annotations
+
+from flint import fmpq
+
+from .exact import BadCertificate, rational, semidefinite
+from .outcome import Outcome
+
+__all__ = ["parameter_sets", "pseudo_inertia", "prove", "spatial_inertia"]
+
+QUANTITIES = {"lambda_min": ((1, -1, "F - bound I"),), "lambda_max": ((-1, 1, "bound I - F"),),
+              "sigma_max": ((-1, 1, "bound I - F"), (1, 1, "bound I + F"))}  # (sign of F, sign of bound I, which)
+
+
+def _inertia(phi):
+    _, _, _, _, i11, i22, i33, i12, i23, i13 = phi
+    return [[i11, i12, i13], [i12, i22, i23], [i13, i23, i33]]
+
+
+def pseudo_inertia(phi):
+    """f(Phi) = [[Sigma, h], [h^T, m]], Sigma = tr(I)/2 I3 - I (DefTrafoInertialParameters), of exact rationals."""
+    m, h = phi[0], phi[1:4]
+    inertia = _inertia(phi)
+    half = (inertia[0][0] + inertia[1][1] + inertia[2][2]) / 2
+    rows = [[(half if i == j else fmpq(0)) - inertia[i][j] for j in range(3)] + [h[i]] for i in range(3)]
+    return rows + [list(h) + [m]]
+
+
+def spatial_inertia(phi):
+    """Z(Phi) = [[m I3, -S(h)], [-S(h)^T, I]] (DefMatrixZ) of exact rationals."""
+    m, (h1, h2, h3), z = phi[0], phi[1:4], fmpq(0)
+    inertia = _inertia(phi)
+    return [[m, z, z, z, h3, -h2], [z, m, z, -h3, z, h1], [z, z, m, h2, -h1, z],
+            [z, -h3, h2] + inertia[0], [h3, z, -h1] + inertia[1], [-h2, h1, z] + inertia[2]]
+
+
+MATRICES = {"pseudo_inertia": pseudo_inertia, "spatial_inertia": spatial_inertia}
+
+
+def parameter_sets(sets, bodies=None):
+    """The exact rows (V lists of N rows of 10) of a certificate's ``parameters``; ``bodies`` N when known."""
+    if not isinstance(sets, list) or not sets or not isinstance(sets[0], list) or not sets[0]:
+        raise BadCertificate("parameters: a nonempty list of parameter sets, each a nonempty list of bodies")
+    bodies, rows = bodies or len(sets[0]), []
+    for v, body_rows in enumerate(sets):
+        if not isinstance(body_rows, list) or len(body_rows) != bodies:
+            raise BadCertificate(f"parameters[{v}]: one row of 10 parameters per body ({bodies})")
+        for l, row in enumerate(body_rows):
+            if not isinstance(row, list) or len(row) != 10:
+                raise BadCertificate(f"parameters[{v}][{l}]: 10 numbers")
+        rows.append([[rational(x, f"parameters[{v}][{l}][{i}]") for i, x in enumerate(row)]
+                     for l, row in enumerate(body_rows)])
+    return rows
+
+
+def _parse(cert):
+    claim = cert["claim"]
+    if claim.get("matrix") not in MATRICES:
+        raise BadCertificate(f"claim.matrix: one of {sorted(MATRICES)}, not {claim.get('matrix')!r}")
+    if claim.get("quantity") not in QUANTITIES:
+        raise BadCertificate(f"claim.quantity: one of {sorted(QUANTITIES)}")
+    bound = rational(claim.get("bound"), "claim.bound")
+    return MATRICES[claim["matrix"]], claim["matrix"], claim["quantity"], bound, parameter_sets(cert.get("parameters"))
+
+
+def prove(cert, budget):
+    """The :class:`Outcome` of the claim: every (parameter set, body) decided exactly (``budget`` is not needed)."""
+    build, matrix, quantity, bound, sets = _parse(cert)
+    tested = 0
+    for v, body_rows in enumerate(sets):
+        for l, row in enumerate(body_rows):
+            f = build(row)
+            for sign, shift, what in QUANTITIES[quantity]:
+                tested += 1
+                if not semidefinite([[sign * x + (shift * bound if i == j else 0) for j, x in enumerate(r)]
+                                     for i, r in enumerate(f)]):
+                    return Outcome("refuted", f"parameter set {v}, body {l + 1}: {what} is not positive semidefinite "
+                                   f"for F = {matrix}(Phi) (exact rational arithmetic)", tested,
+                                   {"parameter_set": v, "body": l + 1, "matrix": matrix, "quantity": quantity})
+    return Outcome("re-proved", f"{len(sets)} parameter set(s) x {len(sets[0])} bodies: every {matrix}(Phi) decided "
+                   "exactly", tested)

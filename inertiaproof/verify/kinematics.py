@@ -1,0 +1,273 @@
+"""A serial chain's body Jacobians and mass matrix, enclosed over a box of configurations.
+
+The chain is the certificate's: joint l has a fixed transform ``before``, a turn about (slide along) its
+``axis`` through the origin by g(q_l), and a fixed transform ``after``, so body l's frame is
+T_l = T_(l-1) before_l X_l(g(q_l)) after_l. Rotation blocks are inverted by transposition (the certificate's
+chain is taken to be rigid). Column k of body l's Jacobian QJ_l, in body l's axes (VelocityRigidMass), is
+(a x w, w) g'(q_k) for a turn and (w, 0) g'(q_k) for a slide, with w joint k's unit axis and a a point on it,
+both seen from body l. They are computed from body l backwards, A = X_(k+1) ... X_l with X_j the joint's whole
+transform, so that only the joints between k and l enter (the base joint's coordinate never does).
+Then M(q, Theta) = sum_l QJ_l^T Z(Phi_l) QJ_l (MassMatrix, DefMatrixZ).
+"""
+
+from __future__ import annotations
+
+from flint import arb, arb_mat
+
+from .exact import BadCertificate, ball, rational
+
+__all__ = ["Chain"]
+
+def _matrix(rows, shape, where):
+    if not (isinstance(rows, list) and len(rows) == shape[0] and all(isinstance(r, list) and len(r) == shape[1]
+                                                                     for r in rows)):
+        raise BadCertificate(f"{where}: expected a {shape[0]}x{shape[1]} list of numbers")
+    return [[rational(x, f"{where}[{i}][{j}]") for j, x in enumerate(r)] for i, r in enumerate(rows)]
+
+
+class Joint:
+    def __init__(self, data, where):
+        if not isinstance(data, dict):
+            raise BadCertificate(f"{where}: a joint is an object")
+        self.revolute = {"revolute": True, "prismatic": False}.get(data.get("kind"))
+        if self.revolute is None:
+            raise BadCertificate(f"{where}.kind: 'revolute' or 'prismatic', not {data.get('kind')!r}")
+        axis = [ball(x) for x in _matrix([data.get("axis")], (1, 3), f"{where}.axis")[0]]
+        norm = sum(a * a for a in axis).sqrt()
+        if not norm > 0:
+            raise BadCertificate(f"{where}.axis: the axis must be a nonzero vector")
+        self.axis = arb_mat(3, 1, [a / norm for a in axis])
+        self.before = _transform(data.get("before"), f"{where}.before")
+        self.after = _transform(data.get("after"), f"{where}.after")
+
+        if data.get("coordinate", "identity") != "identity":
+            raise BadCertificate(f"{where}.coordinate: only the identity map is checked")
+        self.before_map, self.after_map = _twist_map(self.before), _twist_map(self.after)
+        k = arb_mat(3, 3, [0, -self.axis[2, 0], self.axis[1, 0], self.axis[2, 0], 0, -self.axis[0, 0],
+                           -self.axis[1, 0], self.axis[0, 0], 0])
+        zero = arb_mat(3, 3)
+        n_map = _blocks(-k, zero, zero, -k) if self.revolute else _blocks(zero, -k, zero, zero)
+        self.generators = n_map, n_map * n_map  # N and N^2 of the twist map by delta (see _expansion)
+        self.subspace = _subspace(self)
+
+    def motion_map(self, centre, radius=None):
+        """The twist map of the joint's own motion by the coordinate ``centre`` (a rational), or by every
+        delta with |delta| <= ``radius`` when centre is None."""
+        return _twist_map(self.motion(arb(centre) if centre is not None else arb(0, arb(radius).abs_upper())))
+
+    def motion(self, x):
+        """The joint's own transform (R, p) at the ball x of its variable."""
+        if not self.revolute:
+            return _identity(), self.axis * x
+        s, c = x.sin(), x.cos()
+        u0, u1, u2 = (self.axis[i, 0] for i in range(3))
+        k = arb_mat(3, 3, [0, -u2, u1, u2, 0, -u0, -u1, u0, 0])
+        return _identity() + k * s + (k * k) * (1 - c), arb_mat(3, 1)
+
+
+def _transform(rows, where):
+    m = _matrix(rows, (4, 4), where)
+    if any(m[3][j] != (1 if j == 3 else 0) for j in range(4)):
+        raise BadCertificate(f"{where}: the last row of a transform is 0 0 0 1")
+    return arb_mat(3, 3, [ball(m[i][j]) for i in range(3) for j in range(3)]), arb_mat(3, 1, [ball(m[i][3]) for i in range(3)])
+
+
+def _identity():
+    return arb_mat(3, 3, [1, 0, 0, 0, 1, 0, 0, 0, 1])
+
+
+def _compose(a, b):
+    return a[0] * b[0], a[0] * b[1] + a[1]
+
+
+def _cross(a, b):
+    return arb_mat(3, 1, [a[1, 0] * b[2, 0] - a[2, 0] * b[1, 0], a[2, 0] * b[0, 0] - a[0, 0] * b[2, 0],
+                          a[0, 0] * b[1, 0] - a[1, 0] * b[0, 0]])
+
+
+class Chain:
+    def __init__(self, data):
+        joints = data.get("joints") if isinstance(data, dict) else None
+        if not isinstance(joints, list) or not joints:
+            raise BadCertificate("chain.joints: a nonempty list of joints")
+        self.joints = [Joint(j, f"chain.joints[{i}]") for i, j in enumerate(joints)]
+        self.n = len(self.joints)
+
+    def pivots(self, box, inertias, shift, relative=True, memo=None):
+        """Prove sum_l QJ_l^T Z_l QJ_l + shift I > 0 for every q in ``box`` (a list of (centre, radius) rationals),
+        with Z_l the 6 x 6 ball matrices ``inertias``: (l, pivot l's ball) of the first pivot not proved positive,
+        or (None, the smallest pivot).
+
+        The pivots of the LDL^T decomposition from the tip are d_l = s_l^T A_l s_l + shift, with A_n = Z_n and
+        A_(l-1) = Z_(l-1) + X_l^T (A_l - A_l s_l s_l^T A_l / d_l) X_l (articulated-body inertias with an
+        armature ``shift``): s_l is joint l's column in body l's axes, X_l the twist map from body l-1 to body l,
+        which depends on q_l alone. Both steps are monotone in the Loewner order, so a lower bound L_l of A_l
+        over the box gives lower bounds of the pivots; the turn by q_l = c_l + delta, |delta| <= r_l, is bounded
+        below by the turn by c_l less :func:`_turn_loss` (``relative``: in a metric of the turned matrix's own
+        scale). The last turn is seen only along the base joint's column: a scalar (:func:`_turned_form`).
+        ``memo`` (a dict kept for one set of inertias, shift and metric) holds the recursion's state entering
+        joint l by the coordinates beyond l: boxes that differ only in nearer coordinates share it."""
+        start, state = self.n - 1, (inertias[-1], None)
+        if memo is not None:
+            for l in range(self.n):
+                key = (l, tuple(box[l + 1:]))
+                if key in memo:
+                    start, state = l, memo[key]
+                    break
+        lower, smallest = state
+        for l in range(start, -1, -1):
+            if memo is not None:
+                memo[(l, tuple(box[l + 1:]))] = (lower, smallest)
+            joint, (centre, radius) = self.joints[l], box[l]
+            s = joint.subspace
+            u = lower * s
+            d = (s.transpose() * u)[0, 0] + shift
+            if not d > 0:
+                return l, d
+            smallest = d if smallest is None or d.mid() < smallest.mid() else smallest
+            if l == 1:
+                base = self.joints[0].subspace
+                w = joint.motion_map(centre) * joint.before_map * base
+                t = _congruence(lower - u * u.transpose() / d, joint.after_map)
+                d = (base.transpose() * inertias[0] * base)[0, 0] + _turned_form(joint, t, w, radius) + shift
+                if not d > 0:
+                    return 0, d
+                return None, d if d.mid() < smallest.mid() else smallest
+            if l:
+                t = _congruence(lower - u * u.transpose() / d, joint.after_map)
+                t = _congruence(t - _turn_loss(joint, t, radius, relative), joint.motion_map(centre))
+                lower = inertias[l - 1] + _congruence(t, joint.before_map)
+        return None, smallest
+
+
+def _subspace(joint):
+    """Joint l's column of QJ_l in body l's axes: (a x w, w) for a turn, (w, 0) for a slide, with w its axis
+    and a a point on it, seen from body l."""
+    rt = joint.after[0].transpose()
+    w = rt * joint.axis
+    lin, ang = (_cross(-(rt * joint.after[1]), w), w) if joint.revolute else (w, arb_mat(3, 1))
+    return arb_mat(6, 1, [lin[i, 0] for i in range(3)] + [ang[i, 0] for i in range(3)])
+
+
+def _blocks(a, b, c, d):
+    return arb_mat([[a[i, j] for j in range(3)] + [b[i, j] for j in range(3)] for i in range(3)]
+                   + [[c[i, j] for j in range(3)] + [d[i, j] for j in range(3)] for i in range(3)])
+
+
+def _twist_map(transform):
+    """The map of twists (v, omega) of a parent frame to those of a child frame whose pose in the parent is
+    (R, p): [[R^T, -R^T S(p)], [0, R^T]]."""
+    r, p = transform
+    rt = r.transpose()
+    top = -(rt * arb_mat(3, 3, [0, -p[2, 0], p[1, 0], p[2, 0], 0, -p[0, 0], -p[1, 0], p[0, 0], 0]))
+    return arb_mat([[rt[i, j] for j in range(3)] + [top[i, j] for j in range(3)] for i in range(3)]
+                   + [[0, 0, 0] + [rt[i, j] for j in range(3)] for i in range(3)])
+
+
+def _congruence(a, x):
+    return x.transpose() * a * x
+
+
+RIDGE = 0.1  # the loss metric's smallest eigenvalue is this fraction of its largest (any metric is sound)
+SMALL = 2**-10  # a term whose whitened size times its weight is below this is bounded by its norm alone
+
+
+NEAR = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative, beyond by harmonics
+
+
+def _turn_terms(joint, t, radius):
+    """Terms (weight, kind, M) with X(delta)^T t X(delta) - t >= -sum weight W(M) for |delta| <= radius, W(M) >= +-M
+    (kind "abs") or W(M) >= M, 0 ("pos").
+
+    The joint's twist map by delta is I + s N + c N^2, s = sin delta, c = 1 - cos delta (N = -blockdiag(K, K),
+    K = S(axis)); with s^2 = 2 c - c^2 the turned t is t + s G + c A + c^2 B + s c J, G = N^T t + t N,
+    A = N^2 t + t N^2 + 2 H, B = N^2 t N^2 - H, J = N^T t N^2 + N^2 t N, H = N^T t N: coefficients of independent
+    functions of delta, so all vanish for a t the turn leaves invariant. Up to NEAR, with |s| <= sin r and
+    0 <= c <= 1 - cos r, as they stand (the first order is the centre's derivative); beyond, by harmonics: (G + J) sin d - J/2 sin 2d - (A + 2 B) (cos d - 1) + B/2 (cos 2d - 1). A slide by delta
+    is I + delta N, N = [[0, -S(axis)], [0, 0]]: t + delta G + delta^2 H."""
+    n_map, q_map = joint.generators
+    r = arb(radius)
+    g, h = n_map.transpose() * t + t * n_map, _congruence(t, n_map)
+    if not joint.revolute:
+        return [(r, "abs", g), (r * r, "pos", -h)]
+    a = q_map * t + t * q_map + h * 2
+    b = _congruence(t, q_map) - h
+    j = n_map.transpose() * t * q_map + q_map * t * n_map
+    if r < NEAR:
+        sin1, cos1 = r.sin(), 1 - r.cos()
+        return [(sin1, "abs", g), (cos1, "pos", -a), (cos1 * cos1, "pos", -b), (sin1 * cos1, "abs", j)]
+    half = arb.pi() / 2
+    sin1, sin2 = (x.sin() if x < half else arb(1) for x in (r, 2 * r))
+    cos1, cos2 = (1 - x.cos() if x < 2 * half else arb(2) for x in (r, 2 * r))
+    return [(sin1, "abs", g + j), (sin2 / 2, "abs", j), (cos1, "pos", -(a + b * 2)), (cos2 / 2, "pos", b)]
+
+
+def _turn_loss(joint, t, radius, relative=True):
+    """A bound L with X(delta)^T t X(delta) >= t - L for |delta| <= radius (see :meth:`Chain.pivots`): each term of
+    :func:`_turn_terms` in a metric H = C C^T (``relative``: C from t's eigen-decomposition, shifted definite; else
+    C = I; any invertible C is sound), W(M) = C Y C^T with Y >= +-X (or X, 0) for X = C^-1 M C^-T (:func:`_bounding`); a
+    term whose loss is below SMALL in that metric as ||X||_F C C^T."""
+    factor = _metric_factor(t) if relative else _scalar(arb(1), 6)
+    total = arb_mat(6, 6)
+    for weight, kind, m in _turn_terms(joint, t, radius):
+        x = _whitened(factor, m)
+        size = _frobenius(x) * arb(weight.abs_upper())
+        total += _scalar(size, 6) if size < SMALL else _bounding(x, kind) * arb(weight.abs_upper())
+    return factor * total * factor.transpose()
+
+
+def _turned_form(joint, t, w, radius):
+    """A lower bound of w^T X(delta)^T t X(delta) w over |delta| <= radius (:func:`_turn_terms`, as scalars)."""
+    form = lambda a: (w.transpose() * a * w)[0, 0]
+    loss = arb(0)
+    for weight, kind, m in _turn_terms(joint, t, radius):
+        v = form(m)
+        bound = abs(v) if kind == "abs" else v.max(arb(0))
+        loss += arb(weight.abs_upper()) * arb(bound.abs_upper())
+    return form(t) - loss
+
+
+def _whitened(c, a):
+    return c.solve(c.solve(a).transpose()).transpose()
+
+
+def _frobenius(a):
+    sizes = [a[i, j].abs_upper() for i in range(a.nrows()) for j in range(a.ncols())]
+    return arb(sum(x * x for x in sizes).sqrt().abs_upper())
+
+
+def _scalar(x, n):
+    return arb_mat([[x if i == j else 0 for j in range(n)] for i in range(n)])
+
+
+def _eigen(a):
+    """Approximate eigenvalues (floats) and eigenvectors (a real ball matrix) of the symmetric a's midpoint."""
+    values, vectors = a.mid().eig(right=True, algorithm="approx")
+    n = a.nrows()
+    return [float(v.real.mid()) for v in values], arb_mat([[vectors[i, j].real.mid() for j in range(n)]
+                                                         for i in range(n)])
+
+
+def _bounding(x, kind):
+    """Y >= X and Y >= -X ("abs"), or Y >= X and Y >= 0 ("pos"): U f(S) U^T + ||X - U S U^T||_F I for the
+    approximate eigen-decomposition U S U^T of X, f = |.| or max(., 0) (U f(S) U^T - U S U^T = U (f(S) - S) U^T
+    >= 0 for any U, and so is U f(S) U^T + U S U^T for |.|)."""
+    values, u = _eigen(x)
+    n = x.nrows()
+    approx = u * _diagonal([arb(v) for v in values]) * u.transpose()
+    f = abs if kind == "abs" else (lambda v: max(v, 0.0))
+    return u * _diagonal([arb(f(v)) for v in values]) * u.transpose() + _scalar(_frobenius(x - approx), n)
+
+
+def _diagonal(values):
+    n = len(values)
+    return arb_mat([[values[i] if i == j else 0 for j in range(n)] for i in range(n)])
+
+
+def _metric_factor(t):
+    """C = V diag(lambda + lift)^(1/2) from the approximate eigen-decomposition V diag(lambda) V^T of t, lifted so
+    that the smallest is RIDGE times the largest |lambda| (t made definite by a shift of its eigenvalues)."""
+    values, v = _eigen(t)
+    top = RIDGE * (max(abs(x) for x in values) or 1.0)
+    lift = top - min(min(values), 0.0)
+    return v * _diagonal([arb(x + lift).sqrt() for x in values])

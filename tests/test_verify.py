@@ -1,0 +1,266 @@
+"""The independent checker (inertiaproof.verify): it re-proves what holds, refutes what does not, rejects a
+malformed certificate with a one-line reason, and imports nothing of inertiaproof."""
+
+from __future__ import annotations
+
+import ast
+import copy
+import functools
+import json
+import subprocess
+import sys
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from inertiaproof.bounds.certificate import spectrum_certificate
+from inertiaproof.dynamics import composite
+from inertiaproof.result import Result, Verdict
+from inertiaproof.scene import robots
+from inertiaproof.suite.certificates import settle
+from inertiaproof.suite.outputs import Outputs
+from inertiaproof.suite.replay import replay
+from inertiaproof.verify.tree import leaves
+from inertiaproof.verify.cli import about, check
+from inertiaproof.verify.exact import BadCertificate
+
+CHECKER = Path(__file__).resolve().parents[1] / "inertiaproof" / "verify"
+
+
+def _scene(name):
+    scene = robots.planar_2r() if name == "planar-2r" else robots.spatial_3r()
+    theta = scene.trajectory.theta(np.array([0.0]))[0]
+    return scene.chain, theta
+
+
+def _inf(chain, theta, count=4000):
+    lo, hi = chain.coordinate_box()
+    q = lo + (hi - lo) * np.random.default_rng(0).random((count, chain.n))
+    values = np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], theta[None]))[..., 0].min(-1)
+    i = int(np.argmin(values))
+    return float(values[i]), q[i]
+
+
+@pytest.fixture(scope="module")
+def planar():
+    """A claim the checker proves: inf lambda_min(M) of the planar 2R arm >= 0.9 of its sampled inf."""
+    chain, theta = _scene("planar-2r")
+    inf, witness = _inf(chain, theta)
+    return spectrum_certificate(chain, theta, "lambda_min", 0.9 * inf, witness=witness), inf
+
+
+def test_reproves_a_true_claim(planar):
+    cert, _ = planar
+    out = check(cert, budget=4000)
+    assert out["status"] == "re-proved", out
+
+
+def test_reproves_a_sup_claim():
+    chain, theta = _scene("planar-2r")
+    lo, hi = chain.coordinate_box()
+    q = lo + (hi - lo) * np.random.default_rng(1).random((4000, chain.n))
+    sup = np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], theta[None]))[..., -1].max()
+    assert check(spectrum_certificate(chain, theta, "lambda_max", 1.1 * sup), budget=4000)["status"] == "re-proved"
+    assert check(spectrum_certificate(chain, theta, "lambda_max", 0.99 * sup, witness=q[0]), budget=200)["status"] in (
+        "refuted", "not decided")
+
+
+def test_a_claim_raised_above_the_witness_is_refuted(planar):
+    cert, inf = planar
+    raised = copy.deepcopy(cert)
+    raised["claim"]["bound"] = str(Fraction(1.01 * inf))
+    out = check(raised, budget=200)
+    assert out["status"] == "refuted" and "witness" in out["why"], out
+
+
+def test_a_refuted_claim_is_found_by_the_boxes_alone(planar):
+    """Without a witness the branch and bound finds a box whose centre breaks the claim."""
+    cert, inf = planar
+    raised = copy.deepcopy(cert)
+    raised["claim"]["bound"] = str(Fraction(1.5 * inf))
+    del raised["witness"]
+    out = check(raised, budget=4000)
+    assert out["status"] == "refuted" and out["where"]["box"], out
+
+
+def test_a_changed_mass_is_refuted(planar):
+    cert, _ = planar
+    light = copy.deepcopy(cert)
+    light["parameters"][0][1][0] = str(Fraction(light["parameters"][0][1][0]) / 4)  # body 2's mass
+    assert check(light, budget=200)["status"] in ("refuted", "not decided")
+    assert check(light, budget=200)["status"] != "re-proved"
+
+
+@pytest.mark.parametrize("tamper, field", [
+    (lambda c: c.update(tree="0 . . ."), "tree"),  # a leaf too many
+    (lambda c: c.update(tree="1 ."), "tree"),  # a box removed from the partition
+    (lambda c: c.update(tree="7 . ."), "tree"),  # no such coordinate
+    (lambda c: c["claim"].update(bound="1/0"), "claim.bound"),
+    (lambda c: c["claim"].update(bound=0.5), "claim.bound"),  # a float, not an exact number
+    (lambda c: c["parameters"][0][0].__setitem__(3, "zero"), "parameters[0][0][3]"),
+    (lambda c: c["chain"]["joints"][0].update(kind="ball"), "chain.joints[0].kind"),
+    (lambda c: c["chain"]["joints"][1]["before"][3].__setitem__(0, "1"), "chain.joints[1].before"),
+    (lambda c: c.update(domain=c["domain"][:1]), "domain"),
+    (lambda c: c.update(schema="inertiaproof.certificate/0"), "schema"),
+])
+def test_malformed_certificates_are_rejected_with_the_field(planar, tamper, field):
+    cert = copy.deepcopy(planar[0])
+    tamper(cert)
+    out = check(cert)
+    assert out["status"] == "bad certificate" and out["why"].startswith(field) and "\n" not in out["why"], out
+
+
+def test_the_tree_covers_the_domain_exactly():
+    domain = [(Fraction(0), Fraction(1)), (Fraction(-1), Fraction(1))]
+    boxes = leaves("0 1 . . .", domain)
+    assert boxes == [[(0, Fraction(1, 2)), (-1, 0)], [(0, Fraction(1, 2)), (0, 1)], [(Fraction(1, 2), 1), (-1, 1)]]
+    with pytest.raises(BadCertificate):
+        leaves("0 1 . .", domain)
+
+
+def test_a_refuted_certificate_turns_the_check_violated(planar, tmp_path):
+    cert, inf = planar
+    raised = copy.deepcopy(cert)
+    raised["claim"]["bound"] = str(Fraction(1.01 * inf))
+    result = Result("Thm2", Verdict.HOLDS, "held", {"bracket": {"lower": {"value": 1.01 * inf, "certificate": raised}}})
+    settle(result, out_dir=tmp_path, budget=200, verify=True, memo={})
+    entry = result.evidence["bracket"]["lower"]["certificate"]
+    assert result.verdict == Verdict.VIOLATED and entry["status"] == "refuted"
+    assert (tmp_path / entry["file"]).is_file() and result.counterexample["kind"] == "certificate-refuted"
+    saved = Outputs(tmp_path, tmp_path / "found").save_counterexample(result, profile="ci", seed=0)
+    assert replay(saved).verdict == Verdict.VIOLATED
+
+
+def test_verify_command_exit_status(planar, tmp_path):
+    cert, inf = planar
+    good, bad = tmp_path / "good.json", tmp_path / "bad.json"
+    good.write_text(json.dumps(cert))
+    raised = copy.deepcopy(cert)
+    raised["claim"]["bound"] = str(Fraction(1.01 * inf))
+    bad.write_text(json.dumps(raised))
+    run = lambda *a: subprocess.run([sys.executable, "-m", "inertiaproof", "verify", *map(str, a)], capture_output=True,
+                                    text=True)
+    assert run(good).returncode == 0
+    assert run(good, bad).returncode == 1
+    assert run(tmp_path / "nothing-here").returncode == 2
+    assert "lines of Python" in run("--about").stdout
+
+
+def test_the_checker_imports_only_flint_and_the_standard_library():
+    allowed = set(sys.stdlib_module_names) | {"flint"}
+    for path in CHECKER.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                names = [] if node.level else [node.module]
+            else:
+                continue
+            for name in names:
+                assert name.split(".")[0] in allowed, f"{path.name} imports {name}"
+    assert int(about().split(": ")[1].split()[0]) < 1000
+
+
+@pytest.fixture(scope="module")
+def ladder():
+    """The spatial 3R arm's inf lambda_min(M) >= gamma as the prover certifies it: a ladder proved on the
+    isotropic lower form mu_l I (mu_l <= lambda_min(Z_l), rounded down), with its partition as the tree."""
+    from inertiaproof.bounds.configuration import pivot_normality
+    from inertiaproof.bounds.spectral import EPS, ROUNDING, spectral
+    from inertiaproof.model.inertia import spatial_inertia
+
+    chain, theta = _scene("spatial-3r")
+    z = spatial_inertia(theta)
+    mu = spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")
+    gamma, _, proof = pivot_normality(chain, 0.5, 500, mu, detail=True)
+    return chain, theta, gamma, proof
+
+
+def test_a_ladder_with_its_form_and_tree_is_reproved(ladder):
+    chain, theta, gamma, proof = ladder
+    cert = spectrum_certificate(chain, theta, "lambda_min", gamma, proof=proof)
+    assert proof.tree.count(".") > 1 and len(cert["forms"]) == 1
+    out = check(cert, budget=0)
+    assert out["status"] == "re-proved", out
+
+
+def test_tampered_ladder_certificates(ladder):
+    chain, theta, gamma, proof = ladder
+    cert = spectrum_certificate(chain, theta, "lambda_min", gamma, proof=proof)
+    dropped = copy.deepcopy(cert)
+    tokens = dropped["tree"].split()
+    tokens.remove(".")  # a box removed from the partition
+    dropped["tree"] = " ".join(tokens)
+    assert check(dropped)["status"] == "bad certificate" and check(dropped)["why"].startswith("tree")
+    raised = copy.deepcopy(cert)  # the form raised: no longer below the body's inertia
+    raised["forms"][0][1] = [[str(Fraction(x) + (Fraction(1, 20) if i == j else 0)) for j, x in enumerate(row)]
+                             for i, row in enumerate(raised["forms"][0][1])]
+    out = check(raised)
+    assert out["status"] == "refuted" and "form of body 2" in out["why"], out
+    light = copy.deepcopy(cert)  # a body's mass changed under its form
+    light["parameters"][0][2][0] = str(Fraction(light["parameters"][0][2][0]) / 2)
+    assert check(light)["status"] == "refuted"
+
+
+def test_a_number_altered_in_a_run_certificate_is_rejected(planar, tmp_path):
+    from inertiaproof.suite.certificates import certificate_name
+    from inertiaproof.verify.cli import verify_file
+
+    cert, _ = planar
+    name, text = certificate_name(cert)
+    (tmp_path / name).write_text(text)
+    assert verify_file(tmp_path / name)["status"] == "re-proved"
+    altered = text.replace(cert["domain"][1][1], cert["domain"][1][1][:-1] + "7", 1)
+    (tmp_path / name).write_text(altered)
+    out = verify_file(tmp_path / name)
+    assert out["status"] == "bad certificate" and "altered" in out["why"], out
+
+
+def _settled(cert):
+    result = Result("Def2", Verdict.HOLDS, "held", {"bracket": {"lower": {"value": 0.0, "certificate": cert}}})
+    return settle(result, out_dir=None, budget=200, verify=True, memo={})
+
+
+def test_a_prover_whose_partition_leaves_a_gap_turns_the_check_violated(monkeypatch):
+    """The second prover bug of issue 25: a box's halves shifted so that its middle is covered by none. The boxes
+    are no partition of the domain, the certificate says so, the checker rejects it and the check is VIOLATED."""
+    from inertiaproof.bounds import configuration, pivot_search
+
+    real = pivot_search.partition
+
+    def shifted(test, score, centres, radii, budget, deadline):
+        found, tested = real(test, score, centres, radii, budget, deadline)
+        if found is None or len(found[0]) < 2:
+            return found, tested
+        c, r = found
+        return (c + 0.25 * r * (np.arange(len(c)) % 2)[:, None], r), tested
+
+    monkeypatch.setattr(pivot_search, "partition", shifted)
+    configuration._PIVOT_CACHE.clear()
+    chain, theta = _scene("spatial-3r")
+    gamma, _, proof = configuration.pivot_normality(chain, 0.5, 500, detail=True)
+    configuration._PIVOT_CACHE.clear()
+    assert proof.tree is None
+    result = _settled(spectrum_certificate(chain, np.ones((1, chain.n, 10)) * 0 + configuration._unit_bodies(chain)[0],
+                                           "lambda_min", gamma, proof=proof))
+    assert result.verdict == Verdict.VIOLATED and "bad certificate" in result.summary
+
+
+def test_a_prover_that_certifies_beyond_the_attained_value_turns_the_check_violated(monkeypatch):
+    """A prover whose box test passes everything (the first and third prover bugs of issue 25 at their worst) and
+    whose ladder goes past the observed extreme: the certificate is refuted at the witness."""
+    from inertiaproof.bounds import configuration, pivot_search
+
+    monkeypatch.setattr(pivot_search, "pivot_test", lambda family, sign, armature, c, r, top=None: (
+        np.ones(armature.shape, bool), np.zeros(c.shape)))
+    monkeypatch.setattr(configuration, "pivot_ladder", functools.partial(pivot_search.pivot_ladder,
+                                                                         ladder=pivot_search.LADDER + (0.95,)))
+    configuration._PIVOT_CACHE.clear()
+    chain, theta = _scene("spatial-3r")
+    bracket = configuration.jacobian_normality(chain, samples=500, refine_s=0.5, rng=np.random.default_rng(0))
+    configuration._PIVOT_CACHE.clear()
+    assert bracket.certified > bracket.observed  # the mutant's claim
+    result = _settled(bracket.evidence()["lower"]["certificate"])
+    assert result.verdict == Verdict.VIOLATED and "refuted" in result.summary
