@@ -28,7 +28,7 @@ def main():
         for name, thetas in (("Thm2", parameter_vertices(scene.trajectory)[0]), ("Def2", _unit_bodies(chain))):
             observed = float(np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], thetas[None]))[..., 0].min())
             start = time.perf_counter()
-            gamma, note = split_ladder(chain, thetas, observed, 20.0)
+            gamma, note, _ = split_ladder(chain, thetas, observed, 20.0)
             print(f"{scene.name} {name}: {observed / gamma:.4g}x in {time.perf_counter() - start:.1f} s; {note}")
 
 

@@ -218,13 +218,16 @@ def judge(sense, lhs, constant_lower, constant_upper, *, proof_covers, pointwise
     return Verdict.INCONCLUSIVE, "the brackets of the extreme and of the constant overlap"
 
 
-def constants_evidence(sense, formula, paper, paper_observed, certified, certified_how, observed, observed_note):
-    """The ``constants`` evidence: what each number is, in its kind and note."""
+def constants_evidence(sense, formula, paper, paper_observed, certified, certified_how, observed, observed_note,
+                       paper_certificate=None):
+    """The ``constants`` evidence: what each number is, in its kind and note; ``paper_certificate`` (kind
+    ``product``, the paper's constant from its ingredients' certificates) goes into the paper quantity."""
     upper = sense == "upper"
     return {
-        "paper": quantity(paper, "upper_bound" if upper else "lower_bound",
-                          f"the paper's {formula} with certified ingredients: "
-                          f"{'an upper' if upper else 'a lower'} bound of the paper's constant"),
+        "paper": {**quantity(paper, "upper_bound" if upper else "lower_bound",
+                             f"the paper's {formula} with certified ingredients: "
+                             f"{'an upper' if upper else 'a lower'} bound of the paper's constant"),
+                  **({"certificate": paper_certificate} if paper_certificate else {})},
         "paper_observed": quantity(paper_observed, "sampled",
                                    f"the paper's {formula} with the observed ingredients: "
                                    f"{'a lower' if upper else 'an upper'} estimate of the paper's constant"),

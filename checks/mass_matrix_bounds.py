@@ -72,12 +72,14 @@ def lower_bound_case(ctx, scene, k=1.0):
     zmin = time_extreme(traj, "lmin_Z")
     gamma = cached(ctx, scene, "gamma", lambda: jacobian_normality(chain, **kw(ctx, scene, "gamma")))
     lhs = _extreme_over_time(ctx, scene, "lmin", "mass_inf")
-    found = lower_constants(xi["certified"], zmin["certified"], gamma, lhs, xi_observed=xi["observed"])
+    found = lower_constants(xi["certified"], zmin["certified"], gamma, lhs, xi_observed=xi["observed"],
+                            xi_certificate=xi.get("certificate"))
     paper, paper_observed = found["paper"]["lower"], found["paper"]["upper"]
     certified = found["certified"]["value"]
     constants = constants_evidence("lower", "alpha1 = min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ)",
                                    paper, paper_observed, certified, found["certified"]["how"], lhs.observed,
-                                   "inf lambda_min(M) attained at the witness: an upper estimate of the true infimum")
+                                   "inf lambda_min(M) attained at the witness: an upper estimate of the true infimum",
+                                   found["paper"].get("certificate"))
     extra = {"ingredients": {"xi": time_quantities(xi, "min_l inf_t lambda_min(f(Phi_l(t)))"),
                              "lambda_min_Z": time_quantities(zmin, "min_l inf_t lambda_min(Z(Phi_l(t)))"),
                              "gamma": gamma.evidence()},
@@ -97,12 +99,14 @@ def upper_bound_case(ctx, scene, k=1.0):
     zmax = time_extreme(traj, "lmax_Z")
     sigma = cached(ctx, scene, "sigma", lambda: jacobian_sup(chain, **kw(ctx, scene, "sigma")))
     lhs = _extreme_over_time(ctx, scene, "lmax", "mass_sup")
-    found = upper_constants(zeta["certified"], zmax["certified"], sigma, lhs, zeta_observed=zeta["observed"])
+    found = upper_constants(zeta["certified"], zmax["certified"], sigma, lhs, zeta_observed=zeta["observed"],
+                            zeta_certificate=zeta.get("certificate"))
     paper, paper_observed = found["paper"]["upper"], found["paper"]["lower"]
     certified = found["certified"]["value"]
     constants = constants_evidence("upper", "alpha2 = 2 max_l sup_t lambda_max(f(Phi_l)) sup_q sigma_max(QJ)^2",
                                    paper, paper_observed, certified, found["certified"]["how"], lhs.observed,
-                                   "sup lambda_max(M) attained at the witness: a lower estimate of the true supremum")
+                                   "sup lambda_max(M) attained at the witness: a lower estimate of the true supremum",
+                                   found["paper"].get("certificate"))
     extra = {"ingredients": {"zeta": time_quantities(zeta, "max_l sup_t lambda_max(f(Phi_l(t)))"),
                              "lambda_max_Z": time_quantities(zmax, "max_l sup_t lambda_max(Z(Phi_l(t)))"),
                              "sup_sigma_max_QJ": sigma.evidence()},

@@ -27,6 +27,7 @@ from inertiaproof.checks.pointwise import with_hunt
 
 from inertiaproof.bounds import formulas
 from inertiaproof.bounds.configuration import jacobian_sup, mass_sup, skew_partial_sup
+from inertiaproof.bounds.constants import bracket_certificate, paper_product
 from inertiaproof.bounds.time import lumped_velocity_bounds, parameter_vertices, time_extreme
 from inertiaproof.dynamics import composite
 from inertiaproof.dynamics.terms import lumped_velocity_matrix
@@ -59,7 +60,10 @@ def rate_case(ctx, scene, k=1.0):
             chain, "sup sigma_max(M(q, Thetadot(t)))", "max", ctx, scene,
             "moving mass: Thetadot(t) is not affine in the profile's rate, the extreme over t is sampled on 64 times"))
     root = formulas.chi(1.0, 1.0, traj.bodies)  # the paper's factor sqrt(69 N)
-    paper = formulas.chi(mu["certified"], sigma.upper, traj.bodies)
+    paper, paper_certificate = paper_product(
+        "upper", formulas.chi(mu["certified"], sigma.upper, traj.bodies), ("sqrt", 69 * traj.bodies),
+        [(mu.get("certificate"), 1), (bracket_certificate(sigma), 1)],
+        "chi = sqrt(69 N) max_l sup_t sigma_max(f(Phidot_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}")
     paper_observed = formulas.chi(mu["observed"], sigma.lower, traj.bodies)
     universal = formulas.chi_sharp(mu["certified"], sigma.upper)
     structural = formulas.chi_z(zdot["certified"], sigma.upper)
@@ -69,7 +73,8 @@ def rate_case(ctx, scene, k=1.0):
         if structural <= universal else "2 mu S^2: the sharp factor 2 of the key step, no sqrt(N)")
     constants = constants_evidence("upper", "chi = sqrt(69 N) max_l sup_t sigma_max(f(Phidot_l)) sup_q sigma_max(QJ)^2",
                                    paper, paper_observed, certified, how, lhs.observed,
-                                   "sup sigma_max(M(q, Thetadot)) attained at the witness: a lower estimate")
+                                   "sup sigma_max(M(q, Thetadot)) attained at the witness: a lower estimate",
+                                   paper_certificate)
     extra = {"ingredients": {"mu": time_quantities(mu, "max_l sup_t sigma_max(f(Phidot_l(t)))"),
                              "sigma_max_Zdot": time_quantities(zdot, "max_l sup_t sigma_max(Z(Phidot_l(t)))"),
                              "sup_sigma_max_QJ": sigma.evidence()},

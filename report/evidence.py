@@ -46,7 +46,8 @@ def split(evidence):
         if key in CONVENTIONS and isinstance(x, dict) and _valid(key, x):
             found[key].append((path[:-1], x))
         elif fmt.is_quantity(x):
-            rows.append((path, fmt.quantity(x), x["kind"], str(x.get("note") or "")))
+            note = "; ".join(filter(None, (str(x.get("note") or ""), checked(x))))
+            rows.append((path, fmt.quantity(x), x["kind"], note))
         elif isinstance(x, str) and (len(x) > LONG_TEXT or "\n" in x):
             texts.append((path, x))
         elif _records(x):
@@ -319,13 +320,25 @@ def _value_inline(text):
     return code(text) if text[:1].isdigit() or text[:1] in "-[" or text in fmt.NON_FINITE else Text(text)
 
 
+def checked(q):
+    """What the independent checker said of a certified number (its ``certificate`` entry), in words; "" for none."""
+    entry = q.get("certificate")
+    if not isinstance(entry, dict) or "status" not in entry:
+        return ""
+    if entry["status"] == "re-proved":
+        return f"re-proved by the independent checker ({entry['file']}, {fmt.seconds(entry.get('seconds', 0))})"
+    return f"{entry['status']} by the independent checker ({entry['file']}): {entry.get('why', '')}"
+
+
 def _side(q, expected_kind=None):
     if q is None:
         return cell("n/a")
     if fmt.is_quantity(q):
+        status = q.get("certificate", {}).get("status") if isinstance(q.get("certificate"), dict) else None
+        mark = (Text(f" {status}", "em"),) if status else ()
         if q["kind"] == expected_kind:
-            return cell(code(fmt.quantity(q)))
-        return cell(code(fmt.quantity(q)), Text(f" {q['kind']}", "em"))
+            return cell(code(fmt.quantity(q)), *mark)
+        return cell(code(fmt.quantity(q)), Text(f" {q['kind']}", "em"), *mark)
     return cell(code(fmt.value(q)))
 
 

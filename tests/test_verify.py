@@ -53,7 +53,7 @@ def planar():
 
 def test_reproves_a_true_claim(planar):
     cert, _ = planar
-    out = check(cert, budget=4000)
+    out = check(cert, budget=20000)
     assert out["status"] == "re-proved", out
 
 
@@ -62,7 +62,7 @@ def test_reproves_a_sup_claim():
     lo, hi = chain.coordinate_box()
     q = lo + (hi - lo) * np.random.default_rng(1).random((4000, chain.n))
     sup = np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], theta[None]))[..., -1].max()
-    assert check(spectrum_certificate(chain, theta, "lambda_max", 1.1 * sup), budget=4000)["status"] == "re-proved"
+    assert check(spectrum_certificate(chain, theta, "lambda_max", 1.1 * sup), budget=20000)["status"] == "re-proved"
     assert check(spectrum_certificate(chain, theta, "lambda_max", 0.99 * sup, witness=q[0]), budget=200)["status"] in (
         "refuted", "not decided")
 
@@ -81,7 +81,7 @@ def test_a_refuted_claim_is_found_by_the_boxes_alone(planar):
     raised = copy.deepcopy(cert)
     raised["claim"]["bound"] = str(Fraction(1.5 * inf))
     del raised["witness"]
-    out = check(raised, budget=4000)
+    out = check(raised, budget=20000)
     assert out["status"] == "refuted" and out["where"]["box"], out
 
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from .domain import certification_obstacle, search_box
 
-__all__ = ["SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "spectrum_certificate"]
+__all__ = ["SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "product_certificate", "spectrum_certificate"]
 
 SCHEMA = "inertiaproof.certificate/1"
 STATEMENT = {"lambda_min": "lambda_min(M(q, Theta)) >= {bound}", "lambda_max": "lambda_max(M(q, Theta)) <= {bound}"}
@@ -40,6 +40,20 @@ class PivotProof:
 
     tree: str
     forms: np.ndarray | None = None
+    metric: tuple = ("shift", 0.1)  # the turns' loss metric (kind, ridge) the ladder calibrated: the checker's hint
+
+
+@dataclass(frozen=True)
+class SplitProof:
+    """What the chain split (:mod:`inertiaproof.bounds.interface`) hands to its certificate: the body k it splits
+    at, the interface inertias L (V, 6, 6), one per parameter set, and the trees of the tail's partition (joints
+    k+1.., A_k(q) >= L) and of the head's (joints ..k with body k's inertia L)."""
+
+    body: int
+    interfaces: np.ndarray
+    tail: str | None
+    head: str | None
+    metric: tuple = ("abs", 1e-3)
 
 
 def partition_tree(centres, radii, lo, hi):
@@ -73,6 +87,18 @@ def partition_tree(centres, radii, lo, hi):
     return " ".join(tokens)
 
 
+def _proof_fields(proof):
+    """The certificate's fields of a proof: its tree (None where the prover's boxes were no partition, which the
+    checker rejects), or the split's."""
+    if proof is None:
+        return {"tree": "."}
+    metric = {"metric": {"kind": proof.metric[0], "ridge": exact(proof.metric[1])}}
+    if isinstance(proof, SplitProof):
+        return {"tree": ".", "split": {"body": proof.body, "interfaces": [_rows(m) for m in proof.interfaces],
+                                       "tail": proof.tail, "head": proof.head}, **metric}
+    return {"tree": proof.tree, **metric}
+
+
 def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=None, proof=None):
     """The certificate of "for all q in the chain's search box and Theta in the convex hull of ``thetas`` (V, N, 10),
     lambda_min(M(q, Theta)) >= bound" (``quantity`` "lambda_min"; "lambda_max": <= bound); None where the checker
@@ -83,8 +109,8 @@ def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=
         return None
     lo, hi = search_box(chain)
     thetas = np.asarray(thetas, float)
-    forms = proof.forms if proof is not None and quantity == "lambda_min" else None
-    if forms is not None and len(forms) == len(thetas) > 1:  # forms paired with the parameter sets: keep their order
+    forms = proof.forms if isinstance(proof, PivotProof) and quantity == "lambda_min" else None
+    if isinstance(proof, SplitProof) or forms is not None and len(forms) == len(thetas) > 1:  # paired: keep the order
         sets = thetas
     else:
         sets = np.unique(thetas.reshape(len(thetas), -1), axis=0).reshape((-1,) + thetas.shape[1:])
@@ -97,7 +123,7 @@ def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=
             "chain": {"name": chain.name, "joints": joints},
             "domain": [[exact(a), exact(b)] for a, b in zip(lo, hi)],
             "parameters": [_rows(s) for s in sets],
-            "tree": "." if proof is None else proof.tree,  # None: the prover's boxes were no partition
+            **_proof_fields(proof),
             **({"forms": [[_rows(y) for y in form] for form in forms]} if forms is not None else {}),
             **({"witness": [exact(x) for x in np.clip(witness, lo, hi)]} if witness is not None else {}),
             "provenance": provenance}
@@ -143,4 +169,23 @@ def body_spectrum_certificate(stack, name, bound, provenance=""):
                       "statement": f"for every body l and Phi_l in the hull of its rows in the {len(sets)} parameter "
                                    f"set(s): " + statement.format(bound=f"{float(bound):.10g}")},
             "parameters": [_rows(s) for s in sets],
+            "provenance": provenance}
+
+
+def product_certificate(relation, bound, factor, ingredients, statement, provenance=""):
+    """The certificate (kind ``product``) of "factor * prod_i x_i^p_i ``relation`` bound" (">=" or "<="), x_i the
+    quantity the ingredient certificate i bounds (``ingredients``: (certificate, p_i) pairs, lower claims for ">=",
+    upper claims for "<="); ``factor`` a float or Fraction (written exactly) or ("sqrt", r) for sqrt(r).
+    ``statement`` may hold "{bound}". None when an ingredient has no certificate, the bound is not finite, a lower
+    claim's bound is negative or an upper claim's bound is (the checker proves neither)."""
+    if any(c is None for c, _ in ingredients) or not np.isfinite(float(bound)):
+        return None
+    if (relation == "<=" and bound < 0) or (relation == ">=" and any(Fraction(c["claim"]["bound"]) < 0
+                                                                       for c, _ in ingredients)):
+        return None
+    written = {"sqrt": exact(factor[1])} if isinstance(factor, tuple) else exact(factor)
+    return {"schema": SCHEMA,
+            "claim": {"kind": "product", "relation": relation, "bound": exact(bound), "factor": written,
+                      "statement": statement.format(bound=f"{float(bound):.10g}")},
+            "ingredients": [{"power": int(p), "of": c} for c, p in ingredients],
             "provenance": provenance}

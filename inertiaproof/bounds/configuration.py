@@ -396,8 +396,8 @@ def jacobian_normality(chain, **kw):
     refine_s = kw.get("refine_s", 0.0)
     ladders = _ladders_run(chain, refine_s)
     if ladders and refine_s >= DEEP_S:  # the split first (Panda 1.01x in 6 s, the ladder's 1.03x in 32 s)
-        gamma, how = split_ladder(chain, unit, result.observed, refine_s, floor=result.lower)
-        result.tighten(gamma, f"(QJ)^T QJ - gamma I > 0 (unit bodies) {EVIDENCE}: {how}")
+        gamma, how, proof = split_ladder(chain, unit, result.observed, refine_s, floor=result.lower)
+        result.tighten(gamma, f"(QJ)^T QJ - gamma I > 0 (unit bodies) {EVIDENCE}: {how}", proof)
     if ladders and (refine_s < DEEP_S or result.upper > ladder_goal(refine_s) * result.lower):
         gamma, how, proof = pivot_normality(chain, refine_s, kw.get("samples", 2000), detail=True)
         result.tighten(gamma, "a ladder of targets gamma, each proved by branch and bound with the articulated-body "
@@ -452,7 +452,7 @@ def _ladder(chain, family, values, observed, witness, budget, stop, sign=1.0, fo
     note = ("no target proved" if found.ratio is None else f"target {observed:.6g}{'/' if sign > 0 else '*'}"
             f"{found.ratio:g} proved on a partition of {found.size} boxes ({found.tested} boxes tested)")
     proof = None if found.partition is None else PivotProof(partition_tree(*found.partition, lo, hi),
-                                                            family.z if forms else None)
+                                                            family.z if forms else None, (family.metric, family.ridge))
     return found.gamma, note, proof
 
 
@@ -561,8 +561,9 @@ def mass_inf(chain, thetas, **kw):
     z = spatial_inertia(np.asarray(thetas, float))
     z_min = float((spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")).min())  # less its rounding
     floor = max(z_min, 0.0) * triangular_normality_floor(chain) * (1 - ROUNDING * EPS)
+    isotropic = PivotProof(".", np.broadcast_to(max(z_min, 0.0) * np.eye(6), (1, chain.bodies, 6, 6)))
     result.tighten(floor, "certified side min_l lambda_min(Z(Phi_l)) times a certified lower bound of "
-                          "inf sigma_min(QJ)^2 (block-triangular floor)")
+                          "inf sigma_min(QJ)^2 (block-triangular floor)", isotropic)
     refine_s = kw.get("refine_s", 0.0)
     if _ladders_run(chain, refine_s):
         mu = spectral(z, "lmin") - ROUNDING * EPS * spectral(z, "absmax")  # (V, N), rounded down: Z_l >= mu_l I
@@ -625,8 +626,8 @@ def mass_inf(chain, thetas, **kw):
                     run()
 
         def split():
-            gamma, how = split_ladder(chain, thetas, result.observed, refine_s, floor=result.lower)
-            result.tighten(gamma, f"M(q) - gamma I > 0 {EVIDENCE}: {how}")
+            gamma, how, proof = split_ladder(chain, thetas, result.observed, refine_s, floor=result.lower)
+            result.tighten(gamma, f"M(q) - gamma I > 0 {EVIDENCE}: {how}", proof)
 
         first = [(iso_values.min(), 1.0, isotropic), (axial_inf, AXIAL_FIRST, axial_form)]
         if refine_s >= DEEP_S:  # the split first (no form's gap; Panda 1.01x in 16 s), then every form by its

@@ -8,12 +8,16 @@ from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
 from inertiaproof.model.positive_map import key_step_certificate
 
 from . import formulas
+from .certificate import product_certificate
 from .configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
 from .extremes import Bracket
 from .spectral import spectral
 
-__all__ = ["lower_constants", "mass_matrix_bounds", "upper_constants"]
+__all__ = ["bracket_certificate", "lower_constants", "mass_matrix_bounds", "paper_product", "upper_constants"]
 
+ROUNDING = 8 * np.finfo(float).eps  # relative allowance by which a paper constant computed in floats from certified
+# ingredients is moved outward before it is reported: its few roundings (eps/2 each) cannot carry it past the exact
+# product, which the independent checker compares with it exactly
 
 
 def mass_matrix_bounds(chain, theta, *, samples=2000, refine_s=0.5, rng=None, progress=None):
@@ -47,25 +51,51 @@ def mass_matrix_bounds(chain, theta, *, samples=2000, refine_s=0.5, rng=None, pr
     }
 
 
+def bracket_certificate(b: Bracket):
+    """The certificate of a bracket's certified side (as :meth:`Bracket.evidence` cites it), or None."""
+    if not b.certify or b.certified is None:
+        return None
+    return b.certify(b.certified, b.note, np.asarray(b.witness, float), b.proof)
+
+
+def paper_product(sense, value, factor, ingredients, statement):
+    """(reported, certificate): the paper's constant ``value`` (computed in floats from the certified ingredients)
+    moved outward by :data:`ROUNDING` (down for a ``sense`` "lower" bound, up for "upper"), and the ``product``
+    certificate of it (:func:`.certificate.product_certificate`; ``factor``, ``ingredients`` as there), or None."""
+    if not np.isfinite(value):
+        return value, None
+    reported = float(value - ROUNDING * abs(value) if sense == "lower" else value + ROUNDING * abs(value))
+    return reported, product_certificate(
+        ">=" if sense == "lower" else "<=", reported, factor, ingredients, statement,
+        f"the paper's formula on the ingredients' certified sides, computed in floats and moved outward by 8 eps "
+        f"relative ({'down' if sense == 'lower' else 'up'}); decided exactly by the checker")
+
+
 def _bracket_data(b: Bracket):
     return {"lower": b.lower, "upper": b.upper, "witness": np.asarray(b.witness).tolist(), "note": b.note,
             "convergence": b.convergence}
 
 
-def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=None):
+def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=None, xi_certificate=None):
     """Theorem 2: the paper's alpha1 = xi gamma and the sharpest certified constant (formulas.alpha1, alpha1_z).
 
     ``xi`` is min_l inf_t lambda_min(f(Phi_l)) (a certified lower bound; for constant Phi exact), ``xi_observed``
     its observed value (default: xi), ``z_min`` a certified min_l inf_t lambda_min(Z(Phi_l)), ``gamma`` the
     bracket of inf_q sigma_min(QJ)^2, ``observed`` that of inf lambda_min(M). The paper's alpha1 lies in
-    [paper.lower, paper.upper]: its ingredients at their certified sides and at their observed values;
-    paper.value is the upper end (observed ingredients), an estimate, not the paper's constant itself.
+    [paper.lower, paper.upper]: its ingredients at their certified sides (moved down by :data:`ROUNDING`) and at
+    their observed values; paper.value is the upper end (observed ingredients), an estimate, not the paper's
+    constant itself. With ``xi_certificate`` (xi's ``body-spectrum`` certificate) and gamma's, paper.certificate
+    is the ``product`` certificate of paper.lower.
     """
     xi_observed = xi if xi_observed is None else xi_observed
     observed_value = formulas.alpha1(xi_observed, gamma.upper)
-    paper = {"value": observed_value, "lower": formulas.alpha1(xi, max(gamma.lower, 0.0)), "upper": observed_value,
+    lower, certificate = paper_product(
+        "lower", formulas.alpha1(xi, max(gamma.lower, 0.0)), 1, [(xi_certificate, 1), (bracket_certificate(gamma), 1)],
+        "alpha1 = min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ) >= {bound}")
+    paper = {"value": observed_value, "lower": lower, "upper": observed_value,
              "note": "min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ) lies in [lower, upper] (certified, "
-                     "observed ingredients); value = upper, an upper estimate"}
+                     "observed ingredients; lower moved down by 8 eps relative for the float product); value = upper, "
+                     "an upper estimate", **({"certificate": certificate} if certificate else {})}
     structural = formulas.alpha1_z(z_min, max(gamma.lower, 0.0))
     direct = observed.lower if np.isfinite(observed.lower) else -np.inf
     certified = max(structural, direct, paper["lower"])
@@ -77,19 +107,26 @@ def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=No
             "observed": _bracket_data(observed)}
 
 
-def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observed=None):
+def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observed=None, zeta_certificate=None):
     """Theorem 3: the paper's alpha2 = 2 zeta S^2 and the sharpest certified constant (formulas.alpha2, alpha2_z).
 
     ``zeta`` is max_l sup_t lambda_max(f(Phi_l)) (a certified upper bound), ``zeta_observed`` its observed value
     (default: zeta), ``z_max`` a certified max_l sup_t lambda_max(Z(Phi_l)), ``sigma`` the bracket of
     sup_q sigma_max(QJ), ``observed`` that of sup lambda_max(M). The paper's alpha2 lies in
-    [paper.lower, paper.upper]; paper.value is the lower end (observed ingredients), an estimate.
+    [paper.lower, paper.upper] (upper moved up by :data:`ROUNDING`); paper.value is the lower end (observed
+    ingredients), an estimate. With ``zeta_certificate`` and sigma's certificate (of sup lambda_max((QJ)^T QJ) <=
+    S^2: power 1), paper.certificate is the ``product`` certificate of paper.upper.
     """
     zeta_observed = zeta if zeta_observed is None else zeta_observed
     observed_value = formulas.alpha2(zeta_observed, sigma.lower)
-    paper = {"value": observed_value, "lower": observed_value, "upper": formulas.alpha2(zeta, sigma.upper),
+    upper, certificate = paper_product(
+        "upper", formulas.alpha2(zeta, sigma.upper), formulas.KEY_STEP_UPPER,
+        [(zeta_certificate, 1), (bracket_certificate(sigma), 1)],
+        "alpha2 = 2 max_l sup_t lambda_max(f(Phi_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}")
+    paper = {"value": observed_value, "lower": observed_value, "upper": upper,
              "note": "2 max_l sup_t lambda_max(f(Phi_l)) sup_q sigma_max(QJ)^2 lies in [lower, upper] (observed, "
-                     "certified ingredients); value = lower, a lower estimate"}
+                     "certified ingredients; upper moved up by 8 eps relative for the float product); value = lower, "
+                     "a lower estimate", **({"certificate": certificate} if certificate else {})}
     structural = formulas.alpha2_z(z_max, sigma.upper)
     direct = observed.upper
     certified = min(structural, direct, paper["upper"])

@@ -34,6 +34,7 @@ import numpy as np
 
 from inertiaproof.model.inertia import spatial_inertia
 
+from .certificate import SplitProof, partition_tree
 from .domain import free_coordinates, search_box
 from .pivot_search import ladder_budget, partition
 from .pivots import PivotFamily, _sym, articulated_lower, interface_test, pivot_test
@@ -186,11 +187,12 @@ def _score(r, losses):
 def split_ladder(chain, thetas, observed, refine_s, floor=-np.inf):
     """The largest gamma = observed / ratio (``RUNGS``, only targets above ``floor``) proved by the split at
     :func:`split_body`, within 1/``SHARE`` of the boxes and seconds of :func:`ladder_budget` (``refine_s``), each of a
-    rung's candidates for L (:func:`_interfaces`) within half of what is left: (gamma, a note), gamma -inf when none
-    was proved. ``observed`` must be attained (gamma <= observed)."""
+    rung's candidates for L (:func:`_interfaces`) within half of what is left: (gamma, a note, its
+    :class:`~inertiaproof.bounds.certificate.SplitProof` or None), gamma -inf when none was proved. ``observed``
+    must be attained (gamma <= observed)."""
     k = split_body(chain)
     if k is None or not observed > 0:
-        return -np.inf, f"no split (fewer than {SPLIT_MIN} free coordinates)"
+        return -np.inf, f"no split (fewer than {SPLIT_MIN} free coordinates)", None
     z = spatial_inertia(np.asarray(thetas, float))
     boxes, guard_s = ladder_budget(refine_s)
     boxes, deadline = boxes // SHARE, time.perf_counter() + guard_s / SHARE
@@ -214,22 +216,25 @@ def split_ladder(chain, thetas, observed, refine_s, floor=-np.inf):
                          "head's sampled margin not above the target)")
             continue
         for lower, _ in candidates:
-            sizes, tested = _prove_split(chain, tail_family, z, k, gamma, lower, head, free, lo, hi,
+            parts, tested = _prove_split(chain, tail_family, z, k, gamma, lower, head, free, lo, hi,
                                          (boxes - used) // 2, deadline)
             used += tested
-            if len(sizes) == 2:
+            if len(parts) == 2:
+                proof = SplitProof(k, lower, *(partition_tree(*part, lo, hi) for part in parts), (METRIC, RIDGE))
                 return gamma, (f"target {observed:.6g}/{ratio:g} proved split at body {k + 1}: the tail's A_{k + 1} >= "
-                               f"L on {sizes[0]} boxes of joints {k + 2}..{chain.n}, the head with body {k + 1}'s "
-                               f"inertia L on {sizes[1]} boxes of joints 1..{k + 1} ({used} boxes tested)")
+                               f"L on {len(parts[0][0])} boxes of joints {k + 2}..{chain.n}, the head with body "
+                               f"{k + 1}'s inertia L on {len(parts[1][0])} boxes of joints 1..{k + 1} ({used} boxes "
+                               "tested)"), proof
         notes.append(f"{ratio:g}: not proved within the budget")
         if used >= boxes or time.perf_counter() > deadline:
             break
-    return -np.inf, "split at body {}: {}".format(k + 1, "; ".join(notes) or "no target above the floor")
+    return -np.inf, "split at body {}: {}".format(k + 1, "; ".join(notes) or "no target above the floor"), None
 
 
 def _prove_split(chain, tail_family, z, k, gamma, lower, head, free, lo, hi, budget, deadline):
     """Branch and bound of the tail's and the head's tests with the interface inertia ``lower``, up to ``budget``
-    boxes tested in all: ([the tail's partition size, the head's] (fewer where one ran out), boxes tested)."""
+    boxes tested in all: ([the tail's partition (centres, radii), the head's] (fewer where one ran out), boxes
+    tested)."""
     stack = z.shape[0]
     heads = z.copy()
     heads[:, k] = lower
@@ -237,15 +242,15 @@ def _prove_split(chain, tail_family, z, k, gamma, lower, head, free, lo, hi, bud
     armature = (lambda c: np.full((len(c), stack), -gamma))
     sides = ((lambda c, r: _all(interface_test(tail_family, armature(c), lower, k, c, r)), free & ~head),
              (lambda c, r: _all(pivot_test(head_family, 1.0, armature(c), c, r, top=k)), head))
-    sizes, used = [], 0
+    parts, used = [], 0
     for test, side in sides:
         found, tested = partition(test, _score, (0.5 * (lo + hi))[None], np.where(side, 0.5 * (hi - lo), 0.0)[None],
                                   budget - used, deadline)
         used += tested
         if found is None:
             break
-        sizes.append(len(found[0]))
-    return sizes, used
+        parts.append(found)
+    return parts, used
 
 
 def _all(found):

@@ -42,8 +42,8 @@ def _cited(node):
 
 def settle(result, *, out_dir, budget, verify, memo, executor=None):
     """Write the certificates ``result``'s evidence cites (into ``out_dir``/certificates, when there is one) and,
-    with ``verify``, re-prove each once per run (``memo`` maps names to outcomes; ``budget``: the cuts a
-    certificate may add to its tree; the certificates go to ``executor`` as tasks of kind "verify", so the answers
+    with ``verify``, re-prove each once per run (``memo`` maps names to outcomes; ``budget``: the work a
+    certificate may spend beyond its tree; the certificates go to ``executor`` as tasks of kind "verify", so the answers
     do not depend on the workers). A refuted certificate, or a malformed one (the prover's own: its proof does not
     hold together), turns the result VIOLATED; one not decided within the budget is named in the summary."""
     holders = list({id(holder): holder for holder in _cited(result.evidence)}.values())  # a dict cited twice: once

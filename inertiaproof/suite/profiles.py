@@ -26,7 +26,8 @@ class Profile:
     run_s: float = 300.0  # seconds a whole run may take: a check started late gets only what is left
     memory_mb: int = 4096  # memory one check may add to the process (its address space)
     shard_examples: int = 100  # a hunt splits into shards of at most this many examples (tasks for the workers)
-    verify_cuts: int = 2000  # boxes the independent checker may cut per certificate beyond its tree (inertiaproof.verify)
+    verify_work: int = 5_000  # work the independent checker may spend per certificate beyond its tree: joints of
+    # its pivot recursion on boxes and eigen-decompositions (inertiaproof.verify.kinematics.WORK; about 1 ms each)
 
 
 PROFILES = {
@@ -35,5 +36,5 @@ PROFILES = {
     "deep": Profile("deep", examples=2000, samples=50000, refine_s=20.0, symbolic_max_n=5, derandomize=False,
                     concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6,
                     moment_samples=2**22, bernstein_degree=8, audit_samples=20000, audit_refine_s=5.0,
-                    check_s=1800.0, run_s=14400.0, memory_mb=6144, verify_cuts=100000),
+                    check_s=1800.0, run_s=14400.0, memory_mb=6144, verify_work=4_000_000),
 }

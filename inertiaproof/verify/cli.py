@@ -18,13 +18,14 @@ from .exact import BadCertificate
 
 __all__ = ["check", "configure", "main", "verify_file"]
 
-BUDGET = 20000  # boxes a certificate may cut beyond the leaves of its tree
+BUDGET = 2_000_000  # units of work (kinematics.WORK) a certificate may spend on boxes beyond its tree
 
 
 def configure(parser):
     parser.add_argument("paths", nargs="*", type=Path, help="certificate files, folders of them, or a run's OUT "
                         "folder (its certificates/)")
-    parser.add_argument("--budget", type=int, default=BUDGET, help=f"boxes a certificate may cut beyond its tree's leaves (default {BUDGET})")
+    parser.add_argument("--budget", type=int, default=BUDGET, help=f"units of work (a joint of the pivot recursion on a box, or an "
+                        f"eigen-decomposition) a certificate may spend on boxes beyond its tree (default {BUDGET})")
     parser.add_argument("--json", action="store_true", help="one JSON object per certificate on stdout")
     parser.add_argument("--about", action="store_true", help="what the checker is and its size in lines")
 

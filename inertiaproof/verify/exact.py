@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from flint import arb, fmpq
+from flint import fmpq
 
-__all__ = ["BadCertificate", "ball", "rational", "semidefinite"]
+__all__ = ["BadCertificate", "rational", "semidefinite"]
 
 
 class BadCertificate(ValueError):
@@ -22,11 +22,6 @@ def rational(text, where):
     except (ValueError, ZeroDivisionError):
         raise BadCertificate(f"{where}: {text!r} is not a rational number") from None
     return fmpq(value.numerator, value.denominator)
-
-
-def ball(x):
-    """An arb ball containing the rational x exactly."""
-    return arb(x)
 
 
 def semidefinite(rows):

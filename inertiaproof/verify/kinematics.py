@@ -1,22 +1,23 @@
-"""A serial chain's body Jacobians and mass matrix, enclosed over a box of configurations.
+"""A serial chain of a certificate, and M(q, Theta) + shift I proved positive definite over a box of configurations.
 
-The chain is the certificate's: joint l has a fixed transform ``before``, a turn about (slide along) its
-``axis`` through the origin by g(q_l), and a fixed transform ``after``, so body l's frame is
-T_l = T_(l-1) before_l X_l(g(q_l)) after_l. Rotation blocks are inverted by transposition (the certificate's
-chain is taken to be rigid). Column k of body l's Jacobian QJ_l, in body l's axes (VelocityRigidMass), is
-(a x w, w) g'(q_k) for a turn and (w, 0) g'(q_k) for a slide, with w joint k's unit axis and a a point on it,
-both seen from body l. They are computed from body l backwards, A = X_(k+1) ... X_l with X_j the joint's whole
-transform, so that only the joints between k and l enter (the base joint's coordinate never does).
-Then M(q, Theta) = sum_l QJ_l^T Z(Phi_l) QJ_l (MassMatrix, DefMatrixZ).
+Joint l has a fixed transform ``before``, a turn about (slide along) its ``axis`` through the origin by q_l, and a
+fixed transform ``after``, so body l's frame is T_l = T_(l-1) before_l X_l(q_l) after_l; rotation blocks are
+inverted by transposition (the certificate's chain is taken to be rigid). M(q, Theta) = sum_l QJ_l^T Z(Phi_l) QJ_l
+(MassMatrix, DefMatrixZ), QJ_l's rows the twist (R_l^T v_l, omega_l) of body l (VelocityRigidMass); it is never
+formed: :meth:`Chain.pivots` factors it from the tip as articulated-body inertias.
 """
 
 from __future__ import annotations
 
 from flint import arb, arb_mat
 
-from .exact import BadCertificate, ball, rational
+from .exact import BadCertificate, rational
 
-__all__ = ["Chain"]
+__all__ = ["Chain", "WORK", "definite"]
+
+WORK = [0]  # the checker's unit of work, counted as it goes: a joint of the pivot recursion on a box, or an
+# eigen-decomposition (the costly step: about 0.2 ms); budgets are counts of it, the same on every machine
+
 
 def _matrix(rows, shape, where):
     if not (isinstance(rows, list) and len(rows) == shape[0] and all(isinstance(r, list) and len(r) == shape[1]
@@ -32,20 +33,17 @@ class Joint:
         self.revolute = {"revolute": True, "prismatic": False}.get(data.get("kind"))
         if self.revolute is None:
             raise BadCertificate(f"{where}.kind: 'revolute' or 'prismatic', not {data.get('kind')!r}")
-        axis = [ball(x) for x in _matrix([data.get("axis")], (1, 3), f"{where}.axis")[0]]
+        axis = [arb(x) for x in _matrix([data.get("axis")], (1, 3), f"{where}.axis")[0]]
         norm = sum(a * a for a in axis).sqrt()
         if not norm > 0:
             raise BadCertificate(f"{where}.axis: the axis must be a nonzero vector")
         self.axis = arb_mat(3, 1, [a / norm for a in axis])
         self.before = _transform(data.get("before"), f"{where}.before")
         self.after = _transform(data.get("after"), f"{where}.after")
-
         if data.get("coordinate", "identity") != "identity":
             raise BadCertificate(f"{where}.coordinate: only the identity map is checked")
         self.before_map, self.after_map = _twist_map(self.before), _twist_map(self.after)
-        k = arb_mat(3, 3, [0, -self.axis[2, 0], self.axis[1, 0], self.axis[2, 0], 0, -self.axis[0, 0],
-                           -self.axis[1, 0], self.axis[0, 0], 0])
-        zero = arb_mat(3, 3)
+        k, zero = _skew(self.axis), arb_mat(3, 3)
         n_map = _blocks(-k, zero, zero, -k) if self.revolute else _blocks(zero, -k, zero, zero)
         self.generators = n_map, n_map * n_map  # N and N^2 of the twist map by delta (see _expansion)
         self.subspace = _subspace(self)
@@ -59,30 +57,25 @@ class Joint:
         """The joint's own transform (R, p) at the ball x of its variable."""
         if not self.revolute:
             return _identity(), self.axis * x
-        s, c = x.sin(), x.cos()
-        u0, u1, u2 = (self.axis[i, 0] for i in range(3))
-        k = arb_mat(3, 3, [0, -u2, u1, u2, 0, -u0, -u1, u0, 0])
-        return _identity() + k * s + (k * k) * (1 - c), arb_mat(3, 1)
+        k = _skew(self.axis)
+        return _identity() + k * x.sin() + (k * k) * (1 - x.cos()), arb_mat(3, 1)
 
 
 def _transform(rows, where):
     m = _matrix(rows, (4, 4), where)
     if any(m[3][j] != (1 if j == 3 else 0) for j in range(4)):
         raise BadCertificate(f"{where}: the last row of a transform is 0 0 0 1")
-    return arb_mat(3, 3, [ball(m[i][j]) for i in range(3) for j in range(3)]), arb_mat(3, 1, [ball(m[i][3]) for i in range(3)])
+    return (arb_mat(3, 3, [arb(m[i][j]) for i in range(3) for j in range(3)]),
+            arb_mat(3, 1, [arb(m[i][3]) for i in range(3)]))
 
 
 def _identity():
     return arb_mat(3, 3, [1, 0, 0, 0, 1, 0, 0, 0, 1])
 
 
-def _compose(a, b):
-    return a[0] * b[0], a[0] * b[1] + a[1]
-
-
-def _cross(a, b):
-    return arb_mat(3, 1, [a[1, 0] * b[2, 0] - a[2, 0] * b[1, 0], a[2, 0] * b[0, 0] - a[0, 0] * b[2, 0],
-                          a[0, 0] * b[1, 0] - a[1, 0] * b[0, 0]])
+def _skew(v):
+    """S(v): S(v) x = v x x."""
+    return arb_mat(3, 3, [0, -v[2, 0], v[1, 0], v[2, 0], 0, -v[0, 0], -v[1, 0], v[0, 0], 0])
 
 
 class Chain:
@@ -93,7 +86,8 @@ class Chain:
         self.joints = [Joint(j, f"chain.joints[{i}]") for i, j in enumerate(joints)]
         self.n = len(self.joints)
 
-    def pivots(self, box, inertias, shift, relative=True, memo=None):
+
+    def pivots(self, box, inertias, shift, metric=None, memo=None, top=None, stop=None):
         """Prove sum_l QJ_l^T Z_l QJ_l + shift I > 0 for every q in ``box`` (a list of (centre, radius) rationals),
         with Z_l the 6 x 6 ball matrices ``inertias``: (l, pivot l's ball) of the first pivot not proved positive,
         or (None, the smallest pivot).
@@ -103,21 +97,27 @@ class Chain:
         armature ``shift``): s_l is joint l's column in body l's axes, X_l the twist map from body l-1 to body l,
         which depends on q_l alone. Both steps are monotone in the Loewner order, so a lower bound L_l of A_l
         over the box gives lower bounds of the pivots; the turn by q_l = c_l + delta, |delta| <= r_l, is bounded
-        below by the turn by c_l less :func:`_turn_loss` (``relative``: in a metric of the turned matrix's own
-        scale). The last turn is seen only along the base joint's column: a scalar (:func:`_turned_form`).
+        below by the turn by c_l less :func:`_turn_loss` (in the ``metric`` (kind, ridge) of
+        :func:`_metric_factor`, or the identity). The last turn is seen only along the base joint's column: a scalar (:func:`_turned_form`).
         ``memo`` (a dict kept for one set of inertias, shift and metric) holds the recursion's state entering
-        joint l by the coordinates beyond l: boxes that differ only in nearer coordinates share it."""
-        start, state = self.n - 1, (inertias[-1], None)
+        joint l by the coordinates beyond l: boxes that differ only in nearer coordinates share it. ``top``: the
+        chain of joints 0..top only (body top's inertia as given); ``stop`` k: the pivots of joints beyond k only,
+        returning (None, the lower bound of A_k) where they are positive."""
+        top = self.n - 1 if top is None else top
+        start, state = top, (inertias[top], None)
         if memo is not None:
-            for l in range(self.n):
+            for l in range(stop or 0, top + 1):
                 key = (l, tuple(box[l + 1:]))
                 if key in memo:
                     start, state = l, memo[key]
                     break
         lower, smallest = state
         for l in range(start, -1, -1):
+            if l == stop:
+                return None, lower
             if memo is not None:
                 memo[(l, tuple(box[l + 1:]))] = (lower, smallest)
+            WORK[0] += 1
             joint, (centre, radius) = self.joints[l], box[l]
             s = joint.subspace
             u = lower * s
@@ -135,9 +135,25 @@ class Chain:
                 return None, d if d.mid() < smallest.mid() else smallest
             if l:
                 t = _congruence(lower - u * u.transpose() / d, joint.after_map)
-                t = _congruence(t - _turn_loss(joint, t, radius, relative), joint.motion_map(centre))
+                t = _congruence(t - _turn_loss(joint, t, radius, metric), joint.motion_map(centre))
                 lower = inertias[l - 1] + _congruence(t, joint.before_map)
         return None, smallest
+
+
+def definite(a):
+    """Whether every symmetric matrix in the ball matrix ``a`` (its upper triangle read) is positive definite: every
+    pivot of its LDL^T a positive ball."""
+    n = a.nrows()
+    s = [[a[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
+    for k in range(n):
+        if not s[k][k] > 0:
+            return False
+        for i in range(k + 1, n):
+            f = s[i][k] / s[k][k]
+            for j in range(k + 1, i + 1):
+                s[i][j] -= f * s[k][j]
+                s[j][i] = s[i][j]
+    return True
 
 
 def _subspace(joint):
@@ -145,7 +161,7 @@ def _subspace(joint):
     and a a point on it, seen from body l."""
     rt = joint.after[0].transpose()
     w = rt * joint.axis
-    lin, ang = (_cross(-(rt * joint.after[1]), w), w) if joint.revolute else (w, arb_mat(3, 1))
+    lin, ang = (_skew(-(rt * joint.after[1])) * w, w) if joint.revolute else (w, arb_mat(3, 1))
     return arb_mat(6, 1, [lin[i, 0] for i in range(3)] + [ang[i, 0] for i in range(3)])
 
 
@@ -159,7 +175,7 @@ def _twist_map(transform):
     (R, p): [[R^T, -R^T S(p)], [0, R^T]]."""
     r, p = transform
     rt = r.transpose()
-    top = -(rt * arb_mat(3, 3, [0, -p[2, 0], p[1, 0], p[2, 0], 0, -p[0, 0], -p[1, 0], p[0, 0], 0]))
+    top = -(rt * _skew(p))
     return arb_mat([[rt[i, j] for j in range(3)] + [top[i, j] for j in range(3)] for i in range(3)]
                    + [[0, 0, 0] + [rt[i, j] for j in range(3)] for i in range(3)])
 
@@ -168,8 +184,8 @@ def _congruence(a, x):
     return x.transpose() * a * x
 
 
-RIDGE = 0.1  # the loss metric's smallest eigenvalue is this fraction of its largest (any metric is sound)
-SMALL = 2**-10  # a term whose whitened size times its weight is below this is bounded by its norm alone
+SMALL = 2**-20  # a term whose whitened size times its weight is below this is bounded by its norm alone (Panda's
+# deep split: 2^-10 left 14% of the tail boxes the prover proved unproved, 2^-20 one in 500)
 
 
 NEAR = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative, beyond by harmonics
@@ -202,12 +218,12 @@ def _turn_terms(joint, t, radius):
     return [(sin1, "abs", g + j), (sin2 / 2, "abs", j), (cos1, "pos", -(a + b * 2)), (cos2 / 2, "pos", b)]
 
 
-def _turn_loss(joint, t, radius, relative=True):
+def _turn_loss(joint, t, radius, metric=None):
     """A bound L with X(delta)^T t X(delta) >= t - L for |delta| <= radius (see :meth:`Chain.pivots`): each term of
     :func:`_turn_terms` in a metric H = C C^T (``relative``: C from t's eigen-decomposition, shifted definite; else
     C = I; any invertible C is sound), W(M) = C Y C^T with Y >= +-X (or X, 0) for X = C^-1 M C^-T (:func:`_bounding`); a
     term whose loss is below SMALL in that metric as ||X||_F C C^T."""
-    factor = _metric_factor(t) if relative else _scalar(arb(1), 6)
+    factor = _metric_factor(t, *metric) if metric else _scalar(arb(1), 6)
     total = arb_mat(6, 6)
     for weight, kind, m in _turn_terms(joint, t, radius):
         x = _whitened(factor, m)
@@ -242,6 +258,7 @@ def _scalar(x, n):
 
 def _eigen(a):
     """Approximate eigenvalues (floats) and eigenvectors (a real ball matrix) of the symmetric a's midpoint."""
+    WORK[0] += 1
     values, vectors = a.mid().eig(right=True, algorithm="approx")
     n = a.nrows()
     return [float(v.real.mid()) for v in values], arb_mat([[vectors[i, j].real.mid() for j in range(n)]
@@ -264,10 +281,10 @@ def _diagonal(values):
     return arb_mat([[values[i] if i == j else 0 for j in range(n)] for i in range(n)])
 
 
-def _metric_factor(t):
-    """C = V diag(lambda + lift)^(1/2) from the approximate eigen-decomposition V diag(lambda) V^T of t, lifted so
-    that the smallest is RIDGE times the largest |lambda| (t made definite by a shift of its eigenvalues)."""
+def _metric_factor(t, kind, ridge):
+    """C = V diag(h)^(1/2) from the approximate eigen-decomposition V diag(lambda) V^T of t: h = lambda shifted up so
+    that the smallest is ``ridge`` times the largest |lambda| (``kind`` "shift"), or |lambda| plus that ("abs")."""
     values, v = _eigen(t)
-    top = RIDGE * (max(abs(x) for x in values) or 1.0)
+    top = ridge * (max(abs(x) for x in values) or 1.0)
     lift = top - min(min(values), 0.0)
-    return v * _diagonal([arb(x + lift).sqrt() for x in values])
+    return v * _diagonal([arb(x + lift if kind == "shift" else abs(x) + top).sqrt() for x in values])

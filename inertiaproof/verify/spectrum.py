@@ -9,12 +9,14 @@ hull of the parameter sets (``parameters``),
 M is linear in Theta and lambda_min concave (lambda_max convex), so the hull's extremes are at its vertices:
 each parameter set is proved in turn. The ``tree`` (:mod:`.tree`) cuts D into boxes, walked from its root: a box
 the pivots of :meth:`.kinematics.Chain.pivots` prove needs none of its halves; a leaf they do not prove is cut
-again, within the budget of cuts; where the pivots at its centre are proved negative, the claim is refuted
+again, within the budget of work spent on the boxes beyond the tree (:data:`.kinematics.WORK`); where the pivots at its centre are proved negative, the claim is refuted
 there, and so it is at the optional ``witness`` (a configuration, tested first).
 
 Optional ``forms`` (lambda_min only): one set of body matrices Y_l for all parameter sets, or one per set, each
 Y_l <= Z(Phi_l) (decided exactly); then M(q, Theta) >= sum_l QJ_l^T Y_l QJ_l and the boxes are proved on the
-forms. A box centre refutes only where M itself fails there.
+forms. A box centre refutes only where M itself fails there. Optional ``split`` (lambda_min only): the chain split
+at a body k with interface inertias L, one per parameter set, and two trees, the tail's and the head's
+(:func:`_split_walk`).
 """
 
 from __future__ import annotations
@@ -25,15 +27,16 @@ from flint import arb, arb_mat, fmpq
 
 from .bodies import parameter_sets, spatial_inertia
 from .exact import BadCertificate, rational, semidefinite
-from .kinematics import Chain
+from .kinematics import WORK, Chain, definite
 from .outcome import Outcome
 from .tree import Node, halves, parse
 
 __all__ = ["prove"]
 
 QUANTITIES = {"lambda_min": (1, -1), "lambda_max": (-1, 1)}  # (sign of Z, sign of the bound in the shift)
-# the turns' loss is measured relative to the turned matrix on the lower side, in the identity metric on the upper
-# (where the bodies are -Z(Phi_l) <= 0; measured on Panda's ladders, as the prover does)
+METRIC = {"kind": "shift", "ridge": "1/10"}  # the turns' loss metric on the lower side where the certificate names
+# none (any is sound; on Panda's unit-body ladder every box of the prover's partition holds with it); the upper side
+# (bodies -Z(Phi_l) <= 0) measures it in the identity, as the prover does
 
 
 def _matrices(rows, where):
@@ -68,6 +71,18 @@ def _parse(cert):
         forms = [[_matrices(y, f"forms[{f}][{l}]") for l, y in enumerate(form)]
                  if isinstance(form, list) and len(form) == chain.n else _bad(f"forms[{f}]: one matrix per body")
                  for f, form in enumerate(forms)]
+    split = cert.get("split")
+    if split is not None:
+        if claim["quantity"] != "lambda_min" or forms is not None:
+            raise BadCertificate("split: only for a lambda_min claim without forms")
+        body = split.get("body") if isinstance(split, dict) else None
+        if not isinstance(body, int) or not 0 < body < chain.n - 1:
+            raise BadCertificate(f"split.body: a body between 1 and {chain.n - 2}")
+        inner = split.get("interfaces")
+        if not isinstance(inner, list) or len(inner) != len(bodies):
+            raise BadCertificate(f"split.interfaces: one 6x6 matrix per parameter set ({len(bodies)})")
+        split = (body, [_matrices(m, f"split.interfaces[{v}]") for v, m in enumerate(inner)],
+                 parse(split.get("tail"), domain), parse(split.get("head"), domain))
     witness = cert.get("witness")
     if witness is not None:
         if not isinstance(witness, list) or len(witness) != chain.n:
@@ -76,7 +91,13 @@ def _parse(cert):
         if any(not lo <= x <= hi for x, (lo, hi) in zip(witness, domain)):
             raise BadCertificate("witness: outside the domain")
     sign, shift = QUANTITIES[claim["quantity"]]
-    return chain, domain, bodies, forms, sign, arb(bound) * shift, parse(cert.get("tree", "."), domain), witness
+    metric = cert.get("metric", METRIC) if sign > 0 else None
+    if metric is not None:
+        if not isinstance(metric, dict) or metric.get("kind") not in ("shift", "abs"):
+            raise BadCertificate("metric.kind: 'shift' or 'abs'")
+        metric = (metric["kind"], float(rational(metric.get("ridge"), "metric.ridge")))
+    return (chain, domain, bodies, forms, split, sign, arb(bound) * shift, parse(cert.get("tree", "."), domain),
+            witness, metric)
 
 
 def _bad(why):
@@ -92,8 +113,9 @@ def _where(box):
 
 
 def prove(cert, budget):
-    """The :class:`Outcome` of the certificate's claim, cutting at most ``budget`` boxes beyond the tree's leaves."""
-    chain, domain, bodies, forms, sign, shift, root, witness = _parse(cert)
+    """The :class:`Outcome` of the certificate's claim, spending at most ``budget`` units of work
+    (:data:`.kinematics.WORK`) on boxes beyond the tree."""
+    chain, domain, bodies, forms, split, sign, shift, root, witness, metric = _parse(cert)
     real = [_balls(z, sign) for z in bodies]
     proving = real
     if forms is not None:
@@ -121,14 +143,19 @@ def prove(cert, budget):
         found = refuted(witness, "at the witness q")
         if found:
             return found
-    cuts = 0
-    for v, inertias in enumerate(proving):  # the tree from its root: a box that passes needs none of its own
-        queue, memo = deque([root]), {}
+    cuts, spent = [0], [0]
+
+    def walk(root, v, test, last):  # the tree from its root: a box that passes needs none of its own
+        queue = deque([root])
         while queue:
             node = queue.popleft()
             centred = [((lo + hi) / 2, (hi - lo) / 2) for lo, hi in node.box]
+            nonlocal boxes
             boxes += 1
-            failed, pivot = chain.pivots(centred, inertias, shift, relative=sign > 0, memo=memo)
+            before = WORK[0]
+            failed, pivot = test(centred)
+            if node.cut:
+                spent[0] += WORK[0] - before
             if failed is None:
                 continue
             if node.children is not None:
@@ -138,11 +165,41 @@ def prove(cert, budget):
             if found:
                 found.where["box"] = _where(node.box)
                 return found
-            cut = max(range(failed + 1, chain.n), key=lambda k: centred[k][1], default=None)
-            if cut is None or centred[cut][1] == 0 or cuts >= budget:
-                why = (f"the budget of {budget} cuts ran out" if cut is not None and centred[cut][1] != 0
-                       else f"pivot {failed + 1} is not decided at a point ({pivot.str(5)})")
+            cut = max(range(failed + 1, last + 1), key=lambda k: centred[k][1], default=None)
+            if cut is None or centred[cut][1] == 0 or spent[0] >= budget:
+                why = (f"the budget of {budget} units of work ran out" if cut is not None and centred[cut][1] != 0
+                       else f"pivot {failed + 1} is not decided at a point ({pivot})")
                 return Outcome("not decided", why, boxes, {"box": _where(node.box), "parameter_set": v})
-            cuts += 1
-            queue.extend(Node(half) for half in halves(node.box, cut))
-    return Outcome("re-proved", f"the tree from its root and {cuts} cut(s) more: {boxes} boxes tested", boxes)
+            cuts[0] += 1
+            queue.extend(Node(half, cut=True) for half in halves(node.box, cut))
+        return None
+
+    for v, inertias in enumerate(proving):
+        if split is None:
+            memo = {}
+            found = walk(root, v, lambda c: chain.pivots(c, inertias, shift, metric, memo=memo), chain.n - 1)
+        else:
+            found = _split_walk(chain, split, v, inertias, shift, metric, walk)
+        if found:
+            return found
+    return Outcome("re-proved", f"the tree{'s' if split else ''} from the root and {cuts[0]} cut(s) more: {boxes} "
+                   "boxes tested", boxes)
+
+
+def _split_walk(chain, split, v, inertias, shift, metric, walk):
+    """The split at body k: the tail's boxes prove the pivots of joints k+1.. and A_k(q) >= L (L - A_k's lower
+    bound ... definite), the head's the chain of joints 0..k with body k's inertia L; together lambda_min(M) > bound
+    on the product of the two partitions, the whole domain (the head's recursion is Loewner-monotone in A_k)."""
+    k, interfaces, tail, head = split
+    interface = arb_mat(interfaces[v])
+    tail_memo, head_memo = {}, {}
+
+    def tail_test(c):
+        failed, lower = chain.pivots(c, inertias, shift, metric, memo=tail_memo, stop=k)
+        if failed is not None:
+            return failed, lower
+        return (None, lower) if definite(lower - interface) else (k, "the tail's A_k is not above L")
+
+    heads = inertias[:k] + [interface] + inertias[k + 1:]
+    return (walk(tail, v, tail_test, chain.n - 1)
+            or walk(head, v, lambda c: chain.pivots(c, heads, shift, metric, memo=head_memo, top=k), k))

@@ -10,10 +10,11 @@ __all__ = ["Node", "halves", "leaves", "parse"]
 
 
 class Node:
-    """A box of the tree (a list of (lo, hi) rationals) and its two halves, or None for a leaf."""
+    """A box of the tree (a list of (lo, hi) rationals) and its two halves, or None for a leaf; ``cut``: a box the
+    checker made beyond the certificate's tree."""
 
-    def __init__(self, box):
-        self.box, self.children = box, None
+    def __init__(self, box, cut=False):
+        self.box, self.children, self.cut = box, None, cut
 
 
 def halves(box, k):

@@ -1,0 +1,111 @@
+"""The ``product`` claim: a constant built by formula from certified ingredients, factor * prod_i x_i^p_i.
+
+Ingredient i: an embedded certificate (``of``, re-proved by :func:`.claims.prove`, passed in; products nest
+at most ``DEPTH`` deep) whose claim bounds its quantity x_i (an extreme over its domain) by b_i, and a power p_i
+(an integer, 1..16);
+the factor f >= 0 is a rational or {"sqrt": r}. ``>=``: every claim x_i >= b_i (``lambda_min``, a ``>=``
+product) with b_i >= 0, so x_i^p_i >= b_i^p_i and f prod x_i^p_i >= f prod b_i^p_i. ``<=``: every claim x_i <=
+b_i (``lambda_max``, ``sigma_max``, a ``<=`` product); where x_i >= 0, x_i^p_i <= b_i^p_i. Nonnegative by kind:
+a body-spectrum ``sigma_max`` (a max |eigenvalue|), a mass-matrix-spectrum ``lambda_max`` with a parameter set
+whose Z(Phi_l) are all positive semidefinite (decided exactly; then M >= 0: unit bodies Z = I for (QJ)^T QJ).
+At most ONE other x_k (e.g. a body-spectrum ``lambda_max`` of f(Phi), possibly negative), of odd p_k: t -> t^p_k
+is nondecreasing, so x_k^p_k <= max(x_k, 0)^p_k <= max(b_k, 0)^p_k, and, the factor and the other powers being
+nonnegative, f prod x_i^p_i <= f max(b_k, 0)^p_k prod_(i != k) b_i^p_i (two could both be negative, their product
+positive and unbounded). The claim holds when its ingredients' do and f prod c_i^p_i >= (<=) bound, c_i = b_i
+(clamped at 0 for ``<=``): with P = prod c_i^p_i >= 0 and f = sqrt(r), f P - bound has the sign of r P^2 -
+bound^2 where bound >= 0 (decided exactly). Where that fails the claim is refuted (the ingredients give no more);
+else an ingredient refuted refutes it, and one not decided leaves it not decided.
+"""
+
+from __future__ import annotations
+
+from flint import arb, fmpq
+
+from .bodies import parameter_sets, spatial_inertia
+from .exact import BadCertificate, rational, semidefinite
+from .outcome import Outcome
+
+__all__ = ["prove"]
+
+DEPTH = 4  # products nested in products
+LOWER = {("mass-matrix-spectrum", "lambda_min"), ("body-spectrum", "lambda_min"), ("product", ">=")}
+UPPER = {("mass-matrix-spectrum", "lambda_max"), ("body-spectrum", "lambda_max"), ("body-spectrum", "sigma_max"),
+         ("product", "<=")}
+
+
+def _nonnegative(sub, key):
+    if key == ("body-spectrum", "sigma_max"):
+        return True
+    return key == ("mass-matrix-spectrum", "lambda_max") and any(
+        all(semidefinite(spatial_inertia(row)) for row in rows) for rows in parameter_sets(sub.get("parameters")))
+
+
+def _parse(cert):
+    claim = cert["claim"]
+    relation, bound = claim.get("relation"), rational(claim.get("bound"), "claim.bound")
+    if relation not in (">=", "<="):
+        raise BadCertificate("claim.relation: '>=' or '<='")
+    factor = claim.get("factor")
+    r = rational(factor.get("sqrt"), "claim.factor.sqrt") if isinstance(factor, dict) else rational(factor, "claim.factor")
+    if r < 0:
+        raise BadCertificate("claim.factor: must be >= 0")
+    r = r if isinstance(factor, dict) else r * r  # f = sqrt(r)
+    items = cert.get("ingredients")
+    if not isinstance(items, list) or not items:
+        raise BadCertificate("ingredients: a nonempty list of {power, of}")
+    parsed, loose = [], 0
+    for i, item in enumerate(items):
+        where, (sub, power) = f"ingredients[{i}]", (item.get("of"), item.get("power")) if isinstance(item, dict) else (0, 0)
+        if not isinstance(sub, dict) or not isinstance(sub.get("claim"), dict):
+            raise BadCertificate(f"{where}.of: a certificate")
+        if type(power) is not int or not 1 <= power <= 16:
+            raise BadCertificate(f"{where}.power: an integer from 1 to 16")
+        kind = sub["claim"].get("kind")
+        key = (kind, sub["claim"].get("relation" if kind == "product" else "quantity"))
+        if key not in (LOWER if relation == ">=" else UPPER):
+            raise BadCertificate(f"{where}: a {'lower' if relation == '>=' else 'upper'} claim expected, not {key}")
+        b = rational(sub["claim"].get("bound"), f"{where}.of.claim.bound")
+        if relation == ">=" and b < 0:
+            raise BadCertificate(f"{where}: lower bound {b} < 0 says nothing of x^p (x >= b < 0 allows x^p below b^p)")
+        if relation == "<=" and not _nonnegative(sub, key):
+            loose += 1
+            if loose > 1 or power % 2 == 0:
+                raise BadCertificate(f"{where}: a quantity that may be negative: only one such, of odd power")
+            b = max(b, fmpq(0))
+        elif b < 0:
+            raise BadCertificate(f"{where}: upper bound {b} < 0 of a nonnegative quantity")
+        parsed.append((sub, power, b))
+    return relation, bound, r, parsed
+
+
+def prove(cert, budget, prove_any, depth=0):
+    """The :class:`Outcome` of the product claim: the arithmetic decided exactly, then each ingredient re-proved by
+    ``prove_any`` (:func:`.claims.prove`, passed in: this module does not import it back)."""
+    if depth > DEPTH:
+        raise BadCertificate(f"ingredients: products nested deeper than {DEPTH}")
+    relation, bound, r, parsed = _parse(cert)
+    p = fmpq(1)
+    for _, power, b in parsed:
+        p *= b ** power
+    holds = (bound <= 0 or r * p * p >= bound**2) if relation == ">=" else (bound >= 0 and r * p * p <= bound**2)
+    if not holds:
+        value = (arb(r).sqrt() * arb(p)).str(10, radius=False)
+        return Outcome("refuted", f"the ingredients' bounds give factor * prod b_i^p_i = {value}, not {relation} "
+                       f"{float(bound):.10g} (exact rational arithmetic)", 0, {"product": value})
+    boxes, undecided = 0, []
+    for i, (sub, _, _) in enumerate(parsed):
+        try:
+            nested = sub.get("schema") == cert["schema"] and sub["claim"].get("kind") == "product"
+            out = prove(sub, budget, prove_any, depth + 1) if nested else prove_any(sub, budget)
+        except BadCertificate as exc:
+            raise BadCertificate(f"ingredients[{i}].of: {exc}") from None
+        boxes += out.boxes
+        if out.status == "refuted":
+            return Outcome("refuted", f"ingredient {i} ({sub['claim'].get('statement', '')}): {out.why}", boxes,
+                           {"ingredient": i, "where": out.where})
+        if out.status != "re-proved":
+            undecided.append(f"ingredient {i}: {out.why}")
+    if undecided:
+        return Outcome("not decided", "; ".join(undecided), boxes)
+    return Outcome("re-proved", f"{len(parsed)} ingredient(s) re-proved; factor * prod b_i^p_i {relation} bound "
+                   "decided exactly", boxes)
