@@ -219,9 +219,10 @@ def judge(sense, lhs, constant_lower, constant_upper, *, proof_covers, pointwise
 
 
 def constants_evidence(sense, formula, paper, paper_observed, certified, certified_how, observed, observed_note,
-                       paper_certificate=None):
+                       paper_certificate=None, certified_certificate=None):
     """The ``constants`` evidence: what each number is, in its kind and note; ``paper_certificate`` (kind
-    ``product``, the paper's constant from its ingredients' certificates) goes into the paper quantity."""
+    ``product``, the paper's constant from its ingredients' certificates) goes into the paper quantity,
+    ``certified_certificate`` into the certified one."""
     upper = sense == "upper"
     return {
         "paper": {**quantity(paper, "upper_bound" if upper else "lower_bound",
@@ -231,7 +232,8 @@ def constants_evidence(sense, formula, paper, paper_observed, certified, certifi
         "paper_observed": quantity(paper_observed, "sampled",
                                    f"the paper's {formula} with the observed ingredients: "
                                    f"{'a lower' if upper else 'an upper'} estimate of the paper's constant"),
-        "certified": quantity(certified, "certified_constant", certified_how),
+        "certified": {**quantity(certified, "certified_constant", certified_how),
+                      **({"certificate": certified_certificate} if certified_certificate else {})},
         "observed": quantity(observed, "sampled", observed_note),
     }
 

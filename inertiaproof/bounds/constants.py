@@ -76,7 +76,8 @@ def _bracket_data(b: Bracket):
             "convergence": b.convergence}
 
 
-def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=None, xi_certificate=None):
+def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=None, xi_certificate=None,
+                    z_certificate=None):
     """Theorem 2: the paper's alpha1 = xi gamma and the sharpest certified constant (formulas.alpha1, alpha1_z).
 
     ``xi`` is min_l inf_t lambda_min(f(Phi_l)) (a certified lower bound; for constant Phi exact), ``xi_observed``
@@ -85,7 +86,8 @@ def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=No
     [paper.lower, paper.upper]: its ingredients at their certified sides (moved down by :data:`ROUNDING`) and at
     their observed values; paper.value is the upper end (observed ingredients), an estimate, not the paper's
     constant itself. With ``xi_certificate`` (xi's ``body-spectrum`` certificate) and gamma's, paper.certificate
-    is the ``product`` certificate of paper.lower.
+    is the ``product`` certificate of paper.lower; certified.certificate is that of the sharpest certified constant
+    (with ``z_certificate``, z_min's, where the structural product is the sharpest).
     """
     xi_observed = xi if xi_observed is None else xi_observed
     observed_value = formulas.alpha1(xi_observed, gamma.upper)
@@ -96,18 +98,21 @@ def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=No
              "note": "min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ) lies in [lower, upper] (certified, "
                      "observed ingredients; lower moved down by 8 eps relative for the float product); value = upper, "
                      "an upper estimate", **({"certificate": certificate} if certificate else {})}
-    structural = formulas.alpha1_z(z_min, max(gamma.lower, 0.0))
+    structural = paper_product("lower", formulas.alpha1_z(z_min, max(gamma.lower, 0.0)), 1,
+                               [(z_certificate, 1), (bracket_certificate(gamma), 1)],
+                               "min_l inf_t lambda_min(Z(Phi_l)) inf_q lambda_min((QJ)^T QJ) >= {bound}")
     direct = observed.lower if np.isfinite(observed.lower) else -np.inf
-    certified = max(structural, direct, paper["lower"])
-    how = ("certified lower side of inf lambda_min(M) (branch and bound, or the proof of Theorem 2 with the "
-           "block-triangular normality floor)" if direct >= structural else
-           "min_l inf_t lambda_min(Z(Phi_l)) times the certified lower side of inf_q sigma_min(QJ)^2 (the proof of "
-           "Theorem 2 at the level of Z)")
-    return {"paper": paper, "certified": {"value": certified, "how": how},
-            "observed": _bracket_data(observed)}
+    certified = _sharpest(max, [
+        (direct, bracket_certificate(observed), "certified lower side of inf lambda_min(M) (branch and bound, or the "
+                                                "proof of Theorem 2 with the block-triangular normality floor)"),
+        (*structural, "min_l inf_t lambda_min(Z(Phi_l)) times the certified lower side of inf_q sigma_min(QJ)^2 (the "
+                      "proof of Theorem 2 at the level of Z)"),
+        (lower, certificate, "the paper's alpha1 with certified ingredients")])
+    return {"paper": paper, "certified": certified, "observed": _bracket_data(observed)}
 
 
-def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observed=None, zeta_certificate=None):
+def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observed=None, zeta_certificate=None,
+                    z_certificate=None):
     """Theorem 3: the paper's alpha2 = 2 zeta S^2 and the sharpest certified constant (formulas.alpha2, alpha2_z).
 
     ``zeta`` is max_l sup_t lambda_max(f(Phi_l)) (a certified upper bound), ``zeta_observed`` its observed value
@@ -115,7 +120,8 @@ def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observe
     sup_q sigma_max(QJ), ``observed`` that of sup lambda_max(M). The paper's alpha2 lies in
     [paper.lower, paper.upper] (upper moved up by :data:`ROUNDING`); paper.value is the lower end (observed
     ingredients), an estimate. With ``zeta_certificate`` and sigma's certificate (of sup lambda_max((QJ)^T QJ) <=
-    S^2: power 1), paper.certificate is the ``product`` certificate of paper.upper.
+    S^2: power 1), paper.certificate is the ``product`` certificate of paper.upper; certified.certificate is that of
+    the sharpest certified constant (with ``z_certificate``, z_max's, where the structural product is the sharpest).
     """
     zeta_observed = zeta if zeta_observed is None else zeta_observed
     observed_value = formulas.alpha2(zeta_observed, sigma.lower)
@@ -127,9 +133,20 @@ def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observe
              "note": "2 max_l sup_t lambda_max(f(Phi_l)) sup_q sigma_max(QJ)^2 lies in [lower, upper] (observed, "
                      "certified ingredients; upper moved up by 8 eps relative for the float product); value = lower, "
                      "a lower estimate", **({"certificate": certificate} if certificate else {})}
-    structural = formulas.alpha2_z(z_max, sigma.upper)
-    direct = observed.upper
-    certified = min(structural, direct, paper["upper"])
-    how = ("certified upper side of sup lambda_max(M) by branch and bound (or from lengths)" if direct <= structural
-           else "max_l sup_t lambda_max(Z(Phi_l)) times the certified sup_q sigma_max(QJ)^2 (the proof at the level of Z)")
-    return {"paper": paper, "certified": {"value": certified, "how": how}, "observed": _bracket_data(observed)}
+    structural = paper_product("upper", formulas.alpha2_z(z_max, sigma.upper), 1,
+                               [(z_certificate, 1), (bracket_certificate(sigma), 1)],
+                               "max_l sup_t lambda_max(Z(Phi_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}")
+    certified = _sharpest(min, [
+        (observed.upper, bracket_certificate(observed), "certified upper side of sup lambda_max(M) by branch and bound "
+                                                        "(or from lengths)"),
+        (*structural, "max_l sup_t lambda_max(Z(Phi_l)) times the certified sup_q sigma_max(QJ)^2 (the proof at the "
+                      "level of Z)"),
+        (upper, certificate, "the paper's alpha2 with certified ingredients")])
+    return {"paper": paper, "certified": certified, "observed": _bracket_data(observed)}
+
+
+def _sharpest(pick, candidates):
+    """{value, how, certificate} of the sharpest of the (value, certificate, how) ``candidates`` (``pick`` max for a
+    lower bound, min for an upper one), the first of equals."""
+    value, certificate, how = pick(candidates, key=lambda c: c[0])
+    return {"value": value, "how": how, **({"certificate": certificate} if certificate else {})}
