@@ -175,7 +175,7 @@ MUTANTS = (
            "return KEY_STEP_UPPER * zeta * s**2", "return zeta * s**2",
            "Theorem 3's constant without its factor 2", BOUNDS),
     Mutant("bounds-theorem2-side", "bounds", "inertiaproof/bounds/constants.py",
-           "structural = formulas.alpha1_z(z_min, max(gamma.lower, 0.0))", "structural = formulas.alpha1_z(z_min, gamma.upper)",
+           "formulas.alpha1_z(z_min, max(gamma.lower, 0.0))", "formulas.alpha1_z(z_min, gamma.upper)",
            "Theorem 2's certified constant from the observed side of inf sigma_min(QJ)^2", BOUNDS),
     Mutant("bounds-alpha1-tenfold", "bounds", "inertiaproof/bounds/formulas.py",
            "    return xi * gamma\n", "    return 10 * xi * gamma\n", "Theorem 2's alpha1 overstated tenfold", BOUNDS),

@@ -187,9 +187,10 @@ def prove(cert, budget):
 
 
 def _split_walk(chain, split, v, inertias, shift, metric, walk):
-    """The split at body k: the tail's boxes prove the pivots of joints k+1.. and A_k(q) >= L (L - A_k's lower
-    bound ... definite), the head's the chain of joints 0..k with body k's inertia L; together lambda_min(M) > bound
-    on the product of the two partitions, the whole domain (the head's recursion is Loewner-monotone in A_k)."""
+    """The split at body k: on the tail's boxes the pivots of joints k+1.. are positive and the lower bound of
+    A_k(q) less L is definite; on the head's, the chain of joints 0..k with body k's inertia L has positive pivots.
+    The head's recursion is Loewner-monotone in A_k, so together lambda_min(M) > bound on the product of the two
+    partitions, the whole domain."""
     k, interfaces, tail, head = split
     interface = arb_mat(interfaces[v])
     tail_memo, head_memo = {}, {}
