@@ -28,16 +28,21 @@ def certificate_name(cert):
     return f"{hashlib.sha256(text.encode()).hexdigest()[:16]}.json", text
 
 
-def _cited(node):
-    """Every dict in ``node`` (evidence) whose ``certificate`` entry is a certificate."""
+def _holders(node, key):
+    """Every dict in ``node`` (evidence) whose ``certificate`` entry is a dict with ``key``."""
     if isinstance(node, dict):
-        if isinstance(node.get("certificate"), dict) and node["certificate"].get("schema") == SCHEMA:
+        if isinstance(node.get("certificate"), dict) and key in node["certificate"]:
             yield node
         for value in node.values():
-            yield from _cited(value)
+            yield from _holders(value, key)
     elif isinstance(node, list):
         for value in node:
-            yield from _cited(value)
+            yield from _holders(value, key)
+
+
+def _cited(node):
+    """Every dict in ``node`` (evidence) whose ``certificate`` entry is a certificate."""
+    return (holder for holder in _holders(node, "schema") if holder["certificate"]["schema"] == SCHEMA)
 
 
 def settle(result, *, out_dir, budget, verify, memo, executor=None):
@@ -87,15 +92,7 @@ def settle(result, *, out_dir, budget, verify, memo, executor=None):
 
 def cited_entries(node):
     """The settled certificate entries ({file, claim, status, ...}) of evidence, after :func:`settle`."""
-    if isinstance(node, dict):
-        entry = node.get("certificate")
-        if isinstance(entry, dict) and "file" in entry:
-            yield entry
-        for value in node.values():
-            yield from cited_entries(value)
-    elif isinstance(node, list):
-        for value in node:
-            yield from cited_entries(value)
+    return (holder["certificate"] for holder in _holders(node, "file"))
 
 
 @replayer("certificate-refuted")
