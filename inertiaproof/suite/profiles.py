@@ -36,5 +36,5 @@ PROFILES = {
     "deep": Profile("deep", examples=2000, samples=50000, refine_s=20.0, symbolic_max_n=5, derandomize=False,
                     concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6,
                     moment_samples=2**22, bernstein_degree=8, audit_samples=20000, audit_refine_s=5.0,
-                    check_s=1800.0, run_s=14400.0, memory_mb=6144, verify_work=4_000_000),
+                    check_s=1800.0, run_s=14400.0, memory_mb=6144, verify_work=400_000),
 }
