@@ -31,6 +31,7 @@ from inertiaproof.report.model import (
 
 from inertiaproof.result import KINDS, combine
 from inertiaproof.suite import catalog
+from inertiaproof.suite.certificates import certificate_tally
 
 __all__ = ["build", "MUTATION_TONES", "NOT_RUN", "PAPER", "TITLE"]
 
@@ -145,12 +146,9 @@ def _summary(run, grouped, verdicts, beyond):
              f"{by_check['INCONCLUSIVE']} INCONCLUSIVE) in {fmt.seconds(doc.get('runtime_s'))}; "
              f"{len(doc.get('skipped') or [])} left out."),
     )))
-    certificates = _certificates(checks)
+    certificates, tally = certificate_tally(r.get("evidence") for r in checks)
     if certificates:
-        tally = ", ".join(f"{sum(s == status for s in certificates.values())} {status}"
-                          for status in dict.fromkeys(certificates.values()))
-        blocks.append(Paragraph((Text(f"{_count(len(certificates), 'certificate')} back the certified numbers of this "
-                                      "run (OUT/certificates): "), Text(tally, "strong"),
+        blocks.append(Paragraph((Text("Certificates back the certified numbers of this run: "), Text(tally, "strong"),
                                  Text(" by the independent checker, which inertiaproof verify OUT runs again from "
                                       "the files alone."))))
     blocks.append(_glance(grouped, verdicts, beyond))
@@ -160,21 +158,6 @@ def _summary(run, grouped, verdicts, beyond):
                                      [(cell(code(str(s.get("check", "?")))), cell(str(s.get("reason", ""))))
                                       for s in doc["skipped"]], "Left out of this run"))
     return Section("summary", (Text("Summary"),), tuple(blocks))
-
-
-def _certificates(node, found=None):
-    """{file: status} of every certificate entry the evidence of ``node`` cites."""
-    found = {} if found is None else found
-    if isinstance(node, dict):
-        entry = node.get("certificate")
-        if isinstance(entry, dict) and "file" in entry:
-            found[entry["file"]] = entry.get("status", "not verified")
-        for value in node.values():
-            _certificates(value, found)
-    elif isinstance(node, list):
-        for value in node:
-            _certificates(value, found)
-    return found
 
 
 def _count(n, noun):

@@ -20,7 +20,7 @@ from inertiaproof.suite.registry import replayer
 from inertiaproof.verify.claims import SCHEMA
 from inertiaproof.verify.cli import check
 
-__all__ = ["certificate_name", "cited_entries", "replay_refuted", "settle"]
+__all__ = ["certificate_name", "certificate_tally", "cited_entries", "replay_refuted", "settle"]
 
 
 def certificate_name(cert):
@@ -93,6 +93,14 @@ def settle(result, *, out_dir, budget, verify, memo, executor=None):
 def cited_entries(node):
     """The settled certificate entries ({file, claim, status, ...}) of evidence, after :func:`settle`."""
     return (holder["certificate"] for holder in _holders(node, "file"))
+
+
+def certificate_tally(evidences):
+    """({file: status} of the certificates the evidences cite, "N (OUT/certificates); k status, ..." in words)."""
+    files = {entry["file"]: entry.get("status", "not verified") for ev in evidences for entry in cited_entries(ev)}
+    counts = {status: sum(s == status for s in files.values()) for status in dict.fromkeys(files.values())}
+    return files, (f"{len(files)} (OUT/certificates)" + ("; " if counts else "")
+                   + ", ".join(f"{n} {status}" for status, n in counts.items()))
 
 
 @replayer("certificate-refuted")

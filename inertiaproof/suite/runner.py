@@ -35,7 +35,7 @@ from inertiaproof.errors import InputError
 from inertiaproof.result import Result, Verdict
 
 from . import catalog
-from .certificates import cited_entries, settle
+from .certificates import certificate_tally, settle
 from .context import Context
 from .discovery import load_checks
 from .environment import versions
@@ -239,13 +239,7 @@ def write_junit(path, run):
 
 def certificate_line(run):
     """How many certified numbers cite a certificate, and what the independent checker said of them."""
-    rows = {}
-    for result in run.results:
-        for holder in cited_entries(result.evidence):
-            rows[holder["file"]] = holder.get("status", "not verified")
-    counts = {status: sum(s == status for s in rows.values()) for status in dict.fromkeys(rows.values())}
-    return (f"certificates: {len(rows)} (OUT/certificates)" + ("; " if counts else "")
-            + ", ".join(f"{n} {status}" for status, n in counts.items()))
+    return "certificates: " + certificate_tally(r.evidence for r in run.results)[1]
 
 
 def format_table(run, width=110):

@@ -6,7 +6,7 @@ from fractions import Fraction
 
 from flint import fmpq
 
-__all__ = ["BadCertificate", "rational", "semidefinite"]
+__all__ = ["BadCertificate", "rational", "rational_matrix", "semidefinite"]
 
 
 class BadCertificate(ValueError):
@@ -22,6 +22,14 @@ def rational(text, where):
     except (ValueError, ZeroDivisionError):
         raise BadCertificate(f"{where}: {text!r} is not a rational number") from None
     return fmpq(value.numerator, value.denominator)
+
+
+def rational_matrix(rows, shape, where):
+    """The exact rationals of a certificate's ``shape`` matrix ``rows`` (lists of numbers)."""
+    if not (isinstance(rows, list) and len(rows) == shape[0] and all(isinstance(r, list) and len(r) == shape[1]
+                                                                     for r in rows)):
+        raise BadCertificate(f"{where}: expected a {shape[0]}x{shape[1]} list of numbers")
+    return [[rational(x, f"{where}[{i}][{j}]") for j, x in enumerate(r)] for i, r in enumerate(rows)]
 
 
 def semidefinite(rows):

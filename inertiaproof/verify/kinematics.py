@@ -11,19 +11,12 @@ from __future__ import annotations
 
 from flint import arb, arb_mat
 
-from .exact import BadCertificate, rational
+from .exact import BadCertificate, rational_matrix
 
 __all__ = ["Chain", "WORK", "definite"]
 
 WORK = [0]  # the checker's unit of work, counted as it goes: a joint of the pivot recursion on a box, or an
 # eigen-decomposition (the costly step: about 0.2 ms); budgets are counts of it, the same on every machine
-
-
-def _matrix(rows, shape, where):
-    if not (isinstance(rows, list) and len(rows) == shape[0] and all(isinstance(r, list) and len(r) == shape[1]
-                                                                     for r in rows)):
-        raise BadCertificate(f"{where}: expected a {shape[0]}x{shape[1]} list of numbers")
-    return [[rational(x, f"{where}[{i}][{j}]") for j, x in enumerate(r)] for i, r in enumerate(rows)]
 
 
 class Joint:
@@ -33,7 +26,7 @@ class Joint:
         self.revolute = {"revolute": True, "prismatic": False}.get(data.get("kind"))
         if self.revolute is None:
             raise BadCertificate(f"{where}.kind: 'revolute' or 'prismatic', not {data.get('kind')!r}")
-        axis = [arb(x) for x in _matrix([data.get("axis")], (1, 3), f"{where}.axis")[0]]
+        axis = [arb(x) for x in rational_matrix([data.get("axis")], (1, 3), f"{where}.axis")[0]]
         norm = sum(a * a for a in axis).sqrt()
         if not norm > 0:
             raise BadCertificate(f"{where}.axis: the axis must be a nonzero vector")
@@ -62,7 +55,7 @@ class Joint:
 
 
 def _transform(rows, where):
-    m = _matrix(rows, (4, 4), where)
+    m = rational_matrix(rows, (4, 4), where)
     if any(m[3][j] != (1 if j == 3 else 0) for j in range(4)):
         raise BadCertificate(f"{where}: the last row of a transform is 0 0 0 1")
     return (arb_mat(3, 3, [arb(m[i][j]) for i in range(3) for j in range(3)]),

@@ -26,7 +26,7 @@ from collections import deque
 from flint import arb, arb_mat, fmpq
 
 from .bodies import parameter_sets, spatial_inertia
-from .exact import BadCertificate, rational, semidefinite
+from .exact import BadCertificate, rational, rational_matrix, semidefinite
 from .kinematics import WORK, Chain, definite
 from .outcome import Outcome
 from .tree import Node, halves, parse
@@ -40,9 +40,8 @@ METRIC = {"kind": "shift", "ridge": "1/10"}  # the turns' loss metric on the low
 
 
 def _matrices(rows, where):
-    if not (isinstance(rows, list) and len(rows) == 6 and all(isinstance(r, list) and len(r) == 6 for r in rows)):
-        raise BadCertificate(f"{where}: a 6x6 matrix")
-    m = [[rational(x, f"{where}[{i}][{j}]") for j, x in enumerate(r)] for i, r in enumerate(rows)]
+    """A symmetric 6x6 matrix of exact rationals."""
+    m = rational_matrix(rows, (6, 6), where)
     if any(m[i][j] != m[j][i] for i in range(6) for j in range(i)):
         raise BadCertificate(f"{where}: not symmetric")
     return m
