@@ -14,8 +14,8 @@ into a temporary staging tree laid out as the installed package (the
    pattern that does not occur exactly once makes the mutant ``stale``;
 2. runs ``inertiaproof gate --update`` there, so that the derivation lockfile
    cannot be what kills it;
-3. runs ``inertiaproof run --profile ci`` there (``--only`` the checks of the
-   mutant's reach, unless ``--full``): exit 1 (something VIOLATED, or a check
+3. runs ``inertiaproof run --profile ci`` there (or the mutant's own profile; ``--only``
+   the checks of the mutant's reach, unless ``--full``): exit 1 (something VIOLATED, or a check
    crashed) kills the mutant, exit 3 (INCONCLUSIVE only) does not, exit 0 lets it
    survive;
 4. restores the file and the lockfile.
@@ -56,6 +56,7 @@ class Mutant:
     what: str  # the bug it stands for
     reach: tuple = ()  # catalog IDs or check names to run (--only); empty: the whole ci run
     equivalent: str = ""  # why it cannot change behaviour, if it cannot
+    profile: str = "ci"  # the run's profile (the chain split runs in deep only)
 
 
 SECTION2 = ("EQ-moments", "EQ-schur", "EQ-triangle", "Def1/Thm1-suff", "Thm1-nec", "Thm1-boundary", "Rem2")
@@ -229,6 +230,19 @@ MUTANTS = (
     Mutant("bounds-key-step-factor", "bounds", "inertiaproof/bounds/time.py",
            "factor = 2.0 if build is spatial_inertia else 1.0", "factor = 1.0",
            "||Z(F)|| <= ||F|| for a moving mass (the key step's factor 2 dropped)", BOUNDS),
+    # the three prover bugs of issue 25: the prover then claims more than it proved; the independent checker refutes
+    # the certificate or cannot re-prove it
+    Mutant("bounds-pivot-turn-loss", "bounds", "inertiaproof/bounds/pivots.py",
+           "lower = before.T @ (centre - loss) @ before", "lower = before.T @ (centre + loss) @ before",
+           "a joint's turn loss added to the pivot bound instead of subtracted", ("Def2", "Thm2", "Lem1")),
+    Mutant("bounds-partition-gap", "bounds", "inertiaproof/bounds/pivot_search.py",
+           "pending.append((np.concatenate([c - shift, c + shift])",
+           "pending.append((np.concatenate([c - 1.5 * shift, c + 1.5 * shift])",
+           "a box's halves moved apart: the middle of the box is covered by neither", ("Def2", "Thm2", "Lem1")),
+    Mutant("bounds-split-sign", "bounds", "inertiaproof/bounds/interface.py",
+           "armature = (lambda c: np.full((len(c), stack), -gamma))",
+           "armature = (lambda c: np.full((len(c), stack), gamma))",
+           "the chain split proves M + gamma I > 0 instead of M - gamma I > 0", ("Def2",), profile="deep"),
     # -- the symbolic derivations ------------------------------------------------------------------------------
     Mutant("sym-z-sign", "symbolic", "symbolic/lagrangian.py",
            "+ [-s[i][j] for j in range(3)] for i in range(3)]", "+ [s[i][j] for j in range(3)] for i in range(3)]",
@@ -342,11 +356,11 @@ def inertiaproof(args, staging, cache, work):
     return done.returncode, time.perf_counter() - start, done.stderr.strip()[-400:]
 
 
-def run_suite(staging, cache, work, only):
-    """The ci run on the staged package: (exit status, seconds, {verdict: [check names]}, stderr tail)."""
+def run_suite(staging, cache, work, only, profile="ci"):
+    """The run (``profile``) on the staged package: (exit status, seconds, {verdict: [check names]}, stderr tail)."""
     out = work / "out"
     shutil.rmtree(out, ignore_errors=True)
-    args = ["run", "--profile", "ci", "--quiet", "--out", str(out), "--counterexamples", str(work / "found")]
+    args = ["run", "--profile", profile, "--quiet", "--out", str(out), "--counterexamples", str(work / "found")]
     code, seconds, err = inertiaproof(args + (["--only", *only] if only else []), staging, cache, work)
     verdicts = {}
     results = out / "results.json"
@@ -370,7 +384,7 @@ def judge(mutant, staging, folders, cache, work, full):
     try:
         path.write_text(original.replace(mutant.pattern, mutant.replacement))
         gate_code, gate_s, gate_err = inertiaproof(["gate", "--update", "--quiet"], staging, cache, work)
-        code, seconds, verdicts, err = run_suite(staging, cache, work, () if full else mutant.reach)
+        code, seconds, verdicts, err = run_suite(staging, cache, work, () if full else mutant.reach, mutant.profile)
     finally:
         path.write_text(original)
         lock.write_text(locked)

@@ -369,9 +369,9 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
         gamma = gamma_b.lower if gamma_override is None else gamma_override
         sigma = sigma_b.upper if sigma_override is None else sigma_override
         brackets[key] = {
-            "inf_sigma_min_QJ_sq": quantity(gamma_b.lower, "lower_bound", "certified: " + gamma_b.quantity),
+            "inf_sigma_min_QJ_sq": gamma_b.evidence()["lower"],
             "inf_sigma_min_QJ_sq_observed": quantity(gamma_b.upper, "sampled", "attained at a witness"),
-            "sup_sigma_max_QJ": quantity(sigma_b.upper, "upper_bound", "certified: " + sigma_b.quantity),
+            "sup_sigma_max_QJ": sigma_b.evidence()["upper"],
             "sup_sigma_max_QJ_observed": quantity(sigma_b.lower, "sampled", "attained at a witness")}
         q_samples = np.concatenate([estimates.configurations(chain, s.configurations, ctx.rng(f"{_stream(key)}:APP q")),
                                     np.atleast_2d(gamma_b.witness), np.atleast_2d(sigma_b.witness)])

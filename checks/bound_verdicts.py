@@ -47,6 +47,7 @@ from inertiaproof.checks.pointwise import (
 )
 
 from inertiaproof.bounds.domain import free_coordinates, search_box
+from inertiaproof.bounds.certificate import key_step_certificate as key_step_claim
 from inertiaproof.bounds.extremes import Bracket, local_search
 from inertiaproof.bounds.spectral import spectral
 from inertiaproof.bounds.time import parameter_vertices
@@ -238,6 +239,25 @@ def constants_evidence(sense, formula, paper, paper_observed, certified, certifi
     }
 
 
+def _cite(q, source):
+    """``q`` (a quantity) cites the certificate of ``source`` (a constants entry) when it repeats the same number."""
+    if source and "certificate" in source and float(source["value"]) == float(q["value"]):
+        q["certificate"] = source["certificate"]
+    return q
+
+
+def _constant_range(sense, lo, hi, constants):
+    """The range [lo, hi] of the (scaled) constant: its certified end (the paper's constant with certified
+    ingredients) and its attained end (with the observed ingredients: a value the constant reaches)."""
+    upper = sense == "upper"
+    certified = _cite(quantity(hi if upper else lo, "upper_bound" if upper else "lower_bound",
+                               f"{'largest' if upper else 'smallest'} value the (scaled) constant can have"),
+                      constants.get("paper"))
+    attained = quantity(lo if upper else hi, "sampled", "the (scaled) constant with the observed ingredients: it is "
+                        f"at {'least' if upper else 'most'} this")
+    return {"lower": attained, "upper": certified} if upper else {"lower": certified, "upper": attained}
+
+
 def case_result(check_id, scene, sense, lhs, constant_range, k, proof_factor, pointwise, constants, extra,
                 replay=None):
     """(verdict, why, evidence, counterexample) of one bound on one scene; ``constant_range`` is the range of
@@ -249,13 +269,14 @@ def case_result(check_id, scene, sense, lhs, constant_range, k, proof_factor, po
         "scene": scene.name,
         "factor": quantity(k, "value", "multiplier of the paper's constant (1 = the paper's statement)"),
         "constants": constants,
-        "constant_range": {"lower": quantity(lo, "lower_bound", "smallest value the (scaled) constant can have"),
-                           "upper": quantity(hi, "upper_bound", "largest value the (scaled) constant can have")},
+        "constant_range": _constant_range(sense, lo, hi, constants),
         "bracket": lhs.evidence(),
         "pointwise": pointwise["evidence"],
         "why": why,
         **extra,
     }
+    for name, q in evidence["pointwise"].get("reported", {}).items():
+        _cite(q, constants.get(name))
     counterexample = None
     if verdict == Verdict.VIOLATED and bracket_refutation(sense, lhs, lo, hi) is None:  # the samples refute it
         counterexample = pointwise["counterexample"]
@@ -314,7 +335,11 @@ def shown(value):
 
 
 def key_step_evidence():
-    return {k: v for k, v in key_step_certificate().items() if k != "choi"}
+    """The key step's SDP certificate in evidence; it cites its ``key-step`` certificate (the Choi matrix) where
+    the SDP found one."""
+    found = key_step_certificate()
+    cited = {"certificate": key_step_claim(found["choi"], found["lower"], found["upper"])} if found["ok"] else {}
+    return {**{k: v for k, v in found.items() if k != "choi"}, **cited}
 
 
 def time_quantities(d, what):

@@ -156,11 +156,12 @@ def cor1_result(ctx, scenes, k_lower=1.0, k_upper=1.0):
     high = run_scenes("Thm3", ctx, upper_bound_case, scenes, k_upper)
     rows, verdicts = {}, [low.verdict, high.verdict]
     for name in low.evidence["scenes"]:
-        a1 = float(low.evidence["scenes"][name]["constants"]["certified"]["value"])  # "inf", "nan" as floats again
-        a2 = float(high.evidence["scenes"][name]["constants"]["certified"]["value"])
+        c1 = low.evidence["scenes"][name]["constants"]["certified"]
+        c2 = high.evidence["scenes"][name]["constants"]["certified"]
+        a1, a2 = float(c1["value"]), float(c2["value"])  # "inf", "nan" as floats again
         ok = 0 < a1 <= a2 < np.inf
-        rows[name] = {"alpha1_certified": quantity(a1, "certified_constant", "Theorem 2, sharpest certified"),
-                      "alpha2_certified": quantity(a2, "certified_constant", "Theorem 3, sharpest certified"),
+        rows[name] = {"alpha1_certified": {**c1, "note": "Theorem 2, sharpest certified: " + c1["note"]},
+                      "alpha2_certified": {**c2, "note": "Theorem 3, sharpest certified: " + c2["note"]},
                       "ordered": ok}
         verdicts.append(Verdict.HOLDS if ok else Verdict.INCONCLUSIVE)
     verdict = combine(verdicts)

@@ -16,10 +16,11 @@ from inertiaproof.checks.bound_verdicts import cached, case_result, inverted_bra
 from inertiaproof.checks.forward_kinematics import kinematics_result, with_kinematics
 
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
+from inertiaproof.bounds.constants import lower_constants
 from inertiaproof.bounds.domain import search_box
-from inertiaproof.bounds.time import time_extreme
+from inertiaproof.bounds.time import time_extreme, vertex_extreme
 from inertiaproof.dynamics.terms import mass_matrix
-from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia, unit_body
+from inertiaproof.model.inertia import pseudo_inertia, unit_body
 from inertiaproof.result import Result, Verdict, combine, quantity
 from inertiaproof.scene import robots
 from inertiaproof.suite.registry import check
@@ -193,10 +194,11 @@ def lem1_result(ctx, scenes):
         gamma = cached(ctx, scene, "gamma", lambda: jacobian_normality(scene.chain, **kw(ctx, scene, "gamma")))
         low = cached(ctx, scene, "mass_inf_const", lambda: mass_inf(
             scene.chain, scene.trajectory.base[None], **kw(ctx, scene, "mass_inf_const", share=2.0)))
-        z_min = float(np.linalg.eigvalsh(spatial_inertia(scene.trajectory.base))[..., 0].min())
-        structural = z_min * gamma.lower
-        certified = max(low.lower, structural)
-        ok = gamma.lower > 0 and certified > 0
+        base = scene.trajectory.base[None]
+        (xi, xi_certificate), (z_min, z_certificate) = (vertex_extreme(base, name) for name in ("lmin_f", "lmin_Z"))
+        certified = lower_constants(xi, z_min, gamma, low, xi_certificate=xi_certificate,
+                                    z_certificate=z_certificate)["certified"]
+        ok = gamma.lower > 0 and certified["value"] > 0
         at_witness = np.abs(np.linalg.eigvalsh(mass_matrix(scene.chain.body_jacobian(low.witness),
                                                            scene.trajectory.base))).max()
         bad = gamma.lower > 0 and low.observed < -64 * EPS * at_witness  # below what rounding can do there
@@ -205,9 +207,10 @@ def lem1_result(ctx, scenes):
                                       (scene, low, scene.trajectory.base[None], "lmin")])
         rows[scene.name] = {"direction": "normal => positive lower bound", "normality": gamma.evidence(),
                             "inf_lambda_min_M": low.evidence(),
-                            "certified_lower_bound": quantity(certified, "lower_bound",
-                                                              "max(branch and bound, min_l lambda_min(Z_l) * certified "
-                                                              "inf sigma_min(QJ)^2): the proof of Theorem 2")}
+                            "certified_lower_bound": {
+                                **quantity(certified["value"], "lower_bound", "the sharpest of branch and bound and the "
+                                           "proof of Theorem 2 with certified ingredients: " + certified["how"]),
+                                **({"certificate": certified["certificate"]} if "certificate" in certified else {})}}
     cx = cx_normal_result(robots.non_normal_2r())
     verdicts.append(cx.verdict)
     rows["non-normal-2r"] = {"direction": "not normal => inf lambda_min(M) = 0 for the unit bodies", **cx.evidence}

@@ -14,6 +14,7 @@ from inertiaproof.checks.bound_verdicts import (
     cached,
     case_result,
     constants_evidence,
+    key_step_evidence,
     kw,
     parameter_stack,
     pointwise_on_scene,
@@ -27,11 +28,10 @@ from inertiaproof.checks.pointwise import with_hunt
 
 from inertiaproof.bounds import formulas
 from inertiaproof.bounds.configuration import jacobian_sup, mass_sup, skew_partial_sup
-from inertiaproof.bounds.constants import bracket_certificate, paper_product
+from inertiaproof.bounds.constants import bracket_certificate, paper_product, sharpest
 from inertiaproof.bounds.time import lumped_velocity_bounds, parameter_vertices, time_extreme
 from inertiaproof.dynamics import composite
 from inertiaproof.dynamics.terms import lumped_velocity_matrix
-from inertiaproof.model.positive_map import key_step_certificate
 from inertiaproof.result import quantity
 from inertiaproof.scene import robots
 from inertiaproof.suite.registry import check
@@ -60,30 +60,39 @@ def rate_case(ctx, scene, k=1.0):
             chain, "sup sigma_max(M(q, Thetadot(t)))", "max", ctx, scene,
             "moving mass: Thetadot(t) is not affine in the profile's rate, the extreme over t is sampled on 64 times"))
     root = formulas.chi(1.0, 1.0, traj.bodies)  # the paper's factor sqrt(69 N)
+    step = key_step_evidence()
+    s_squared = bracket_certificate(sigma)  # of sup lambda_max((QJ)^T QJ) <= S^2
     paper, paper_certificate = paper_product(
         "upper", formulas.chi(mu["certified"], sigma.upper, traj.bodies), ("sqrt", 69 * traj.bodies),
-        [(mu.get("certificate"), 1), (bracket_certificate(sigma), 1)],
+        [(mu.get("certificate"), 1), (s_squared, 1)],
         "chi = sqrt(69 N) max_l sup_t sigma_max(f(Phidot_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}")
     paper_observed = formulas.chi(mu["observed"], sigma.lower, traj.bodies)
-    universal = formulas.chi_sharp(mu["certified"], sigma.upper)
-    structural = formulas.chi_z(zdot["certified"], sigma.upper)
-    certified = min(universal, structural, lhs.upper)
-    how = ("certified upper side of sup sigma_max(M(q, Thetadot)) by branch and bound" if lhs.upper <= min(
-        universal, structural) else "max_l sup_t sigma_max(Z(Phidot_l)) S^2 (block-diagonal Z: no sqrt(N))"
-        if structural <= universal else "2 mu S^2: the sharp factor 2 of the key step, no sqrt(N)")
+    certified = sharpest(min, [
+        (lhs.upper, bracket_certificate(lhs), "certified upper side of sup sigma_max(M(q, Thetadot)) by branch and "
+                                              "bound"),
+        (*paper_product("upper", formulas.chi_z(zdot["certified"], sigma.upper), 1,
+                        [(zdot.get("certificate"), 1), (s_squared, 1)],
+                        "max_l sup_t sigma_max(Z(Phidot_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}"),
+         "max_l sup_t sigma_max(Z(Phidot_l)) S^2 (block-diagonal Z: no sqrt(N))"),
+        (*paper_product("upper", formulas.chi_sharp(mu["certified"], sigma.upper), formulas.KEY_STEP_UPPER,
+                        [(mu.get("certificate"), 1), (s_squared, 1)],
+                        "2 max_l sup_t sigma_max(f(Phidot_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}"),
+         "2 mu S^2: the sharp factor 2 of the key step, no sqrt(N)")])
     constants = constants_evidence("upper", "chi = sqrt(69 N) max_l sup_t sigma_max(f(Phidot_l)) sup_q sigma_max(QJ)^2",
-                                   paper, paper_observed, certified, how, lhs.observed,
+                                   paper, paper_observed, certified["value"], certified["how"], lhs.observed,
                                    "sup sigma_max(M(q, Thetadot)) attained at the witness: a lower estimate",
-                                   paper_certificate)
+                                   paper_certificate, certified.get("certificate"))
     extra = {"ingredients": {"mu": time_quantities(mu, "max_l sup_t sigma_max(f(Phidot_l(t)))"),
                              "sigma_max_Zdot": time_quantities(zdot, "max_l sup_t sigma_max(Z(Phidot_l(t)))"),
                              "sup_sigma_max_QJ": sigma.evidence()},
-             "factors": {"paper": quantity(root, "paper_constant", "sqrt(69 N) (entrywise bound of Z, Frobenius norm)"),
-                         "certified": quantity(key_step_certificate()["upper"], "certified_constant",
-                                               "lambda_max(L(I4)) = 2: sigma_max(Z(F)) <= 2 sigma_max(F), attained "
-                                               "at F = I4; the block-diagonal stack needs no sqrt(N)"),
+             "factors": {"paper": quantity(root, "value", "the paper's factor sqrt(69 N) (entrywise bound of Z, "
+                                                          "Frobenius norm)"),
+                         "certified": {**quantity(step["upper"], "certified_constant",
+                                                  "lambda_max(L(I4)) = 2: sigma_max(Z(F)) <= 2 sigma_max(F), attained "
+                                                  "at F = I4; the block-diagonal stack needs no sqrt(N)"),
+                                       **({"certificate": step["certificate"]} if "certificate" in step else {})},
                          "ratio": quantity(root / 2, "ratio", "paper factor / sharp factor")}}
-    reported = {"paper": k * paper, "certified": certified}
+    reported = {"paper": k * paper, "certified": certified["value"]}
     return case_result("Thm4", scene, "upper", lhs, (k * paper_observed, k * paper), k,
                        formulas.chi_sharp(1.0, 1.0) / root,
                        pointwise_on_scene("Thm4", ctx, scene, k, reported), constants, extra,

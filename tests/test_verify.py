@@ -22,7 +22,7 @@ from inertiaproof.scene import robots
 from inertiaproof.suite.certificates import settle
 from inertiaproof.suite.outputs import Outputs
 from inertiaproof.suite.replay import replay
-from inertiaproof.verify.tree import leaves
+from inertiaproof.verify.tree import parse
 from inertiaproof.verify.cli import about, check
 from inertiaproof.verify.exact import BadCertificate
 
@@ -110,6 +110,18 @@ def test_malformed_certificates_are_rejected_with_the_field(planar, tamper, fiel
     tamper(cert)
     out = check(cert)
     assert out["status"] == "bad certificate" and out["why"].startswith(field) and "\n" not in out["why"], out
+
+
+def leaves(tree, domain):
+    """The leaves of the checker's reading of ``tree`` over ``domain``, lower halves first."""
+    out, stack = [], [parse(tree, domain)]
+    while stack:
+        node = stack.pop()
+        if node.children is None:
+            out.append(node.box)
+        else:
+            stack.extend(reversed(node.children))
+    return out
 
 
 def test_the_tree_covers_the_domain_exactly():
@@ -264,3 +276,13 @@ def test_a_prover_that_certifies_beyond_the_attained_value_turns_the_check_viola
     assert bracket.certified > bracket.observed  # the mutant's claim
     result = _settled(bracket.evidence()["lower"]["certificate"])
     assert result.verdict == Verdict.VIOLATED and "refuted" in result.summary
+
+
+def test_a_certified_number_the_checker_does_not_reprove_leaves_the_check_inconclusive():
+    chain, theta = _scene("spatial-3r")
+    inf, witness = _inf(chain, theta)
+    cert = spectrum_certificate(chain, theta, "lambda_min", 0.9 * inf, witness=witness)  # no tree: the root only
+    assert check(cert, budget=0)["status"] == "not decided"
+    result = Result("Def2", Verdict.HOLDS, "held", {"bracket": {"lower": {"value": 0.0, "certificate": cert}}})
+    settle(result, out_dir=None, budget=0, verify=True, memo={})
+    assert result.verdict == Verdict.INCONCLUSIVE and "not re-proved" in result.summary

@@ -16,7 +16,8 @@ import numpy as np
 
 from .domain import certification_obstacle, search_box
 
-__all__ = ["SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "product_certificate", "spectrum_certificate"]
+__all__ = ["SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "key_step_certificate", "product_certificate",
+           "spectrum_certificate"]
 
 SCHEMA = "inertiaproof.certificate/1"
 STATEMENT = {"lambda_min": "lambda_min(M(q, Theta)) >= {bound}", "lambda_max": "lambda_max(M(q, Theta)) <= {bound}"}
@@ -189,3 +190,14 @@ def product_certificate(relation, bound, factor, ingredients, statement, provena
                       "statement": statement.format(bound=f"{float(bound):.10g}")},
             "ingredients": [{"power": int(p), "of": c} for c, p in ingredients],
             "provenance": provenance}
+
+
+def key_step_certificate(choi, lower, upper):
+    """The certificate (kind ``key-step``) of the key step of Theorems 2-4: L(F) = Z(f^-1(F)) is a positive map
+    (``choi``: its 24x24 Choi matrix, rationals as strings) and lower I6 <= L(I4) <= upper I6."""
+    return {"schema": SCHEMA,
+            "claim": {"kind": "key-step", "lower": exact(lower), "upper": exact(upper),
+                      "statement": f"for s >= 0: f(Phi) >= s I4 implies Z(Phi) >= {lower:g} s I6, f(Phi) <= s I4 "
+                                   f"implies Z(Phi) <= {upper:g} s I6, and sigma_max(Z(Phi)) <= {upper:g} "
+                                   "sigma_max(f(Phi))"},
+            "choi": [list(row) for row in choi]}

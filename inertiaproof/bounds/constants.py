@@ -13,7 +13,7 @@ from .configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
 from .extremes import Bracket
 from .spectral import spectral
 
-__all__ = ["bracket_certificate", "lower_constants", "mass_matrix_bounds", "paper_product", "upper_constants"]
+__all__ = ["bracket_certificate", "lower_constants", "mass_matrix_bounds", "paper_product", "sharpest", "upper_constants"]
 
 ROUNDING = 8 * np.finfo(float).eps  # relative allowance by which a paper constant computed in floats from certified
 # ingredients is moved outward before it is reported: its few roundings (eps/2 each) cannot carry it past the exact
@@ -102,7 +102,7 @@ def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=No
                                [(z_certificate, 1), (bracket_certificate(gamma), 1)],
                                "min_l inf_t lambda_min(Z(Phi_l)) inf_q lambda_min((QJ)^T QJ) >= {bound}")
     direct = observed.lower if np.isfinite(observed.lower) else -np.inf
-    certified = _sharpest(max, [
+    certified = sharpest(max, [
         (direct, bracket_certificate(observed), "certified lower side of inf lambda_min(M) (branch and bound, or the "
                                                 "proof of Theorem 2 with the block-triangular normality floor)"),
         (*structural, "min_l inf_t lambda_min(Z(Phi_l)) times the certified lower side of inf_q sigma_min(QJ)^2 (the "
@@ -136,7 +136,7 @@ def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observe
     structural = paper_product("upper", formulas.alpha2_z(z_max, sigma.upper), 1,
                                [(z_certificate, 1), (bracket_certificate(sigma), 1)],
                                "max_l sup_t lambda_max(Z(Phi_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}")
-    certified = _sharpest(min, [
+    certified = sharpest(min, [
         (observed.upper, bracket_certificate(observed), "certified upper side of sup lambda_max(M) by branch and bound "
                                                         "(or from lengths)"),
         (*structural, "max_l sup_t lambda_max(Z(Phi_l)) times the certified sup_q sigma_max(QJ)^2 (the proof at the "
@@ -145,7 +145,7 @@ def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observe
     return {"paper": paper, "certified": certified, "observed": _bracket_data(observed)}
 
 
-def _sharpest(pick, candidates):
+def sharpest(pick, candidates):
     """{value, how, certificate} of the sharpest of the (value, certificate, how) ``candidates`` (``pick`` max for a
     lower bound, min for an upper one), the first of equals."""
     value, certificate, how = pick(candidates, key=lambda c: c[0])

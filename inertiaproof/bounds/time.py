@@ -20,7 +20,7 @@ from .spectral import EPS, ROUNDING, spectral
 
 __all__ = [
     "ACCELERATION_PEAK", "affine_loads", "BODY_FUNCTIONS", "lumped_velocity_bounds", "parameter_vertices",
-    "profile_acceleration_bound", "profile_range", "time_extreme",
+    "profile_acceleration_bound", "profile_range", "time_extreme", "vertex_extreme",
 ]
 
 
@@ -150,10 +150,9 @@ def time_extreme(trajectory, name, *, samples=2001, horizon=None):
         rounding = (f"; each vertex's eigenvalue {'lowered' if sense == 'min' else 'raised'} by the rounding "
                     f"allowance {ROUNDING:g} eps |lambda|_max of its matrix")
         if finite.all():
-            certified = float(cvals.min() if sense == "min" else cvals.max())
             how = ("exact: the extreme over t is at an end of the segment Theta_base + s Phi_load (one load per body)"
                    if len(trajectory.loads) <= 1 else "the hull of the loads' segments (an outer bound)") + rounding
-            certificate = body_spectrum_certificate(stack, name, certified, how)
+            certified, certificate = vertex_extreme(stack, name, how)
         elif sense == "min":
             certified = float(cvals.min())
             how = ("a scaling grows without bound on the span; growth of a consistent body only raises lambda_min"
@@ -167,6 +166,16 @@ def time_extreme(trajectory, name, *, samples=2001, horizon=None):
     if certificate is not None:
         found["certificate"] = certificate
     return found
+
+
+def vertex_extreme(stack, name, how=""):
+    """(certified, certificate): the min over bodies and rows of ``stack`` (V, N, 10) of the body function ``name``
+    (a lmin_* of :data:`BODY_FUNCTIONS`; the max for the others), moved outward by its rounding allowance, so a bound
+    over the convex hull of each body's rows; and its ``body-spectrum`` certificate (``how``: its provenance)."""
+    build, kind, _ = BODY_FUNCTIONS[name]
+    values = _rounded(build(np.asarray(stack, float)), kind)
+    certified = float(values.min() if kind == "lmin" else values.max())
+    return certified, body_spectrum_certificate(stack, name, certified, how)
 
 
 def _rounded(matrices, kind):

@@ -15,9 +15,10 @@ from functools import lru_cache
 import numpy as np
 
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Profile
+from inertiaproof.errors import read_text
 from inertiaproof.model import solids
 from inertiaproof.scene import robots
-from inertiaproof.scene.format import load_scene
+from inertiaproof.scene.format import load_scene, parse_scene
 
 from .adaptive import make_law
 from .tracking import scene_specs
@@ -28,9 +29,11 @@ PAYLOAD_RADIUS = 0.05  # m: a drawn payload is a uniform sphere about the last b
 
 
 @lru_cache(maxsize=64)
-def scene_of(key):
-    """The scene a recipe names: a built-in one, else the scene file ``key``."""
-    return robots.BUILTIN[key]() if key in robots.BUILTIN else load_scene(key)
+def scene_of(key, text=None):
+    """The scene a recipe names: a built-in one, else the scene file ``key`` (its ``text`` where given)."""
+    if key in robots.BUILTIN:
+        return robots.BUILTIN[key]()
+    return load_scene(key) if text is None else parse_scene(text, key)
 
 
 def _timed(load, start, duration):
@@ -41,8 +44,8 @@ def _timed(load, start, duration):
 
 
 @lru_cache(maxsize=256)
-def _trajectory(key, payload, timing):
-    trajectory = scene_of(key).trajectory
+def _trajectory(key, text, payload, timing):
+    trajectory = scene_of(key, text).trajectory
     loads = trajectory.loads
     if payload is not None:
         mass, start, ramp = payload
@@ -73,10 +76,11 @@ class Recipe:
     home: tuple | None = None
     payload: tuple | None = None  # (mass kg, start s, ramp s): replaces the scene's loads (mass 0: none)
     timing: tuple | None = None  # (start s, duration s) of every load's profile (a ramp, a trolley's traverse)
+    scene_text: str | None = None  # a scene file's text, as a saved recipe carries it (None: read the file)
 
     def scene_object(self):
         """The scene with the recipe's reference and gains."""
-        scene = scene_of(self.scene)
+        scene = scene_of(self.scene, self.scene_text)
         control = dataclasses.replace(scene.control, **{k: v for k, v in (
             ("amplitude", self.amplitude), ("frequency", self.frequency), ("home", self.home)) if v is not None})
         gamma = dict(scene.adaptive.gamma)
@@ -89,18 +93,22 @@ class Recipe:
     def spec(self):
         scene = self.scene_object()
         spec = scene_specs(scene, [self.law], [self.plant],
-                           trajectory=_trajectory(self.scene, self.payload, self.timing))[0]
+                           trajectory=_trajectory(self.scene, self.scene_text, self.payload, self.timing))[0]
         return dataclasses.replace(spec, law=_law(self.law, scene.adaptive.gain(self.law)))
 
     def run_horizon(self):
-        return self.horizon if self.horizon is not None else scene_of(self.scene).horizon()
+        return self.horizon if self.horizon is not None else scene_of(self.scene, self.scene_text).horizon()
 
     def chain(self):
-        return scene_of(self.scene).chain
+        return scene_of(self.scene, self.scene_text).chain
 
     def to_data(self):
+        """Plain data; a scene file's text goes with it, so that the data replays without the file."""
+        text = self.scene_text
+        if text is None and self.scene not in robots.BUILTIN:
+            text = read_text(self.scene, "scene file")
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in dataclasses.asdict(self).items()
-                if v is not None}
+                if v is not None} | ({"scene_text": text} if text is not None else {})
 
     @classmethod
     def from_data(cls, data):

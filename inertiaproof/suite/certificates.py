@@ -50,7 +50,8 @@ def settle(result, *, out_dir, budget, verify, memo, executor=None):
     with ``verify``, re-prove each once per run (``memo`` maps names to outcomes; ``budget``: the work a
     certificate may spend beyond its tree; the certificates go to ``executor`` as tasks of kind "verify", so the answers
     do not depend on the workers). A refuted certificate, or a malformed one (the prover's own: its proof does not
-    hold together), turns the result VIOLATED; one not decided within the budget is named in the summary."""
+    hold together), turns the result VIOLATED; one not decided within the budget is named in the summary and turns
+    HOLDS into INCONCLUSIVE."""
     holders = list({id(holder): holder for holder in _cited(result.evidence)}.values())  # a dict cited twice: once
     named = [certificate_name(holder["certificate"]) for holder in holders]
     if out_dir is not None:
@@ -84,7 +85,9 @@ def settle(result, *, out_dir, budget, verify, memo, executor=None):
                           f"checker: {cert['claim']['statement']}: {outcome['why']}; " + result.summary)
         result.counterexample = {"kind": "certificate-refuted", "data": {"id": result.id, "certificate": cert,
                                                                          "budget": budget, "where": outcome["where"]}}
-    elif undecided:
+    elif undecided:  # certified means re-proved: a number the checker could not re-prove decides nothing
+        if result.verdict == Verdict.HOLDS:
+            result.verdict = Verdict.INCONCLUSIVE
         result.summary += (f"; {len(undecided)} certified number(s) not re-proved by the independent checker within "
                            f"its budget: {', '.join(undecided)}")
     return result

@@ -47,15 +47,14 @@ def verify_file(path, budget=BUDGET):
     hold what they are the SHA-256 of: its canonical JSON (sorted keys), so a number altered in it is a bad
     certificate, not another claim."""
     path = Path(path)
+    bad = {"file": str(path), "claim": "", "status": "bad certificate", "boxes": 0, "where": None, "seconds": 0.0}
     try:
         cert = json.loads(path.read_text())
     except (OSError, ValueError) as exc:
-        return {"file": str(path), "claim": "", "status": "bad certificate", "why": f"cannot be read: {exc}",
-                "boxes": 0, "where": None, "seconds": 0.0}
+        return {**bad, "why": f"cannot be read: {exc}"}
     digest = hashlib.sha256(json.dumps(cert, sort_keys=True).encode()).hexdigest()[:16]
     if re.fullmatch(r"[0-9a-f]{16}", path.stem) and path.stem != digest:
-        return {"file": str(path), "claim": "", "status": "bad certificate", "boxes": 0, "where": None,
-                "why": f"its content is not what its name says (SHA-256 {digest}...): altered", "seconds": 0.0}
+        return {**bad, "why": f"its content is not what its name says (SHA-256 {digest}...): altered"}
     return {"file": str(path), **check(cert, budget)}
 
 

@@ -13,7 +13,7 @@ from flint import arb, arb_mat
 
 from .exact import BadCertificate, rational_matrix
 
-__all__ = ["Chain", "WORK", "definite"]
+__all__ = ["Chain", "WORK", "definite", "indefinite"]
 
 WORK = [0]  # the checker's unit of work, counted as it goes: a joint of the pivot recursion on a box, or an
 # eigen-decomposition (the costly step: about 0.2 ms); budgets are counts of it, the same on every machine
@@ -247,6 +247,14 @@ def _frobenius(a):
 
 def _scalar(x, n):
     return arb_mat([[x if i == j else 0 for j in range(n)] for i in range(n)])
+
+def indefinite(a):
+    """Whether v^T a v < 0 for every symmetric matrix in the ball matrix ``a``, v the approximate eigenvector of
+    its midpoint's smallest eigenvalue: then none of them is positive semidefinite."""
+    values, u = _eigen(a)
+    j = values.index(min(values))
+    v = arb_mat([[u[i, j]] for i in range(a.nrows())])
+    return (v.transpose() * a * v)[0, 0] < 0
 
 
 def _eigen(a):

@@ -27,7 +27,7 @@ from flint import arb, arb_mat, fmpq
 
 from .bodies import parameter_sets, spatial_inertia
 from .exact import BadCertificate, rational, rational_matrix, semidefinite
-from .kinematics import WORK, Chain, definite
+from .kinematics import WORK, Chain, definite, indefinite
 from .outcome import Outcome
 from .tree import Node, halves, parse
 
@@ -103,10 +103,6 @@ def _bad(why):
     raise BadCertificate(why)
 
 
-def _balls(matrices, sign):
-    return [arb_mat(m) * sign for m in matrices]
-
-
 def _where(box):
     return [[str(lo), str(hi)] for lo, hi in box]
 
@@ -115,7 +111,7 @@ def prove(cert, budget):
     """The :class:`Outcome` of the certificate's claim, spending at most ``budget`` units of work
     (:data:`.kinematics.WORK`) on boxes beyond the tree."""
     chain, domain, bodies, forms, split, sign, shift, root, witness, metric = _parse(cert)
-    real = [_balls(z, sign) for z in bodies]
+    real = [[arb_mat(m) * sign for m in z] for z in bodies]
     proving = real
     if forms is not None:
         for v, z in enumerate(bodies):
@@ -124,7 +120,7 @@ def prove(cert, budget):
                 if not semidefinite([[z[l][i][j] - y[l][i][j] for j in range(6)] for i in range(6)]):
                     return Outcome("refuted", f"the form of body {l + 1} is not below Z(Phi) of parameter set {v} "
                                    "(exact rational arithmetic)", 0, {"parameter_set": v, "body": l + 1})
-        proving = [_balls(y, sign) for y in forms]
+        proving = [[arb_mat(m) * sign for m in y] for y in forms]
     boxes = 0
 
     def refuted(point, why):  # M - bound I (or bound I - M) indefinite at a point: the claim fails there
@@ -196,9 +192,14 @@ def _split_walk(chain, split, v, inertias, shift, metric, walk):
 
     def tail_test(c):
         failed, lower = chain.pivots(c, inertias, shift, metric, memo=tail_memo, stop=k)
-        if failed is not None:
+        if failed is not None or definite(lower - interface):
             return failed, lower
-        return (None, lower) if definite(lower - interface) else (k, "the tail's A_k is not above L")
+        point = [(x, fmpq(0)) for x, _ in c]  # A_k at the box's centre, where a valid split has it above L
+        failed, exact = chain.pivots(point, inertias, shift, metric, stop=k)
+        if failed is None and indefinite(exact - interface):
+            raise BadCertificate(f"split.interfaces[{v}]: not below the tail's articulated inertia A_{k + 1} at q = "
+                                 f"[{', '.join(str(x) for x, _ in point)}]: the split at body {k + 1} does not hold")
+        return k, "the tail's A_k is not above L"
 
     heads = inertias[:k] + [interface] + inertias[k + 1:]
     return (walk(tail, v, tail_test, chain.n - 1)

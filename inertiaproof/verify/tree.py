@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from .exact import BadCertificate
 
-__all__ = ["Node", "halves", "leaves", "parse"]
+__all__ = ["Node", "halves", "parse"]
 
 
 class Node:
@@ -45,14 +45,3 @@ def parse(tree, domain):
         raise BadCertificate(f"tree: {len(stack)} box(es) have no token: the leaves do not cover the domain")
     return root
 
-
-def leaves(tree, domain):
-    """The leaves (lists of (lo, hi) rationals) of the prefix code ``tree`` over ``domain``, lower halves first."""
-    out, stack = [], [parse(tree, domain)]
-    while stack:
-        node = stack.pop()
-        if node.children is None:
-            out.append(node.box)
-        else:
-            stack.extend(reversed(node.children))
-    return out

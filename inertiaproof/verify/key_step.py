@@ -1,0 +1,41 @@
+"""The ``key-step`` claim of Theorems 2-4, decided exactly: L(F) = Z(f^-1(F)) on symmetric 4x4 F is a positive map
+and lower I6 <= L(I4) <= upper I6. Then for s >= 0, F >= s I4 gives Z >= s L(I4) >= lower s I6, F <= s I4 gives
+Z <= upper s I6, and sigma_max(Z) <= upper sigma_max(F). Positivity: ``choi`` C (24x24, blocks C_ij 6x6) is
+symmetric, positive semidefinite and sum_ij X_ij C_ij = L(X) on a basis of sym(4); for X = v v^T that sum is
+(v x I6)^T C (v x I6) >= 0, and every X >= 0 is a sum of such.
+"""
+
+from __future__ import annotations
+
+from flint import fmpq
+
+from .bodies import spatial_inertia
+from .exact import rational, rational_matrix, semidefinite
+from .outcome import Outcome
+
+__all__ = ["prove"]
+
+
+def _map(f):
+    """L(F): Phi with f(Phi) = F (m = F44, h = F[:3, 3], I = tr(Sigma) I3 - Sigma), then Z(Phi)."""
+    tr = f[0][0] + f[1][1] + f[2][2]
+    i = [[(tr if r == c else 0) - f[r][c] for c in range(3)] for r in range(3)]
+    return spatial_inertia([f[3][3], f[0][3], f[1][3], f[2][3], i[0][0], i[1][1], i[2][2], i[0][1], i[1][2], i[0][2]])
+
+
+def prove(cert, budget):
+    """The :class:`Outcome` of the claim (``budget`` is not needed)."""
+    lower, upper = (rational(cert["claim"].get(k), f"claim.{k}") for k in ("lower", "upper"))
+    c = rational_matrix(cert.get("choi"), (24, 24), "choi")
+    if any(c[i][j] != c[j][i] for i in range(24) for j in range(i)) or not semidefinite(c):
+        return Outcome("refuted", "the Choi matrix is not symmetric positive semidefinite (exact arithmetic)", 1)
+    for a, b in ((a, b) for a in range(4) for b in range(a, 4)):
+        z = _map([[fmpq(int({r, s} == {a, b})) / (1 if a == b else 2) for s in range(4)] for r in range(4)])
+        if any((c[6 * a + r][6 * b + s] + c[6 * b + r][6 * a + s]) / 2 != z[r][s] for r in range(6) for s in range(6)):
+            return Outcome("refuted", f"the Choi matrix's map differs from L at the basis element E_{a + 1}{b + 1}", 2)
+    z = _map([[fmpq(int(r == s)) for s in range(4)] for r in range(4)])
+    for sign, shift, what in ((1, -lower, "L(I4) - lower I6"), (-1, upper, "upper I6 - L(I4)")):
+        if not semidefinite([[sign * x + (shift if r == s else 0) for s, x in enumerate(row)] for r, row in enumerate(z)]):
+            return Outcome("refuted", f"{what} is not positive semidefinite", 3)
+    return Outcome("re-proved", "the Choi matrix is positive semidefinite and extends L; lower I6 <= L(I4) <= upper "
+                   "I6, decided exactly", 3)
