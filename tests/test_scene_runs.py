@@ -21,7 +21,7 @@ from inertiaproof.suite import runner
 from inertiaproof.suite.profiles import PROFILES
 
 SCENES = sorted((Path(__file__).resolve().parent.parent / "scenes").glob("*.toml"))
-QUICK = dataclasses.replace(PROFILES["ci"], samples=256, refine_s=0.05, examples=8, check_s=2.0, run_s=12.0)
+QUICK = dataclasses.replace(PROFILES["ci"], samples=256, refine_s=0.05, examples=8, check_s=1.5, run_s=10.0)
 OVERSHOOT_S = 30.0  # a check stopped by force ends at its next Python bytecode, after the NumPy or solver call
 # in hand; generous, since the machine may be loaded: a hang would take minutes
 

@@ -36,20 +36,24 @@ COMMANDS = {  # name: (module, help)
 }
 
 
-def parser():
+def parser(command=None):
+    """The command line's parser; only ``command``'s module is imported and configures its arguments (a command
+    starts without the others' imports)."""
     p = argparse.ArgumentParser(prog="inertiaproof", description="Proof-check 'On robotic manipulators with "
                                 "time-dependent inertial parameters' (Kaufmann & Reger).", epilog=EXIT_STATUS["run"])
     sub = p.add_subparsers(dest="command", required=True)
     for name, (module, help_text) in COMMANDS.items():
-        command = importlib.import_module(module)
         sp = sub.add_parser(name, help=help_text, epilog=EXIT_STATUS.get(name))
-        command.configure(sp)
-        sp.set_defaults(func=command.main)
+        if name == command:
+            chosen = importlib.import_module(module)
+            chosen.configure(sp)
+            sp.set_defaults(func=chosen.main)
     return p
 
 
 def main(argv=None):
-    args = parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = parser(next((a for a in argv if not a.startswith("-")), None)).parse_args(argv)
     try:
         return args.func(args)
     except InputError as exc:

@@ -18,6 +18,7 @@ import hashlib
 import importlib
 import sys
 import types
+import warnings
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 
@@ -321,7 +322,10 @@ def _run_shard(strategy, margin, profile, tolerance, settings_overrides, collect
     # the example database (deep profile) keeps each shard's examples under its own key, not one shared by all hunts
     test._hypothesis_internal_database_key = hashlib.sha256(
         f"{shard.label}:{shard.index}/{shard.count}".encode()).digest()
-    with _fixed_constants():
+    with _fixed_constants(), warnings.catch_warnings():
+        # the strategies draw from NumPy generators seeded by Hypothesis; what moves the global `random` state during
+        # a shard is another thread of a Dask worker (its heartbeats), which Hypothesis cannot tell apart
+        warnings.filterwarnings("ignore", "Do not use the `random` module inside strategies")
         try:
             test()
         except _Violation:
