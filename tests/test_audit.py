@@ -224,7 +224,8 @@ def test_exit_2_names_the_element_and_the_rest_is_still_audited(tmp_path, capsys
     write(tmp_path, robot(link("a"), joint("j", "a", "ghost")), "bad.urdf")
     code, out, err = _run(capsys, tmp_path, "--json")
     assert code == 2 and "Traceback" not in err
-    assert err.strip().count("\n") == 0 and "joint 'j': <child link='ghost'> names no link" in err
+    errors = [line for line in err.splitlines() if not line.startswith("inertiaproof: audit: ")]  # not its progress
+    assert len(errors) == 1 and "joint 'j': <child link='ghost'> names no link" in errors[0]
     doc = json.loads(out)
     assert doc["files"][str(tmp_path / "good.urdf")]["status"] == "ok"
     assert doc["files"][str(tmp_path / "bad.urdf")]["status"] == "error"

@@ -32,6 +32,8 @@ from inertiaproof.suite.environment import versions
 from inertiaproof.suite.execution import executor_for
 from inertiaproof.suite.profiles import PROFILES
 
+QUIET_S = 2.0  # an audit prints its progress (files done, ETA) from this many seconds on: a quick one prints none
+
 __all__ = ["configure", "main", "write_repaired", "write_report"]
 
 
@@ -79,9 +81,13 @@ def main(args):
     if xacro_args:
         options["xacro_args"] = xacro_args
     memory = Budget(memory_bytes=profile.memory_mb * 2**20)
-    say = (lambda message: print(message, file=sys.stderr)) if args.workers or args.scheduler else None
+    def say(message):  # Dask's address, and on an audit past its first seconds the files done and an ETA
+        if args.workers or args.scheduler or time.perf_counter() - start >= QUIET_S:
+            print(f"inertiaproof: {message}", file=sys.stderr)
+
     with np.errstate(all="ignore"), enforced(memory, grace=0.0), \
             executor_for(args.workers, args.scheduler, profile=args.profile, say=say) as executor:
+        executor.say = say
         files = audit_paths(args.paths, executor=executor, **options)  # overflow inside margins falls back to LAPACK
     doc = document(files, profile=args.profile, seed=args.seed, bounds=args.bounds, floating_base=args.floating_base,
                    slack=args.repair_slack, runtime_s=time.perf_counter() - start, versions=versions("yourdfpy", "mujoco"))
