@@ -226,22 +226,21 @@ def constants_evidence(sense, formula, paper, paper_observed, certified, certifi
     ``certified_certificate`` into the certified one."""
     upper = sense == "upper"
     return {
-        "paper": {**quantity(paper, "upper_bound" if upper else "lower_bound",
-                             f"the paper's {formula} with certified ingredients: "
-                             f"{'an upper' if upper else 'a lower'} bound of the paper's constant"),
-                  **({"certificate": paper_certificate} if paper_certificate else {})},
+        "paper": quantity(paper, "upper_bound" if upper else "lower_bound",
+                          f"the paper's {formula} with certified ingredients: "
+                          f"{'an upper' if upper else 'a lower'} bound of the paper's constant",
+                          certificate=paper_certificate),
         "paper_observed": quantity(paper_observed, "sampled",
                                    f"the paper's {formula} with the observed ingredients: "
                                    f"{'a lower' if upper else 'an upper'} estimate of the paper's constant"),
-        "certified": {**quantity(certified, "certified_constant", certified_how),
-                      **({"certificate": certified_certificate} if certified_certificate else {})},
+        "certified": quantity(certified, "certified_constant", certified_how, certificate=certified_certificate),
         "observed": quantity(observed, "sampled", observed_note),
     }
 
 
 def _cite(q, source):
     """``q`` (a quantity) cites the certificate of ``source`` (a constants entry) when it repeats the same number."""
-    if source and "certificate" in source and float(source["value"]) == float(q["value"]):
+    if source and float(source["value"]) == float(q["value"]) and source.get("certificate"):
         q["certificate"] = source["certificate"]
     return q
 
@@ -348,8 +347,8 @@ def time_quantities(d, what):
     return {"quantity": what,
             "observed": quantity(d["observed"], "sampled", f"on a time grid, at t = {d['witness_time']:.4g}, body "
                                                            f"{d['body'] + 1}"),
-            "certified": {**quantity(d["certified"], "lower_bound" if inf else "upper_bound", d["how"]),
-                          **({"certificate": d["certificate"]} if d.get("certificate") else {})}}
+            "certified": quantity(d["certified"], "lower_bound" if inf else "upper_bound", d["how"],
+                                  certificate=d.get("certificate"))}
 
 
 def sampled_bracket(value, chain, name, sense, ctx, scene, note):

@@ -207,10 +207,10 @@ def lem1_result(ctx, scenes):
                                       (scene, low, scene.trajectory.base[None], "lmin")])
         rows[scene.name] = {"direction": "normal => positive lower bound", "normality": gamma.evidence(),
                             "inf_lambda_min_M": low.evidence(),
-                            "certified_lower_bound": {
-                                **quantity(certified["value"], "lower_bound", "the sharpest of branch and bound and the "
-                                           "proof of Theorem 2 with certified ingredients: " + certified["how"]),
-                                **({"certificate": certified["certificate"]} if "certificate" in certified else {})}}
+                            "certified_lower_bound": quantity(
+                                certified["value"], "lower_bound", "the sharpest of branch and bound and the proof of "
+                                "Theorem 2 with certified ingredients: " + certified["how"],
+                                certificate=certified.get("certificate"))}
     cx = cx_normal_result(robots.non_normal_2r())
     verdicts.append(cx.verdict)
     rows["non-normal-2r"] = {"direction": "not normal => inf lambda_min(M) = 0 for the unit bodies", **cx.evidence}

@@ -87,10 +87,10 @@ def rate_case(ctx, scene, k=1.0):
                              "sup_sigma_max_QJ": sigma.evidence()},
              "factors": {"paper": quantity(root, "value", "the paper's factor sqrt(69 N) (entrywise bound of Z, "
                                                           "Frobenius norm)"),
-                         "certified": {**quantity(step["upper"], "certified_constant",
-                                                  "lambda_max(L(I4)) = 2: sigma_max(Z(F)) <= 2 sigma_max(F), attained "
-                                                  "at F = I4; the block-diagonal stack needs no sqrt(N)"),
-                                       **({"certificate": step["certificate"]} if "certificate" in step else {})},
+                         "certified": quantity(step["upper"], "certified_constant",
+                                               "lambda_max(L(I4)) = 2: sigma_max(Z(F)) <= 2 sigma_max(F), attained "
+                                               "at F = I4; the block-diagonal stack needs no sqrt(N)",
+                                               certificate=step.get("certificate")),
                          "ratio": quantity(root / 2, "ratio", "paper factor / sharp factor")}}
     reported = {"paper": k * paper, "certified": certified["value"]}
     return case_result("Thm4", scene, "upper", lhs, (k * paper_observed, k * paper), k,

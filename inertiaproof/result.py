@@ -61,8 +61,9 @@ KINDS = {
 }
 
 
-def quantity(value, kind, note=None, unit=None):
-    """A number in evidence that says what it is."""
+def quantity(value, kind, note=None, unit=None, certificate=None):
+    """A number in evidence that says what it is; a certified one cites its ``certificate`` (schema
+    ``inertiaproof.certificate/1``) where it has one."""
     if kind not in KINDS:
         raise ValueError(f"unknown quantity kind {kind!r}; one of {sorted(KINDS)}")
     q = {"value": _plain(value), "kind": kind}
@@ -70,6 +71,8 @@ def quantity(value, kind, note=None, unit=None):
         q["note"] = note
     if unit:
         q["unit"] = unit
+    if certificate:
+        q["certificate"] = certificate
     return q
 
 
