@@ -216,7 +216,7 @@ MUTANTS = (
            "return (vals.max(1) + allowance).max(1)", "return (vals.max(1) - allowance).max(1)",
            "the rounding allowance of a convex vertex bound applied inwards", BOUNDS),
     Mutant("bounds-normality-floor", "bounds", "inertiaproof/bounds/configuration.py",
-           "c[l][l] = Fraction(float(np.nextafter(size, 0)))", "c[l][l] = Fraction(float(2 * size))",
+           "diag[l] = size * (1 - 8 * EPS)", "diag[l] = 2 * size",
            "the block-triangular normality floor from a doubled diagonal", BOUNDS),
     Mutant("bounds-spectral", "bounds", "inertiaproof/bounds/spectral.py",
            'return s[..., 0] if self is Spectral.SMAX else s[..., -1]',

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
-from inertiaproof.model.positive_map import key_step_certificate
 
 from . import formulas
 from .certificate import product_certificate
@@ -33,7 +32,6 @@ def mass_matrix_bounds(chain, theta, *, samples=2000, refine_s=0.5, rng=None, pr
     rng = np.random.default_rng(0) if rng is None else rng
     theta = np.asarray(theta, float)
     kw = dict(samples=samples, refine_s=refine_s, rng=rng, progress=progress)
-    cert = key_step_certificate()
     f = pseudo_inertia(theta)
     z = spatial_inertia(theta)
     xi, zeta = float(spectral(f, "lmin").min()), float(spectral(f, "lmax").max())
@@ -43,7 +41,6 @@ def mass_matrix_bounds(chain, theta, *, samples=2000, refine_s=0.5, rng=None, pr
     low = mass_inf(chain, theta[None], **kw)
     high = mass_sup(chain, theta[None], **kw)
     return {
-        "key_step_certificate": {k: v for k, v in cert.items() if k != "choi"},
         "ingredients": {"xi": xi, "zeta": zeta, "lambda_min_Z": z_min, "lambda_max_Z": z_max,
                         "inf_sigma_min_QJ_sq": _bracket_data(gamma), "sup_sigma_max_QJ": _bracket_data(sigma)},
         "lower": lower_constants(xi, z_min, gamma, low),

@@ -29,7 +29,9 @@ __all__ = ["Bracket", "bracket_extreme", "GUARD", "LOCAL_ROUNDS_PER_SECOND", "lo
 
 ROUNDS_PER_SECOND = 40  # refinement rounds (of 2 batch boxes, 7 joints) per second of budget: a count, so that a seed gives the same bracket
 GUARD = 4.0  # wall-clock guard of the refinement, in units of its budget
-LOCAL_ROUNDS_PER_SECOND = 200  # rounds of local search per second of budget, at most 40
+LOCAL_ROUNDS_PER_SECOND = 200  # rounds of local search per second of budget, at most 40 (of LOCAL_POINTS trials)
+LOCAL_POINTS = 128  # trial configurations per round of local search (8 starts up to 8 free coordinates, then fewer
+# starts, and from 64 coordinates fewer than 4 rounds at least)
 
 
 @dataclass
@@ -143,9 +145,10 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
     or is None when no certified bound is available. ``free`` marks the
     coordinates the function depends on (the others stay at the box centre).
     ``weights`` scale the widths when choosing the coordinate to split. ``cost`` is the relative cost of a
-    box bound (1 for a 7-joint chain): the budget is ``refine_s * ROUNDS_PER_SECOND / cost`` rounds of
-    ``2 batch`` boxes, a count (the same bracket for a seed on any machine), with a wall-clock guard at
-    ``GUARD`` times ``refine_s`` (a loaded machine ends with a wider, still certified bracket).
+    box bound (1 for a 7-joint chain): the budget is ``max(1, refine_s * ROUNDS_PER_SECOND) / cost`` rounds of
+    ``2 batch`` boxes (under one round: one round of as many boxes as it pays for; under one box: none, and no
+    certified side), a count (the same bracket for a seed on any machine), with a wall-clock guard at ``GUARD``
+    times ``refine_s`` (a loaded machine ends with a wider, still certified bracket).
     """
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     n = lo.size
@@ -157,9 +160,11 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
 
     q = np.where(free, lo + (hi - lo) * rng.random((samples, n)), mid)
     vals = value(q)
-    top = np.argsort(sign * vals)[: min(8, samples)]
-    qs, vs = local_search(value, q[top], lo, hi, free, sign=sign,
-                          rounds=int(min(40, max(4, refine_s * LOCAL_ROUNDS_PER_SECOND))))
+    trials = 2 * max(1, int(free.sum()))  # configurations a round of local search tries per start
+    top = np.argsort(sign * vals)[: min(8, samples, max(1, LOCAL_POINTS // trials))]
+    share = min(1.0, LOCAL_POINTS / (len(top) * trials))  # rounds are paid for in trial configurations
+    rounds = min(40, max(min(4, 4 * share), refine_s * LOCAL_ROUNDS_PER_SECOND * share))
+    qs, vs = local_search(value, q[top], lo, hi, free, sign=sign, rounds=max(1, int(rounds)))
     k = int(np.argmin(sign * vs))
     best_q, best = qs[k].copy(), float(vs[k])
     if sign * vals[top[0]] < sign * best:
@@ -170,8 +175,11 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
         conv.append([round(time.perf_counter() - start, 6), _finite(lower), _finite(upper)])
 
     conv = []
-    if box_bound is None:
+    work = max(1.0, refine_s * ROUNDS_PER_SECOND) * 2 * batch / cost  # boxes the budget pays for (a round at least)
+    if box_bound is None or work < 1:
         record(None)
+        if box_bound is not None:
+            note = f"no branch and bound: one box bound costs {cost:.3g} units, the budget pays for {work:.3g}"
         return Bracket(quantity_name, sense, best, None, best_q, conv, 0, note)
 
     centres, radii = mid[None].copy(), np.where(free, 0.5 * (hi - lo), 0.0)[None]
@@ -181,7 +189,8 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
     record(certified)
     last_report = start
     rounds = 0
-    budget = max(1, int(refine_s * ROUNDS_PER_SECOND / cost))
+    batch = max(1, min(batch, int(work / 2)))  # under one round of 2 batch boxes (costly box bounds): one of fewer
+    budget = max(1, int(work / (2 * batch)))
     guard = start + GUARD * refine_s + 1.0
     while rounds < budget and len(bounds) and time.perf_counter() < guard:
         rounds += 1

@@ -62,7 +62,7 @@ from .spectral import EPS, ROUNDING
 __all__ = ["METRICS", "PIVOT_LIMIT", "PIVOT_MIN_S", "PivotFamily", "RIDGE", "RIDGES", "SWITCH",
            "articulated_lower", "interface_test", "pivot_bounds", "pivot_test"]
 
-PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot ladders run (ci and deep; audits skip them)
+PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot ladders run (ci and deep; audits with --bounds all)
 PIVOT_LIMIT = 8  # free coordinates up to which the ladders run (a 7-joint arm and its gripper's slide)
 RIDGE = 1e-2  # relative ridge of the loss metric (default; the ladder picks one of RIDGES per form)
 METRICS = ("shift", "abs")  # the turned matrix at the centre F made definite by a shift of its eigenvalues, or |F|

@@ -53,7 +53,9 @@ def configure(parser):
                         "audit.tex (and audit.pdf when latexmk is installed)")
     parser.add_argument("--profile", choices=sorted(PROFILES), default="ci")
     parser.add_argument("--bounds", choices=BOUNDS_MODES, default="arms",
-                        help="which chains get M(q) bounds: serial arms (default), all, none")
+                        help="which chains get M(q) bounds: serial arms with a quick budget (default: M(q) certified "
+                             "nonsingular, lower sides loose), every chain with the full budget (the pivot ladders: "
+                             "certified sides within about 2x), none")
     parser.add_argument("--floating-base", action="store_true",
                         help="the root moves (legged robots, humanoids): judge its links too")
     parser.add_argument("--repair-slack", type=float, default=DEFAULT_SLACK, metavar="EPS",
@@ -75,7 +77,8 @@ def main(args):
         raise InputError(f"--repair-slack must lie in (0, 1), got {args.repair_slack}")
     profile = PROFILES[args.profile]
     start = time.perf_counter()
-    options = dict(samples=profile.audit_samples, refine_s=profile.audit_refine_s, bounds=args.bounds,
+    samples, refine_s = profile.audit_budget(args.bounds)
+    options = dict(samples=samples, refine_s=refine_s, bounds=args.bounds,
                    floating_base=args.floating_base, slack=args.repair_slack, seed=args.seed)
     xacro_args = parse_arguments(args.xacro_arg)
     if xacro_args:

@@ -21,11 +21,17 @@ class Profile:
     moment_samples: int = 2**18  # Monte Carlo points per density (EQ-moments)
     bernstein_degree: int = 3  # highest Bernstein degree checked symbolically (EQ-moments)
     audit_samples: int = 512  # configurations per chain in an audit (a sweep audits dozens of chains)
-    audit_refine_s: float = 0.5  # seconds an audit's chain bracket may spend narrowing (from PIVOT_MIN_S the pivot ladders run)
+    audit_refine_s: float = 0.05  # an audit's bracket budget per chain (rounds of boxes, a count) with the default
+    # --bounds arms: below PIVOT_MIN_S, so no pivot ladders: M(q) certified nonsingular, the lower side loose
+    audit_full_refine_s: float = 0.5  # the same with --bounds all: the pivot ladders run (lower sides within 2x)
     check_s: float = 45.0  # seconds one check may run (inertiaproof.budget): then it ends with what it has
     run_s: float = 300.0  # seconds a whole run may take: a check started late gets only what is left
     memory_mb: int = 4096  # memory one check may add to the process (its address space)
     shard_examples: int = 100  # a hunt splits into shards of at most this many examples (tasks for the workers)
+    def audit_budget(self, bounds):
+        """(samples, refine_s) per chain of an audit with ``--bounds`` ``bounds``."""
+        return self.audit_samples, self.audit_full_refine_s if bounds == "all" else self.audit_refine_s
+
     verify_work: int = 5_000  # work the independent checker may spend per certificate beyond its tree: joints of
     # its pivot recursion on boxes and eigen-decompositions (inertiaproof.verify.kinematics.WORK; about 1 ms each)
 
@@ -35,6 +41,6 @@ PROFILES = {
                   shard_examples=60),
     "deep": Profile("deep", examples=2000, samples=50000, refine_s=20.0, symbolic_max_n=5, derandomize=False,
                     concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6,
-                    moment_samples=2**22, bernstein_degree=8, audit_samples=20000, audit_refine_s=5.0,
+                    moment_samples=2**22, bernstein_degree=8, audit_samples=20000, audit_refine_s=5.0, audit_full_refine_s=5.0,
                     check_s=1800.0, run_s=14400.0, memory_mb=6144, verify_work=400_000),
 }
