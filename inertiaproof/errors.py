@@ -2,7 +2,7 @@
 
 import codecs
 
-__all__ = ["InputError", "LARGEST", "numbers", "read_text"]
+__all__ = ["InputError", "LARGEST", "numbers", "open_text", "read_text"]
 
 # |x| <= 1e60 keeps every product of five inputs (M(q) sums m |c|^2 terms) finite in float64
 LARGEST = 1e60
@@ -49,3 +49,19 @@ def read_text(path, what="file"):
         raise InputError(f"{path}:{line}: not {encoding.upper().removesuffix('-SIG')} text: byte "
                          f"0x{data[exc.start]:02x} at column {column} (save the {what} as UTF-8)") from None
     return text
+
+
+def open_text(path, what="file"):
+    """A text handle on a file for reading as it goes (universal newlines left to the reader: ``newline=""``), in
+    the encoding its byte-order mark names (else UTF-8). A decoding error met while reading is located by
+    :func:`read_text` (call it on the UnicodeDecodeError)."""
+    from pathlib import Path
+
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            head = handle.read(4)
+        encoding = next((name for bom, name in _BOMS if head.startswith(bom)), "utf-8")
+        return path.open(encoding=encoding, newline="")
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read {what}: {exc.strerror or exc}") from None

@@ -184,3 +184,35 @@ def test_json_input(tmp_path, capsys):
                                           "iyy": 1, "izz": 1, "ixy": 0, "iyz": 0, "ixz": 0}, "not a row"]}))
     code, out = classify(path, capsys)
     assert code == 2 and out[0]["verdict"] == "degenerate" and out[1]["verdict"] == "error"
+
+
+def test_a_file_larger_than_a_chunk_streams_with_the_same_verdicts(tmp_path, capsys, monkeypatch):
+    """Chunks of 7 rows (the real size is 65,536): the same entries, row numbers running on across chunks, each
+    chunk's rows converted and classified on their own; a blank line is no row, a malformed row stays one."""
+    from inertiaproof.model import rows as rows_module
+
+    good = ["good", 2, 0.1, 0, 0, 0.05, 0.04, 0.03, 0, 0, 0, 0.1, 0, 0]
+    rod = ["rod", 1, 0, 0, 0, 0, 1, 1, 0, 0, 0, "", "", ""]
+    bad = ["bad", 1, 0, 0, 0, 1, 1, 3, 0, 0, 0, 0, 0, 0]
+    table = [good, rod, bad] * 7 + [["broken", "x", 0, 0, 0, 1, 1, 1, 0, 0, 0, 0, 0, 0]]
+    path = write_csv(tmp_path / "long.csv", table)
+    whole = classify(path, capsys)
+    monkeypatch.setattr(rows_module, "CHUNK_ROWS", 7)
+    sizes = [len(chunk) for chunk in rows_module.row_chunks(path)]
+    assert sizes == [7, 7, 7, 1]
+    assert classify(path, capsys) == whole
+    code, out = whole
+    assert code == 2 and [e["row"] for e in out] == list(range(1, 23))
+    assert [e["verdict"] for e in out[:3]] == ["consistent", "degenerate", "inconsistent"] and out[-1]["verdict"] == "error"
+    path.write_text(path.read_text().replace("\nrod,", "\n\nrod,", 1))
+    assert classify(path, capsys) == whole
+
+
+def test_a_bad_byte_deep_in_a_streamed_file_is_one_line_with_its_place(tmp_path, capsys):
+    good = ["good", 2, 0, 0, 0, 0.05, 0.04, 0.03, 0, 0, 0, 0, 0, 0]
+    path = write_csv(tmp_path / "bytes.csv", [good] * 5000)
+    data = path.read_bytes()
+    path.write_bytes(data[:-40] + b"\xff" + data[-39:])
+    assert main(["inertia", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"{path}:5001:" in err[0] and "0xff" in err[0]

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 
 from inertiaproof.model.consistency import CONSISTENT, LABELS, physical_consistency
-from inertiaproof.model.rows import read_rows
+from inertiaproof.model.rows import row_chunks
 
 __all__ = ["configure", "main"]
 
@@ -18,27 +18,43 @@ def configure(parser):
     parser.add_argument("--json", action="store_true")
 
 
-def main(args):
-    rows = read_rows(args.file)
-    good = [r for r in rows if r.error is None]
+def classified(chunk):
+    """One entry per row of a chunk: row, name and verdict with its reason (or the row's error)."""
+    good = [r for r in chunk if r.error is None]
     verdicts = physical_consistency(np.array([r.decided_on for r in good]),
-                                    written=[r.written for r in good]) if good else None
-    by_number = dict(zip((r.number for r in good), verdicts.rows() if good else ()))
-    out = []
-    for r in rows:
+                                    written=[r.written for r in good]).rows() if good else iter(())
+    for r in chunk:
         entry = {"row": r.number, "name": r.name}
-        entry.update(by_number[r.number] if r.error is None else {"verdict": "error", "reason": r.error})
-        out.append(entry)
+        entry.update(next(verdicts) if r.error is None else {"verdict": "error", "reason": r.error})
+        yield entry
+
+
+def main(args):
+    """Rows are read, classified and printed a chunk at a time (memory flat in the file's length); the text
+    table's name column is as wide as the first chunk's names."""
+    first_error, errors, all_consistent, width = None, 0, True, None
+    out = sys.stdout
+    for index, chunk in enumerate(row_chunks(args.file)):
+        entries = list(classified(chunk))
+        if args.json:
+            out.write(("[\n" if index == 0 else ",\n") + ",\n".join(json.dumps(e, indent=1) for e in entries))
+        else:
+            if width is None:
+                width = max([len(e["name"]) for e in entries] + [4])
+                out.write(f"{'row':>4}  {'name':<{width}}  {'verdict':<12}  reason\n")
+            out.write("".join(f"{e['row']:>4}  {e['name']:<{width}}  {e['verdict']:<12}  {e['reason']}\n"
+                              for e in entries))
+        for e in entries:
+            if e["verdict"] == "error":
+                errors += 1
+                first_error = first_error or e
+            elif e["verdict"] != LABELS[CONSISTENT]:
+                all_consistent = False
     if args.json:
-        print(json.dumps(out, indent=1))
-    else:
-        width = max([len(e["name"]) for e in out] + [4])
-        print(f"{'row':>4}  {'name':<{width}}  {'verdict':<12}  reason")
-        for e in out:
-            print(f"{e['row']:>4}  {e['name']:<{width}}  {e['verdict']:<12}  {e['reason']}")
-    bad = [r for r in rows if r.error]
-    if bad:
-        more = f" (and {len(bad) - 1} more rows)" if len(bad) > 1 else ""
-        print(f"inertiaproof: error: {args.file}: row {bad[0].number}: {bad[0].error}{more}", file=sys.stderr)
+        out.write("\n]\n")
+    if first_error:
+        more = f" (and {errors - 1} more rows)" if errors > 1 else ""
+        print(f"inertiaproof: error: {args.file}: row {first_error['row']}: {first_error['reason']}{more}",
+              file=sys.stderr)
         return 2
-    return 0 if all(v == LABELS[CONSISTENT] for v in verdicts.labels) else 1
+    return 0 if all_consistent else 1

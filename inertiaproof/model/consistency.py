@@ -361,15 +361,18 @@ def _classify(flat, margins, written):
     float_verdict = verdict.copy()
     notes = np.full(verdict.shape, None, dtype=object)
 
-    given = [None] * len(flat) if written is None else [_fractions(row) for row in written]
-    redo = unresolved | np.array([q is not None and _float_may_differ(q, flat[i], verdict[i])
-                                  for i, q in enumerate(given)], dtype=bool)
+    # the written decimals are read only where they can matter: unresolved rows and those _float_may_differ names
+    maybe = np.zeros(len(flat), bool) if written is None else unresolved | (verdict == INVALID) | ~(flat[:, 0] > 0)
+    given = {i: _fractions(written[i]) for i in np.flatnonzero(maybe)}
+    redo = unresolved.copy()
+    for i, q in given.items():
+        redo[i] |= q is not None and _float_may_differ(q, flat[i], verdict[i])
     if margins:  # a margin too small for its float to carry the verdict's sign (m = 1e-308, I = 1e308)
         expected = np.where(verdict == CONSISTENT, 1.0, np.where(positive, -1.0, np.nan))
         for i in np.flatnonzero(~redo & (np.sign(lam) != expected) & np.isfinite(expected)):
             lam[i] = _exact_margins([Fraction(x) for x in flat[i]], verdict[i], -1, True)[2]
     for i in np.flatnonzero(redo):
-        decision = _ExactRow(flat[i], given[i], margins)
+        decision = _ExactRow(flat[i], given.get(i), margins)
         verdict[i], rank[i], float_verdict[i] = decision.verdict, decision.rank, decision.float_verdict
         eig[i], slack[i], lam[i] = decision.eigenvalues, decision.slack, decision.lambda_min_rel
         notes[i] = decision.float64_note()
