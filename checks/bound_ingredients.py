@@ -43,6 +43,7 @@ from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.scene import robots
 from inertiaproof.suite.registry import check, replayer
 
+SHARES = "theorem 2-3 brackets"  # one lane with the other module that reuses these brackets (suite.lanes)
 __all__ = [
     "bound_ingredients", "configuration_findings", "constants_findings", "flat_rider", "ingredients_result",
     "replay_ingredient", "time_extremes", "time_findings", "TOLERANCE", "vertex_findings",

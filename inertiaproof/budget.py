@@ -21,7 +21,7 @@ import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 
-__all__ = ["Budget", "enforced", "OutOfBudget", "UNLIMITED"]
+__all__ = ["available_cores", "share_cores", "Budget", "enforced", "OutOfBudget", "UNLIMITED"]
 
 
 class OutOfBudget(BaseException):
@@ -137,3 +137,22 @@ def _address_space_used():
             return int(f.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
     except (OSError, ValueError, IndexError):
         return 0
+
+
+def available_cores():
+    """The cores this process's thread pools may use: its CPU affinity, or the share :func:`share_cores` set (a
+    lane of ``inertiaproof run`` beside others)."""
+    if _SHARE:
+        return _SHARE[0]
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+def share_cores(parts):
+    """From now on this process uses 1/``parts`` of the cores in its thread pools and in BLAS (at least one)."""
+    from threadpoolctl import threadpool_limits
+
+    _SHARE[:] = [max(1, available_cores() // parts)]
+    threadpool_limits(_SHARE[0])
+
+
+_SHARE = []

@@ -49,11 +49,11 @@ the computed roots of the metric (:func:`_bounding_parts`), Weyl for the eigen-d
 
 from __future__ import annotations
 
-import os
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from inertiaproof.budget import available_cores
 from inertiaproof.dynamics.twists import twist_map
 from inertiaproof.model.inertia import spatial_inertia
 
@@ -71,7 +71,6 @@ RIDGES = (1e-3, 1e-2, 1e-1)  # measured (Panda): unit bodies best at 1e-2, the w
 SWITCH = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative (see _turn_terms)
 ANGLES = 2 * np.pi * np.arange(5) / 5
 SPLIT = 512  # boxes per thread from which pivot_test splits its boxes over threads
-THREADS = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1, 8)
 
 
 def _sym(u, w):
@@ -283,7 +282,7 @@ def articulated_lower(family: PivotFamily, armature, k, centres, radii):
 
 
 def _threaded(test, armature, centres, radii):
-    workers = min(THREADS, len(centres) // SPLIT)
+    workers = min(available_cores(), 8, len(centres) // SPLIT)
     if workers < 2:
         return test(armature, centres, radii)
     parts = np.array_split(np.arange(len(centres)), workers)

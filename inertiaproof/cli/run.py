@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import os
 import sys
 from pathlib import Path
 
@@ -38,6 +39,9 @@ def configure(parser):
                         help="workers for splittable work (hunt shards): 1 runs everything in this process without Dask; "
                              "N > 1 starts a Dask LocalCluster (needs inertiaproof[distributed]); default: 1 in ci, the "
                              "number of cores in deep. The answers do not depend on N (apart from timings)")
+    parser.add_argument("--lanes", type=int, metavar="N",
+                        help="run the checks side by side in N forked processes (the checks of one module in one); "
+                             "default: the number of cores, 1 with Dask workers. The answers do not depend on N")
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="run the splittable work on an existing Dask cluster (e.g. tcp://host:8786 of 'dask "
                              "scheduler') instead of a local one")
@@ -54,11 +58,14 @@ def main(args):
         if not 0 < args.budget < float("inf"):
             raise InputError(f"--budget must be a positive number of seconds, got {args.budget:g}")
         profile = dataclasses.replace(profile, check_s=args.budget)
+    lanes = os.cpu_count() or 1 if args.lanes is None else args.lanes
+    if lanes < 1:
+        raise InputError(f"--lanes must be at least 1, got {lanes}")
     found = checked_outputs(out, args.junit, args.counterexamples, lambda message: print(message, file=sys.stderr))
     with executor_for(args.workers, args.scheduler, profile=args.profile, say=say) as executor:
         run = runner.run_checks(profile=profile, seed=args.seed, only=args.only, scene=scene, symbolic=args.symbolic,
                                 out_dir=out, counterexample_dir=found, progress=say, executor=executor,
-                                verify=not args.no_verify)
+                                verify=not args.no_verify, lanes=lanes)
         runner.write_execution_log(out / "execution.json", executor)
     doc = runner.results_document(run, profile=args.profile, seed=args.seed, scene=args.scene)
     path = runner.write_results(out / "results.json", doc)

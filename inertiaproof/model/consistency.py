@@ -27,7 +27,6 @@ the float64 class.
 from __future__ import annotations
 
 import math
-import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -35,6 +34,8 @@ from fractions import Fraction
 
 import mpmath
 import numpy as np
+
+from inertiaproof.budget import available_cores
 
 from . import exact
 from .inertia import PHI_FIELDS
@@ -291,7 +292,7 @@ def physical_consistency(phi, *, margins=True, written=None):
         text = np.asarray(written, dtype=object).reshape(-1, 10)
         if text.shape != flat.shape:
             raise ValueError(f"written numbers need the shape of phi {phi.shape}, got {np.shape(written)}")
-    workers = min(os.cpu_count() or 1, 8)
+    workers = min(available_cores(), 8)
     if workers > 1 and len(flat) >= CHUNK:
         parts = np.array_split(np.arange(len(flat)), workers)
         with ThreadPoolExecutor(workers) as pool:

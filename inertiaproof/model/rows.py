@@ -131,13 +131,13 @@ def row_chunks(path, size=None):
     as it goes (memory flat in its length), a JSON file whole."""
     path, size = Path(path), size or CHUNK_ROWS
     with open_text(path) as handle:
-        start = handle.read(1024)
-        if path.suffix.lower() == ".json" or start.lstrip().startswith(("[", "{")):
-            rows = _json_rows(start + handle.read(), path)
-            yield from (rows[i:i + size] for i in range(0, len(rows), size))
-            return
-        handle.seek(0)
         try:
+            start = handle.read(1024)
+            if path.suffix.lower() == ".json" or start.lstrip().startswith(("[", "{")):
+                rows = _json_rows(start + handle.read(), path)
+                yield from (rows[i:i + size] for i in range(0, len(rows), size))
+                return
+            handle.seek(0)
             yield from _csv_chunks(handle, path, size)
         except UnicodeDecodeError:
             read_text(path)  # raises the error at its line and column

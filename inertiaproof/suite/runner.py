@@ -40,6 +40,7 @@ from .context import Context
 from .discovery import load_checks
 from .environment import versions
 from .execution import Executor
+from .lanes import side_by_side
 from .outputs import Outputs, journal_path
 from .profiles import PROFILES
 
@@ -98,14 +99,16 @@ def select(checks, *, only=None, scene=None, symbolic=False):
 
 
 def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, out_dir=None,
-               counterexample_dir=Path("counterexamples/found"), progress=None, executor=None, verify=True):
+               counterexample_dir=Path("counterexamples/found"), progress=None, executor=None, verify=True, lanes=1):
     """Run the selected checks and return a :class:`Run`.
 
     ``profile`` is a name of PROFILES or a :class:`Profile`; each check runs within its budget (the profile's
     ``check_s`` and ``memory_mb``, inside the run's ``run_s``) and ends INCONCLUSIVE when it runs out. Splittable
     work (hunt shards) goes to ``executor`` (:mod:`.execution`; default: this process). The certificates a check's
     evidence cites are written under ``out_dir``/certificates and, with ``verify``, re-proved by the independent
-    checker (:mod:`.certificates`)."""
+    checker (:mod:`.certificates`). ``lanes`` > 1 runs the checks side by side in that many forked processes, the
+    checks of one :func:`affinity` in one, the groups with most checks on chains first (:mod:`.lanes`; with an in-process executor
+    only); the results are the same, in the same order."""
     profile = PROFILES[profile] if isinstance(profile, str) else profile
     checks = load_checks()
     specs, skipped = select(checks, only=only, scene=scene, symbolic=symbolic)
@@ -124,12 +127,14 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
     memo, proofs = {}, {}
     start = time.perf_counter()
     run_ends = time.monotonic() + profile.run_s
-    for i, spec in enumerate(specs, 1):
+
+    def one(i):
+        spec = specs[i]
         outputs = Outputs(out_dir, Path(counterexample_dir))
         budget = Budget.of(profile.check_s, profile.memory_mb * 2**20, until=run_ends)
         ctx = Context(profile, seed=seed, scene=scene, outputs=outputs, memo=memo, budget=budget, executor=executor,
                       progress=lambda message, name=spec.name: say(f"      {name}: {message}"))
-        say(f"[{i}/{len(specs)}] {spec.name} ...")
+        say(f"[{i + 1}/{len(specs)}] {spec.name} ...")
         t0 = time.perf_counter()
         result = _run_one(spec, ctx, profile)
         result.runtime_s = time.perf_counter() - t0
@@ -142,10 +147,36 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
                 result.counterexample["file"] = str(ctx.save_counterexample(result))
             except OSError as exc:  # it still goes into results.json
                 result.counterexample["not_saved"] = f"{exc.filename or ''}: {exc.strerror or exc}"
-        say(f"[{i}/{len(specs)}] {spec.name}: {result.verdict} ({result.runtime_s:.2f} s)")
-        run.results.append(result)
+        say(f"[{i + 1}/{len(specs)}] {spec.name}: {result.verdict} ({result.runtime_s:.2f} s)")
+        return result
+
+    groups = {}
+    for i, spec in enumerate(specs):
+        groups.setdefault(affinity(spec), []).append(i)
+    lanes = min(lanes, len(groups)) if executor.where == "client" and executor.workers == 1 else 1
+    if lanes > 1:
+        found = {}
+
+        def crashed(i, why):
+            return Result(specs[i].id, Verdict.INCONCLUSIVE, f"the check crashed: {why}", evidence={"crashed": True},
+                          check=specs[i].name, seed=seed, profile=profile.name)
+
+        def weight(group):  # checks on chains do the numeric work: those groups first
+            return sum("chain" in specs[i].needs for i in group), len(group)
+
+        side_by_side(sorted(groups.values(), key=weight, reverse=True), lanes, one, found.__setitem__, crashed)
+        run.results.extend(found[i] for i in range(len(specs)))
+    else:
+        run.results.extend(one(i) for i in range(len(specs)))
     run.runtime_s = time.perf_counter() - start
     return run
+
+
+def affinity(spec):
+    """The group a check runs in with ``lanes``: its module's ``SHARES`` (modules that reuse each other's shared
+    results), else its module."""
+    module = sys.modules[spec.fn.__module__]
+    return getattr(module, "SHARES", module.__name__)
 
 
 def _run_one(spec, ctx, profile):

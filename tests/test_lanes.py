@@ -1,0 +1,41 @@
+"""Checks side by side in forked lanes: the same answers as one after the other, and a lane that dies is a crash."""
+
+import os
+
+from inertiaproof.result import Verdict
+from inertiaproof.suite.lanes import side_by_side
+from inertiaproof.suite.runner import affinity, run_checks
+from inertiaproof.suite.discovery import load_checks
+
+ONLY = ["EQ-geom", "EQ-translation", "Rem2", "Def1/Thm1-suff", "CX-normal", "Lem1", "Cor2", "GRE-physics"]
+
+
+def _answers(run):
+    return [(r.check, r.verdict, r.summary) for r in run.results]
+
+
+def test_lanes_give_the_answers_of_one_lane_in_the_same_order(tmp_path):
+    one = run_checks(only=ONLY, out_dir=tmp_path / "one", verify=False)
+    two = run_checks(only=ONLY, out_dir=tmp_path / "two", verify=False, lanes=2)
+    assert len(one.results) > 4 and all(r.verdict == Verdict.HOLDS for r in one.results)
+    assert _answers(two) == _answers(one)
+
+
+def test_checks_that_reuse_brackets_share_a_lane():
+    checks = load_checks()
+    assert affinity(checks["Thm2"]) == affinity(checks["Cor1:ingredients"]) == affinity(checks["Thm3"])
+    assert affinity(checks["Def2"]) != affinity(checks["EQ-geom"])
+
+
+def test_a_lane_that_dies_leaves_its_unfinished_checks_crashed_and_the_others_answered():
+    found = {}
+
+    def run_one(i):
+        if i == 2:
+            os._exit(9)  # the process is killed mid-group (a signal, the kernel's OOM killer)
+        return f"answer {i}"
+
+    side_by_side([[0], [1, 2, 3], [4]], 2, run_one, found.__setitem__, lambda i, why: f"crashed: {why}")
+    assert found[0] == "answer 0" and found[1] == "answer 1"
+    assert found[2].startswith("crashed") and found[3].startswith("crashed") and "exit code 9" in found[2]
+    assert found[4] == "answer 4" and sorted(found) == [0, 1, 2, 3, 4]  # the lane left alive takes it
