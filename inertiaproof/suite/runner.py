@@ -107,8 +107,8 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
     work (hunt shards) goes to ``executor`` (:mod:`.execution`; default: this process). The certificates a check's
     evidence cites are written under ``out_dir``/certificates and, with ``verify``, re-proved by the independent
     checker (:mod:`.certificates`). ``lanes`` > 1 runs the checks side by side in that many forked processes, the
-    checks of one :func:`affinity` in one, the groups with most checks on chains first (:mod:`.lanes`; with an in-process executor
-    only); the results are the same, in the same order."""
+    checks of one :func:`affinity` in one, the groups with most checks on chains first (:mod:`.lanes`; with an
+    in-process executor only); the results are the same, in the same order."""
     profile = PROFILES[profile] if isinstance(profile, str) else profile
     checks = load_checks()
     specs, skipped = select(checks, only=only, scene=scene, symbolic=symbolic)
