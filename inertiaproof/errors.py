@@ -40,7 +40,7 @@ def read_text(path, what="file"):
         data = path.read_bytes()
     except OSError as exc:
         raise InputError(f"{path}: cannot read {what}: {exc.strerror or exc}") from None
-    encoding = next((name for bom, name in _BOMS if data.startswith(bom)), "utf-8")
+    encoding = _encoding(data)
     try:
         text = data.decode(encoding)
     except UnicodeDecodeError as exc:
@@ -61,7 +61,11 @@ def open_text(path, what="file"):
     try:
         with path.open("rb") as handle:
             head = handle.read(4)
-        encoding = next((name for bom, name in _BOMS if head.startswith(bom)), "utf-8")
-        return path.open(encoding=encoding, newline="")
+        return path.open(encoding=_encoding(head), newline="")
     except OSError as exc:
         raise InputError(f"{path}: cannot read {what}: {exc.strerror or exc}") from None
+
+
+def _encoding(head):
+    """The encoding a file's first bytes name by their byte-order mark, else UTF-8."""
+    return next((name for bom, name in _BOMS if head.startswith(bom)), "utf-8")

@@ -39,3 +39,18 @@ def test_a_lane_that_dies_leaves_its_unfinished_checks_crashed_and_the_others_an
     assert found[0] == "answer 0" and found[1] == "answer 1"
     assert found[2].startswith("crashed") and found[3].startswith("crashed") and "exit code 9" in found[2]
     assert found[4] == "answer 4" and sorted(found) == [0, 1, 2, 3, 4]  # the lane left alive takes it
+
+
+def test_the_lanes_asked_for_are_the_lanes_run(tmp_path, monkeypatch, capsys):
+    from inertiaproof.cli import main
+    from inertiaproof.suite import runner
+
+    seen = []
+    real = runner.run_checks
+    monkeypatch.setattr(runner, "run_checks", lambda **kw: seen.append(kw["lanes"]) or real(**kw))
+    for lanes in ("1", "3"):
+        assert main(["run", "--only", "EQ-geom", "--lanes", lanes, "--no-verify", "--quiet",
+                     "--out", str(tmp_path / lanes)]) == 0
+    assert seen == [1, 3]
+    assert main(["run", "--only", "EQ-geom", "--lanes", "0", "--out", str(tmp_path / "0")]) == 2
+    assert "--lanes must be at least 1" in capsys.readouterr().err

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import dataclasses
-import os
 import sys
 from pathlib import Path
 
+from inertiaproof.budget import available_cores
 from inertiaproof.errors import InputError
 from inertiaproof.scene.format import load_scene
 from inertiaproof.suite import runner
@@ -58,7 +58,7 @@ def main(args):
         if not 0 < args.budget < float("inf"):
             raise InputError(f"--budget must be a positive number of seconds, got {args.budget:g}")
         profile = dataclasses.replace(profile, check_s=args.budget)
-    lanes = os.cpu_count() or 1 if args.lanes is None else args.lanes
+    lanes = available_cores() if args.lanes is None else args.lanes
     if lanes < 1:
         raise InputError(f"--lanes must be at least 1, got {lanes}")
     found = checked_outputs(out, args.junit, args.counterexamples, lambda message: print(message, file=sys.stderr))

@@ -177,12 +177,13 @@ def _csv_chunks(handle, path, size):
         names = [k.strip() for k in header]
         at = [names.index(f) for f in fields]
         turn = [names.index(f) if f in names else None for f in (URDF_ORIENTATION if convention == "urdf" else ())]
+        label = names.index("name") if "name" in names else None
         number = 0
         for cells in reader:
             if not cells:  # a blank line is no row
                 continue
             number += 1
-            row = _plain_row(number, cells, at, turn, names)
+            row = _plain_row(number, cells, at, turn, label)
             rows.append(row or _parse_row(number, dict(zip(names, cells)), fields, convention))
             if len(rows) == size:
                 yield _convert(rows, convention)
@@ -195,7 +196,7 @@ def _csv_chunks(handle, path, size):
         yield _convert(rows, convention)
 
 
-def _plain_row(number, cells, at, turn, names):
+def _plain_row(number, cells, at, turn, label):
     """The row of :func:`_parse_row` for the common case (every field a finite number, the orientation blank or a
     finite number) without building a record; None for any other row (then :func:`_parse_row` says what is wrong)."""
     try:
@@ -207,7 +208,7 @@ def _plain_row(number, cells, at, turn, names):
         return None
     if not all(map(math.isfinite, values)) or not all(texts):
         return None
-    name = cells[names.index("name")] if "name" in names and names.index("name") < len(cells) else ""
+    name = cells[label] if label is not None and label < len(cells) else ""
     if turn:
         texts = [texts[0], "0", "0", "0", *texts[4:10]]
     return Row(number, name, values=values, written=tuple(texts))

@@ -34,6 +34,7 @@ import os
 import sys
 import time
 
+from inertiaproof.budget import available_cores
 from inertiaproof.errors import InputError
 
 __all__ = ["DaskExecutor", "Executor", "INSTALL_HINT", "KINDS", "executor_for", "Progress",
@@ -51,12 +52,7 @@ INSTALL_HINT = "more than one worker needs Dask: pip install 'inertiaproof[distr
 
 def default_workers(profile_name):
     """The default of ``--workers``: 1 in ci, the number of cores this process may use otherwise."""
-    if profile_name == "ci":
-        return 1
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # not on Linux
-        return max(1, os.cpu_count() or 1)
+    return 1 if profile_name == "ci" else max(1, available_cores())
 
 
 class Progress:
