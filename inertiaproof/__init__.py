@@ -30,6 +30,7 @@ _API = {
     "mass_matrix": "inertiaproof.dynamics.composite",
     "load_scene": "inertiaproof.scene.format",
     "audit_urdf": "inertiaproof.audit.api",
+    "payload_envelope": "inertiaproof.cli.envelope",
     "run_checks": "inertiaproof.suite.runner",
 }
 __all__ = ["__version__", *_API]

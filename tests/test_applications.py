@@ -39,7 +39,8 @@ def _saved(result, ctx):
 
 
 def test_the_rows_are_in_the_catalog():
-    assert [e.id for e in APPLICATIONS] == ["APP-estimate-bounds", "APP-euclidean-escape", "APP-robustness"]
+    assert [e.id for e in APPLICATIONS] == ["APP-estimate-bounds", "APP-euclidean-escape", "APP-robustness",
+                                           "APP-payload-envelope"]
     assert all(BY_ID[e.id] is e for e in APPLICATIONS)
 
 

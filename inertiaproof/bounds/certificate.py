@@ -14,10 +14,12 @@ from fractions import Fraction
 
 import numpy as np
 
+from inertiaproof.model.exact import definiteness, integer_matrix
+
 from .domain import certification_obstacle, search_box
 
-__all__ = ["SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "key_step_certificate", "product_certificate",
-           "spectrum_certificate"]
+__all__ = ["PayloadClaim", "SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "key_step_certificate",
+           "payload_f_certificate", "product_certificate", "spectrum_certificate"]
 
 SCHEMA = "inertiaproof.certificate/1"
 STATEMENT = {"lambda_min": "lambda_min(M(q, Theta)) >= {bound}", "lambda_max": "lambda_max(M(q, Theta)) <= {bound}"}
@@ -143,6 +145,74 @@ class SpectrumClaim:
     def __call__(self, bound, note="", witness=None, proof=None):
         bound = Fraction(float(bound)) ** 2 if self.square else bound
         return spectrum_certificate(self.chain, self.thetas, self.quantity, bound, note, witness, proof)
+
+
+PAYLOAD_STATEMENT = {"lambda_min": "lambda_min(M(q, Theta + Phi_p)) >= {bound}",
+                     "lambda_max": "lambda_max(M(q, Theta + Phi_p)) <= {bound}"}
+
+
+@dataclass(frozen=True)
+class PayloadClaim:
+    """bound -> the certificate (kind ``payload-envelope``) of a bracket's certified side over a payload set: the
+    spectrum claim ``inner`` proved (parameter sets ``arm`` with, for "lambda_max", Phi_U of Young's ``eps`` at the
+    payload's body: :func:`inertiaproof.bounds.payload.covering_parameters`), restated for the arm ``arm`` (V, N,
+    10) carrying any payload of the ``ball``; the checker adds Phi_U itself."""
+
+    inner: object
+    arm: np.ndarray
+    ball: object
+    quantity: str
+    eps: float | None = None
+
+    def __call__(self, bound, note="", witness=None, proof=None):
+        cert = self.inner(bound, note, witness, proof) if self.inner else None
+        if cert is None or "parameters" not in cert:
+            return None
+        arm = np.asarray(self.arm, float)
+        sets = np.unique(arm.reshape(len(arm), -1), axis=0).reshape((-1,) + arm.shape[1:])
+        if len(cert["parameters"]) != len(sets):
+            return None
+        claim = {**cert["claim"], "kind": "payload-envelope",
+                 "statement": f"for all q in the box, Theta in the hull of the {len(sets)} parameter set(s) and every "
+                              f"consistent payload Phi_p of mass <= {float(self.ball.mass):g} in the ball of radius "
+                              f"{float(self.ball.radius):g} around {[float(x) for x in self.ball.centre]} on body "
+                              f"{self.ball.body + 1}: " + PAYLOAD_STATEMENT[self.quantity].format(
+                                  bound=f"{float(bound):.10g}")}
+        return {**cert, "claim": claim, "parameters": [_rows(s) for s in sets], "payload": self.ball.to_json(),
+                **({"epsilon": exact(self.eps)} if self.quantity == "lambda_max" else {})}
+
+
+def _pseudo_exact(row):
+    """f(Phi) (DefTrafoInertialParameters) of a float row, in exact Fractions."""
+    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = (Fraction(float(x)) for x in row)
+    half = (i11 + i22 + i33) / 2
+    return [[half - i11, -i12, -i13, h1], [-i12, half - i22, -i23, h2], [-i13, -i23, half - i33, h3], [h1, h2, h3, m]]
+
+
+def payload_f_certificate(arm, ball, beta):
+    """The certificate (kind ``payload-envelope``, quantity ``lambda_max_f``) of "for every body l, Theta in the hull
+    of ``arm`` (V, N, 10) and payload Phi_p of the ``ball`` (at its body): lambda_max(f(Phi_l + Phi_p)) <= bound",
+    bound = max_l lambda_max(f(Phi_l)) (+ ``beta`` at the payload's body), beta >= m ((|c| + R)^2 + 1) a Fraction;
+    the bound is found in floats and confirmed (raised by 2^-40 relative until it holds) in exact arithmetic. None
+    where a row is not finite."""
+    arm = np.asarray(arm, float)
+    if not np.all(np.isfinite(arm)):
+        return None
+    lifts = [Fraction(beta) if l == ball.body else Fraction(0) for l in range(arm.shape[1])]
+    pseudo = [(_pseudo_exact(row), lift) for rows in arm for row, lift in zip(rows, lifts)]
+    bound = Fraction(max(float(np.linalg.eigvalsh(np.array(f, float))[-1] + lift) for f, lift in pseudo))
+    step = abs(bound) * Fraction(1, 2**40) + Fraction(1, 2**60)
+    while not all(definiteness(integer_matrix([[(bound - lift if i == j else 0) - f[i][j] for j in range(4)]
+                                               for i in range(4)]))[0] != "indefinite" for f, lift in pseudo):
+        bound += step
+    sets = np.unique(arm.reshape(len(arm), -1), axis=0).reshape((-1,) + arm.shape[1:])
+    return {"schema": SCHEMA,
+            "claim": {"kind": "payload-envelope", "quantity": "lambda_max_f", "bound": exact(bound),
+                      "statement": f"for every body l, Theta in the hull of the {len(sets)} parameter set(s) and every "
+                                   f"consistent payload Phi_p of mass <= {float(ball.mass):g} in the ball of radius "
+                                   f"{float(ball.radius):g} on body {ball.body + 1}: lambda_max(f(Phi_l + Phi_p)) <= "
+                                   f"{float(bound):.10g}"},
+            "parameters": [_rows(s) for s in sets], "payload": ball.to_json(), "beta": exact(beta)}
 
 
 BODY_CLAIMS = {  # inertiaproof.bounds.time.BODY_FUNCTIONS name: (matrix, quantity, statement)

@@ -668,22 +668,22 @@ def mass_inf(chain, thetas, **kw):
     return result.widen(REPROVABLE)
 
 
-def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", **kw):
+def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", goal=None, **kw):
     """sup over q and the parameter sets of lambda_max (or sigma_max, kind='absmax') of M(q, Theta): the bracket of
     :func:`configuration_bracket`, whose certified side then adopts :func:`fourier_perron_bound` and
-    :func:`_tighten_by_ladder` where sharper."""
+    :func:`_tighten_by_ladder` where sharper (``goal``: the ladder's, default :func:`ladder_goal`)."""
     result = configuration_bracket(chain, mass_family(chain, thetas), kind, quantity_name=name, thetas=thetas, **kw)
     _tighten_by_fourier(result, chain, thetas, kw.get("refine_s", 0.0), square=True)
     if kind == "absmax":  # sigma_max(M) = max(lambda_max(M), lambda_max(-M)): the stack and its negatives
         thetas = np.concatenate([np.asarray(thetas, float), -np.asarray(thetas, float)])
     result.certify = SpectrumClaim(chain, thetas, "lambda_max")
-    return _tighten_by_ladder(result, chain, thetas, kw.get("refine_s", 0.0), square=True).widen(REPROVABLE)
+    return _tighten_by_ladder(result, chain, thetas, kw.get("refine_s", 0.0), square=True, goal=goal).widen(REPROVABLE)
 
 
 UPPER_TRIGGER = 1.25  # a sup bracket wider than this (or than the ladder's goal) runs the upper ladder
 
 
-def _tighten_by_ladder(result, chain, thetas, refine_s, square):
+def _tighten_by_ladder(result, chain, thetas, refine_s, square, goal=None):
     """``result`` (a sup of lambda_max(M(q, Theta_v)) over q and the stack; of sigma_max(QJ) when ``square`` is False:
     M of unit bodies) with its certified side tightened by a ladder of targets gamma proved with the articulated-body
     pivots of gamma I - M (:func:`inertiaproof.bounds.pivot_search.pivot_ladder`, sign -1), where the ladders run and
@@ -691,14 +691,15 @@ def _tighten_by_ladder(result, chain, thetas, refine_s, square):
     with 1/EXTRA of its budget more: Panda's ci brackets 1.86x -> 1.35x for about 2 s). Parameter sets whose every
     body is <= 0 (Theorem 4's negated rates) are left out of the ladder: their M(q) <= 0 lies below any target
     (Panda's deep Thm4: 183 s -> 126 s, 1.15x -> 1.12x: the splits no longer follow a set that cannot fail)."""
-    goal = ladder_goal(refine_s)
+    goal = ladder_goal(refine_s) if goal is None else goal
     if not (_ladders_run(chain, refine_s) and result.upper > min(goal, UPPER_TRIGGER) * result.lower
             and result.observed > 0):
         return result
     observed = result.observed if square else result.observed**2
     thetas = np.asarray(thetas, float)
     thetas = np.unique(thetas.reshape(len(thetas), -1), axis=0).reshape((-1,) + thetas.shape[1:])  # the set once
-    key = (chain_key(chain), refine_s, thetas.shape, thetas.tobytes(), observed, np.asarray(result.witness).tobytes())
+    key = (chain_key(chain), refine_s, goal, thetas.shape, thetas.tobytes(), observed,
+           np.asarray(result.witness).tobytes())
     gamma, how, proof = content_memo(_PIVOT_CACHE, key, lambda: _pivot_sup(chain, thetas, refine_s, observed,
                                                                            result.witness, goal))
     if np.isfinite(gamma) and not square:

@@ -32,6 +32,7 @@ COMMANDS = {  # name: (module, help)
     "report": ("inertiaproof.report.cli", "write report.html, report.tex (and report.pdf) from a results folder"),
     "audit": ("inertiaproof.cli.audit", "audit URDF robots for physical consistency and mass-matrix bounds"),
     "verify": ("inertiaproof.verify.cli", "re-prove certificates with the independent checker"),
+    "envelope": ("inertiaproof.cli.envelope", "certified alpha1, alpha2, chi for every payload a link may carry"),
     "adapt": ("inertiaproof.cli.adapt", "adaptive tracking of a scene's reference: time series of errors and spectra"),
 }
 

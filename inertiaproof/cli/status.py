@@ -32,6 +32,9 @@ EXIT_STATUS = {  # command -> the meaning of its exit status (shown by --help)
     "report": f"exit status: {HOLDS} written; {BAD_INPUT} the results folder cannot be read",
     "verify": f"exit status: {HOLDS} every claim re-proved; {VIOLATED} some claim refuted; {BAD_INPUT} a bad "
               f"certificate or bad usage; {INCONCLUSIVE} some claim not decided and none refuted",
+    "envelope": f"exit status: {HOLDS} every constant certified and re-proved, no payload of the set beyond one; "
+                f"{VIOLATED} a payload of the set beyond a constant, or a certificate refuted; {BAD_INPUT} bad usage "
+                f"or input; {INCONCLUSIVE} something not certified or not re-proved",
     "audit": f"exit status: {HOLDS} every moving link and every body is consistent; {VIOLATED} some is not; "
              f"{BAD_INPUT} some file cannot be read (the others are still audited)",
 }

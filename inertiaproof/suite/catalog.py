@@ -79,6 +79,10 @@ APPLICATIONS = (
     Entry("APP-robustness", "A", "Introduction, contribution (a testbed for robustness)",
           "Adaptive tracking with Thetadot != 0 on the generalized equation against Eq. (1) and Pagilla's Eq. (2): "
           "tracking and parameter error against the rate of change, every run closing its Lyapunov balance."),
+    Entry("APP-payload-envelope", "A", "Theorems 2-4 over a set of payloads (the payload envelope)",
+          "For every consistent payload of mass at most m within radius R of a point of the flange, taken up at a "
+          "bounded rate: alpha1 I <= M(q, Theta) <= alpha2 I and sigma_max(M(q, Thetadot)) <= chi with certified "
+          "constants; no payload of the set goes beyond them."),
 )
 
 # Results the suite reports that are not statements of the paper.

@@ -9,13 +9,14 @@ from __future__ import annotations
 import hashlib
 import json
 
-from . import bodies, key_step, product, spectrum
+from . import bodies, key_step, payload, product, spectrum
 from .exact import BadCertificate
 
 __all__ = ["KINDS", "SCHEMA", "prove"]
 
 SCHEMA = "inertiaproof.certificate/1"
 KINDS = {"mass-matrix-spectrum": spectrum.prove, "body-spectrum": bodies.prove, "key-step": key_step.prove,
+         "payload-envelope": payload.prove,
          "product": lambda cert, budget: product.prove(cert, budget, prove)}  # its ingredients re-proved by prove
 PROVED = {}  # outcomes by the certificate's SHA-256 and the budget: a certificate a product embeds, and that a run
 # also cites on its own, is proved once per process (Panda's deep alpha1 embeds its 93 s Def2 bracket)

@@ -6,8 +6,9 @@ at most ``DEPTH`` deep) whose claim bounds its quantity x_i (an extreme over its
 the factor f >= 0 is a rational or {"sqrt": r}. ``>=``: every claim x_i >= b_i (``lambda_min``, a ``>=``
 product) with b_i >= 0, so x_i^p_i >= b_i^p_i and f prod x_i^p_i >= f prod b_i^p_i. ``<=``: every claim x_i <=
 b_i (``lambda_max``, ``sigma_max``, a ``<=`` product); where x_i >= 0, x_i^p_i <= b_i^p_i. Nonnegative by kind:
-a body-spectrum ``sigma_max`` (a max |eigenvalue|), a mass-matrix-spectrum ``lambda_max`` with a parameter set
-whose Z(Phi_l) are all positive semidefinite (decided exactly; then M >= 0: unit bodies Z = I for (QJ)^T QJ).
+a body-spectrum ``sigma_max`` (a max |eigenvalue|), a mass-matrix-spectrum or payload-envelope ``lambda_max`` with a
+parameter set whose Z(Phi_l) are all positive semidefinite (decided exactly; then M >= 0: unit bodies Z = I for
+(QJ)^T QJ; a payload adds Z(Phi_p) >= 0), a payload-envelope ``lambda_max_f`` with a set whose f(Phi_l) all are.
 At most ONE other x_k (e.g. a body-spectrum ``lambda_max`` of f(Phi), possibly negative), of odd p_k: t -> t^p_k
 is nondecreasing, so x_k^p_k <= max(x_k, 0)^p_k <= max(b_k, 0)^p_k, and, the factor and the other powers being
 nonnegative, f prod x_i^p_i <= f max(b_k, 0)^p_k prod_(i != k) b_i^p_i (two could both be negative, their product
@@ -21,23 +22,26 @@ from __future__ import annotations
 
 from flint import arb, fmpq
 
-from .bodies import parameter_sets, spatial_inertia
+from .bodies import parameter_sets, pseudo_inertia, spatial_inertia
 from .exact import BadCertificate, rational, semidefinite
 from .outcome import Outcome
 
 __all__ = ["prove"]
 
 DEPTH = 4  # products nested in products
-LOWER = {("mass-matrix-spectrum", "lambda_min"), ("body-spectrum", "lambda_min"), ("product", ">=")}
+LOWER = {("mass-matrix-spectrum", "lambda_min"), ("body-spectrum", "lambda_min"), ("payload-envelope", "lambda_min"),
+         ("product", ">=")}
 UPPER = {("mass-matrix-spectrum", "lambda_max"), ("body-spectrum", "lambda_max"), ("body-spectrum", "sigma_max"),
-         ("product", "<=")}
+         ("payload-envelope", "lambda_max"), ("payload-envelope", "lambda_max_f"), ("product", "<=")}
 
 
 def _nonnegative(sub, key):
     if key == ("body-spectrum", "sigma_max"):
         return True
-    return key == ("mass-matrix-spectrum", "lambda_max") and any(
-        all(semidefinite(spatial_inertia(row)) for row in rows) for rows in parameter_sets(sub.get("parameters")))
+    matrix = {("mass-matrix-spectrum", "lambda_max"): spatial_inertia, ("payload-envelope", "lambda_max"): spatial_inertia,
+              ("payload-envelope", "lambda_max_f"): pseudo_inertia}.get(key)
+    return matrix is not None and any(
+        all(semidefinite(matrix(row)) for row in rows) for rows in parameter_sets(sub.get("parameters")))
 
 
 def _parse(cert):

@@ -1,0 +1,196 @@
+"""The payload envelope (inertiaproof.bounds.payload, APP-payload-envelope, ``inertiaproof envelope``) and the checker's
+``payload-envelope`` claims: each can fail."""
+
+from __future__ import annotations
+
+import copy
+import json
+from fractions import Fraction
+
+import cvxpy as cp
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from inertiaproof.bounds import payload
+from inertiaproof.bounds.payload import Ball, envelope
+from inertiaproof.checks import payload_envelope as check
+from inertiaproof.cli import main as cli_main
+from inertiaproof.counterexamples.payloads import payloads
+from inertiaproof.dynamics import composite
+from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
+from inertiaproof.result import Verdict
+from inertiaproof.scene import robots
+from inertiaproof.suite.profiles import PROFILES
+from inertiaproof.verify.cli import check as verify
+
+ARM = robots.planar_2r()
+BALL = Ball(1, 2, (0, 0, 0), Fraction(1, 10))
+RATE = Fraction(15, 8)
+
+
+@pytest.fixture(scope="module")
+def found():
+    return envelope(ARM.chain, ARM.trajectory.base, BALL, rate=RATE, samples=500, refine_s=0.5)
+
+
+def _certificates(found):
+    return {"alpha1": found["lower"]["certified"]["certificate"], "alpha2": found["upper"]["certified"]["certificate"],
+            "chi": found["chi"]["certified"]["certificate"], "chi_paper": found["chi"]["paper"]["certificate"],
+            "alpha2_paper": found["upper"]["paper"]["certificate"]}
+
+
+def test_every_certified_constant_is_re_proved(found):
+    for name, cert in _certificates(found).items():
+        assert verify(json.loads(json.dumps(cert)))["status"] == "re-proved", name
+    high = found["upper"]["observed"]
+    assert high["lower"] <= high["upper"] <= 1.25 * high["lower"]
+
+
+def test_the_checker_refutes_a_bound_below_the_worst_payload(found):
+    cert = copy.deepcopy(found["upper"]["certified"]["certificate"])
+    assert cert["claim"]["kind"] == "payload-envelope"
+    cert["claim"]["bound"] = str(Fraction(found["upper"]["observed"]["lower"] * 0.99))
+    assert verify(cert)["status"] == "refuted"
+    heavier = copy.deepcopy(found["upper"]["certified"]["certificate"])
+    heavier["payload"]["mass"] = "8"  # the same bound claimed for payloads four times as heavy
+    assert verify(heavier)["status"] in ("refuted", "not decided")
+
+
+def test_the_checker_refutes_a_flange_bound_too_small(found):
+    chi = found["chi"]["paper"]["certificate"]
+    flange = copy.deepcopy(next(i["of"] for i in chi["ingredients"] if i["of"]["claim"]["kind"] == "payload-envelope"))
+    assert verify(flange)["status"] == "re-proved"
+    flange["beta"] = str(Fraction(flange["beta"]) * Fraction(99, 100))
+    assert verify(flange)["status"] == "refuted"
+    flange = copy.deepcopy(next(i["of"] for i in chi["ingredients"] if i["of"]["claim"]["kind"] == "payload-envelope"))
+    flange["claim"]["bound"] = str(Fraction(flange["claim"]["bound"]) * Fraction(99, 100))
+    assert verify(flange)["status"] == "refuted"
+
+
+def test_a_cover_below_the_payloads_is_violated(monkeypatch):
+    """Young's term dropped: the certified sup lies below a point mass of the set, which the check and the checker
+    both see."""
+    real = payload.covering_parameters
+    monkeypatch.setattr(payload, "covering_parameters", lambda ball, eps: real(ball, eps) * 0.6)
+    result = check.envelope_result("2R", ARM.chain, ARM.trajectory.base, BALL, ramp_s=1.0, profile=PROFILES["ci"],
+                                   examples=20, points=0, goal=None)
+    assert result.verdict == Verdict.VIOLATED
+    cert = result.evidence["constants"]["alpha2"]["certified"]["certificate"]
+    assert verify(json.loads(json.dumps(cert)))["status"] == "refuted"
+
+
+def test_the_attack_finds_a_payload_beyond_a_constant_too_small(found):
+    bounds = (found["lower"]["certified"]["value"], 0.9 * found["upper"]["observed"]["lower"],
+              found["chi"]["certified"]["value"], found["ingredients"]["zeta"][1])
+    seen = check.attack(ARM.chain, ARM.trajectory.base, BALL, bounds, RATE, examples=200, seed_value=0,
+                        witnesses=np.array([found["upper"]["observed"]["witness"]]))
+    assert seen["violation"] is not None and seen["violation"]["margin"] < 0
+
+
+def test_payloads_of_the_set_stay_within_and_heavier_ones_do_not(found):
+    bounds = (found["lower"]["certified"]["value"], found["upper"]["certified"]["value"],
+              found["chi"]["certified"]["value"], found["ingredients"]["zeta"][1])
+    seen = check.attack(ARM.chain, ARM.trajectory.base, BALL, bounds, RATE, examples=1000, seed_value=1,
+                        witnesses=np.array([found["upper"]["observed"]["witness"]]))
+    assert seen["violation"] is None and seen["examples"] == 1000
+    worst = found["worst_payload"]
+    beyond = check._beyond(ARM.chain, ARM.trajectory.base, BALL, bounds[1], worst["com"], np.asarray(worst["q"]))
+    assert beyond is not None and beyond["mass"] > float(BALL.mass) and beyond["lambda_max"] > bounds[1]
+
+
+@settings(max_examples=50, deadline=None)
+@given(payloads(2.0, np.array([0.1, 0.0, 0.05]), 0.1))
+def test_drawn_payloads_lie_in_the_lmi_set(phi):
+    """Wensing, Kim and Slotine's description: J = f(Phi) >= 0, tr(Q J) >= 0 for the ball's Q, mass <= m."""
+    j = pseudo_inertia(phi)
+    c, r = np.array([0.1, 0.0, 0.05]), 0.1
+    q = np.block([[-np.eye(3), c[:, None]], [c[None], np.array([[r * r - c @ c]])]])
+    assert np.linalg.eigvalsh(j)[0] >= -1e-12 * np.abs(j).max()
+    assert np.trace(q @ j) >= -1e-12 and phi[0] <= 2.0 + 1e-12
+
+
+def test_the_lmi_set_reaches_no_further_than_its_point_masses():
+    """The sup over the LMI set of v^T M(q, Phi_p) v (an SDP, CVXPY + Clarabel) is the sup over point masses m on
+    the sphere, m (|p| + R |omega|)^2 when p is across omega: the S-lemma the envelope rests on."""
+    rng = np.random.default_rng(3)
+    chain, m, c, r = robots.panda().chain, 3.0, np.array([0.0, 0.05, 0.1]), 0.1
+    for _ in range(3):
+        qv = rng.uniform(-1, 1, chain.n)
+        qj = chain.body_jacobian(qv)[6 * 6:6 * 7]
+        t = qj @ rng.normal(size=chain.n)
+        j = cp.Variable((4, 4), symmetric=True)
+        q_ball = np.block([[-np.eye(3), c[:, None]], [c[None], np.array([[r * r - c @ c]])]])
+        sigma = j[:3, :3]
+        inertia = cp.trace(sigma) * np.eye(3) - sigma
+        h, mass = j[:3, 3], j[3, 3]
+        v, w = t[:3], t[3:]
+        energy = mass * (v @ v) + 2 * v @ cp.hstack([-(h[1] * w[2] - h[2] * w[1]), -(h[2] * w[0] - h[0] * w[2]),
+                                                    -(h[0] * w[1] - h[1] * w[0])]) + w @ inertia @ w
+        problem = cp.Problem(cp.Maximize(energy), [j >> 0, cp.trace(q_ball @ j) >= 0, mass <= m])
+        problem.solve(solver=cp.CLARABEL)
+        p = v + np.cross(w, c)
+        across = np.linalg.norm(p - w * (p @ w) / (w @ w))
+        along = abs(p @ w) / np.linalg.norm(w)
+        point = m * (along**2 + (across + r * np.linalg.norm(w)) ** 2)
+        z = spatial_inertia(payload.point_mass(m, c + payload._farthest(p[None], w[None], r)[0]))
+        assert t @ z @ t == pytest.approx(point, rel=1e-9)
+        assert problem.value == pytest.approx(point, rel=1e-5)
+
+
+def test_the_worst_point_mass_is_attained(found):
+    worst = found["worst_payload"]
+    loaded = payload.with_payload(ARM.trajectory.base, BALL, payload.point_mass(worst["mass"], worst["com"]))
+    value = np.linalg.eigvalsh(composite.mass_matrix(ARM.chain, np.asarray(worst["q"]), loaded))[-1]
+    assert value == pytest.approx(found["upper"]["observed"]["lower"], rel=1e-12)
+    assert np.linalg.norm(np.asarray(worst["com"]) - 0) == pytest.approx(0.1, rel=1e-9)
+
+
+def test_envelope_command_on_a_scene(tmp_path, capsys):
+    out = tmp_path / "env"
+    assert cli_main(["envelope", "scenes/planar_2r_payload.toml", "--link", "2", "--mass", "1", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "alpha2" in printed and "re-proved" in printed
+    assert (out / "envelope.csv").read_text().startswith("mass,alpha1")
+    assert (out / "envelope.pdf").is_file() and "<svg" in (out / "envelope.html").read_text()
+    assert cli_main(["verify", str(out)]) == 0
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--link", "9", "--mass", "1"], "body is named by its number"),
+    (["--link", "2", "--mass", "-1"], "--mass: must be >= 0"),
+    (["--link", "2", "--mass", "1", "--ramp", "0"], "--ramp: must be > 0"),
+    (["--link", "2", "--mass", "one"], "--mass: 'one' is not a number"),
+])
+def test_envelope_bad_input_is_one_line(args, words, capsys):
+    assert cli_main(["envelope", "scenes/planar_2r_payload.toml", *args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and "\n" not in err
+
+
+def test_envelope_bad_link_of_a_urdf(tmp_path, capsys):
+    urdf = tmp_path / "r.urdf"
+    urdf.write_text('<robot name="r"><link name="a"/><link name="b"><inertial><mass value="1"/><inertia ixx="1" '
+                    'iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link><joint name="j" type="revolute">'
+                    '<parent link="a"/><child link="b"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" '
+                    'velocity="1"/></joint></robot>')
+    assert cli_main(["envelope", str(urdf), "--link", "c", "--mass", "1"]) == 2
+    assert "--link 'c': no such link" in capsys.readouterr().err
+    assert cli_main(["envelope", str(urdf), "--link", "a", "--mass", "1"]) == 2
+    assert "fixed base" in capsys.readouterr().err
+
+
+def test_a_payload_beyond_a_constant_is_saved_and_replays(monkeypatch):
+    """A cover too small lets the attack find a payload beyond alpha2: the counterexample replays VIOLATED."""
+    from inertiaproof.suite.registry import REPLAYERS
+
+    real = payload.covering_parameters
+    monkeypatch.setattr(payload, "covering_parameters", lambda ball, eps: real(ball, eps) * 0.6)
+    result = check.envelope_result("2R", ARM.chain, ARM.trajectory.base, BALL, ramp_s=1.0, profile=PROFILES["ci"],
+                                   examples=200, points=0, goal=None)
+    data = json.loads(json.dumps(result.counterexample["data"]))
+    assert REPLAYERS["payload-envelope"](data, None).verdict == Verdict.VIOLATED
+    a1, a2, chi, zeta = data["bounds"]
+    data["bounds"] = [a1 / 2, 2 * a2, 2 * chi, 2 * zeta]  # with honest constants the same payload stays within
+    assert REPLAYERS["payload-envelope"](data, None).verdict == Verdict.HOLDS
