@@ -11,7 +11,6 @@ import cvxpy as cp
 import numpy as np
 import pytest
 from hypothesis import given, settings
-from hypothesis import strategies as st
 
 from inertiaproof.bounds import payload
 from inertiaproof.bounds.payload import Ball, envelope

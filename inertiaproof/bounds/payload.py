@@ -31,7 +31,7 @@ from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import point_mass, pseudo_inertia, skew
 
 from . import formulas
-from .certificate import PayloadClaim, body_spectrum_certificate, payload_f_certificate
+from .certificate import PayloadClaim, payload_f_certificate
 from .configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
 from .constants import bracket_certificate, lower_constants, paper_product, upper_constants
 from .domain import free_coordinates, search_box
