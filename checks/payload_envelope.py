@@ -94,7 +94,8 @@ def attack(chain, theta, ball, bounds, rate, *, examples, seed_value, witnesses)
 
 
 def _beyond(chain, theta, ball, alpha2, point, q):
-    """The lightest of HEAVIER x the set's mass, at the worst point, whose lambda_max at q goes beyond alpha2."""
+    """The lightest of HEAVIER x the set's mass, at the worst point, whose lambda_max at q (a value) goes beyond
+    alpha2 (the certified constant)."""
     for factor in HEAVIER:
         mass = factor * float(ball.mass)
         value = np.linalg.eigvalsh(composite.mass_matrix(chain, q, with_payload(theta, ball, point_mass(mass, point))))[-1]
@@ -137,7 +138,7 @@ def envelope_result(name, chain, theta, ball, *, ramp_s, profile, examples, poin
                    f"[{high['observed']['lower']:.4g}, {high['observed']['upper']:.4g}]), chi {bounds[2]:.4g}; "
                    f"{seen['examples']} Hypothesis payloads, none beyond")
     evidence = {
-        "payload_set": found["payload"], "ramp_s": ramp_s, "rate": quantity(float(rate), "exact", "sup |s'| (1/s)"),
+        "payload_set": found["payload"], "ramp_s": quantity(ramp_s, "exact", "the ramp's duration (s)"), "rate": quantity(float(rate), "exact", "sup |s'| (1/s)"),
         "constants": _constants(found),
         "brackets": found["brackets"],
         "worst_payload": worst,
@@ -180,7 +181,11 @@ def _constants(found):
                                   certificate=certified.get("certificate")),
             "paper": quantity(paper.get(sense, paper["value"]), "lower_bound" if sense == "lower" else "upper_bound",
                               "the paper's constant from certified ingredients", certificate=paper.get("certificate")),
-            "true_extreme": [c["observed"]["lower"], c["observed"]["upper"]],
+            "true_extreme": {
+                "lower": quantity(c["observed"]["lower"], "lower_bound" if sense == "lower" else "sampled",
+                                  "certified side" if sense == "lower" else "attained at the witness"),
+                "upper": quantity(c["observed"]["upper"], "sampled" if sense == "lower" else "upper_bound",
+                                  "attained at the witness" if sense == "lower" else "certified side")},
         }
     return out
 

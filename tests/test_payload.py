@@ -158,7 +158,8 @@ def test_envelope_command_on_a_scene(tmp_path, capsys):
 
 @pytest.mark.parametrize("args, words", [
     (["--link", "9", "--mass", "1"], "body is named by its number"),
-    (["--link", "2", "--mass", "-1"], "--mass: must be >= 0"),
+    (["--link", "2", "--mass", "-1"], "--mass: must be > 0"),
+    (["--link", "2", "--mass", "0"], "--mass: must be > 0"),
     (["--link", "2", "--mass", "1", "--ramp", "0"], "--ramp: must be > 0"),
     (["--link", "2", "--mass", "one"], "--mass: 'one' is not a number"),
 ])

@@ -96,7 +96,7 @@ def payload_envelope(robot, link, mass, *, radius="0.1", centre=("0", "0", "0"),
     from inertiaproof.bounds.payload import Ball  # noqa: PLC0415
     from inertiaproof.checks.payload_envelope import envelope_result  # noqa: PLC0415
 
-    mass, radius = _decimal(mass, "--mass", ">= 0"), _decimal(radius, "--radius", ">= 0")
+    mass, radius = _decimal(mass, "--mass", "> 0"), _decimal(radius, "--radius", ">= 0")
     ramp = _decimal(ramp, "--ramp", "> 0")
     centre = [_decimal(x, "--centre") for x in centre]
     name, chain, theta, body, pose = robot_arm(robot, link)
@@ -114,7 +114,7 @@ def _print(result, verified):
     print(f"inertiaproof envelope: {result.summary}")
     print(f"{'constant':<8} {'certified':>12}  {'paper (certified side)':>22}  true extreme in")
     for name, c in ev["constants"].items():
-        lo, hi = c["true_extreme"]
+        lo, hi = (c["true_extreme"][side]["value"] for side in ("lower", "upper"))
         print(f"{name:<8} {c['certified']['value']:>12.6g}  {c['paper']['value']:>22.6g}  [{lo:.6g}, {hi:.6g}] "
               f"({hi / lo if lo > 0 else float('inf'):.3f}x)")
     worst = ev["worst_payload"]
@@ -143,7 +143,7 @@ def _write(out, result):
     (key, spec), = result.evidence["figures"].items()
     svgs = plots.render([Figure(key, 1, "series", spec["series"], key)], out / "envelope.pdf")
     rows = "".join(f"<tr><td>{html.escape(n)}</td><td>{c['certified']['value']:.6g}</td><td>{c['paper']['value']:.6g}"
-                   f"</td><td>[{c['true_extreme'][0]:.6g}, {c['true_extreme'][1]:.6g}]</td></tr>"
+                   f"</td><td>[{c['true_extreme']['lower']['value']:.6g}, {c['true_extreme']['upper']['value']:.6g}]</td></tr>"
                    for n, c in result.evidence["constants"].items())
     (out / "envelope.html").write_text(
         f"<!doctype html><meta charset=utf-8><title>payload envelope</title><h1>Payload envelope</h1>"
