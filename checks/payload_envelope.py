@@ -1,13 +1,13 @@
 """Beyond the paper: the payload envelope (``APP-payload-envelope``), Theorems 2-4 over a set of payloads.
 
-:func:`envelope_result` certifies alpha1, alpha2 and chi over every consistent payload of a ball at a body
-(:mod:`inertiaproof.bounds.payload`) and attacks them: Hypothesis draws payloads of the set (point masses, spheres
-and boxes inside the ball: :mod:`inertiaproof.counterexamples.payloads`) and configurations, and none may go beyond
-a certified constant; a payload beyond the set (heavier) is shown to go beyond alpha2, so the set matters. VIOLATED
+:func:`envelope_result` certifies alpha1, alpha2 and chi over every consistent payload of a set (a ball or an
+ellipsoid) at a body (:mod:`inertiaproof.bounds.payload`) and attacks them: Hypothesis draws payloads of the set
+(point masses, spheres and boxes inside it: :mod:`inertiaproof.counterexamples.payloads`) and configurations, and
+none may go beyond a certified constant; a payload beyond the set (heavier) is shown to go beyond alpha2, so the set matters. VIOLATED
 where a payload of the set goes beyond a certified constant or a bracket's attained side beyond its certified one.
 Without ``--scene``, in deep the built-in Panda and UR5 carry 0..5 kg within 0.1 m of the flange (the last body's
-frame origin; in ci the planar 2R 0..2 kg), taken up in 1 s (smootherstep); with one, the ball of 0.1 m around its heaviest payload's centre of mass
-(or 5 kg at the last body's origin).
+frame origin; in ci the planar 2R 0..2 kg), taken up in 1 s (smootherstep); with one, the ball of 0.1 m around its
+heaviest payload's centre of mass (or 5 kg at the last body's origin).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from hypothesis.errors import HypothesisException
 
 from inertiaproof.bounds.domain import search_box
-from inertiaproof.bounds.payload import Ball, envelope, with_payload
+from inertiaproof.bounds.payload import PayloadSet, envelope, with_payload
 from inertiaproof.bounds.pivot_search import DEEP_S
 from inertiaproof.counterexamples.payloads import payloads
 from inertiaproof.dynamics import composite
@@ -50,33 +50,33 @@ def ramp_rate(seconds, shape="smootherstep"):
     return Fraction(Profile(shape, 0.0, seconds).rate_bound())
 
 
-def _margins(chain, theta, ball, bounds, rate, phi, q):
+def _margins(chain, theta, pset, bounds, rate, phi, q):
     """Relative margins (K,) of payload ``phi`` at configurations q (K, n) against the certified constants (bounds:
     alpha1, alpha2, chi, zeta); > 0 inside."""
-    loaded = with_payload(theta, ball, phi)
+    loaded = with_payload(theta, pset, phi)
     eig = np.linalg.eigvalsh(composite.mass_matrix(chain, q, loaded))
-    alone = np.linalg.eigvalsh(composite.mass_matrix(chain, q, with_payload(np.zeros_like(theta), ball, phi)))[:, -1]
+    alone = np.linalg.eigvalsh(composite.mass_matrix(chain, q, with_payload(np.zeros_like(theta), pset, phi)))[:, -1]
     zeta = np.linalg.eigvalsh(pseudo_inertia(loaded))[:, -1].max()
     a1, a2, chi, z = bounds
     return np.minimum.reduce([(eig[:, 0] - a1) / abs(a1), (a2 - eig[:, -1]) / a2, (chi - float(rate) * alone) / chi,
                               np.full(len(q), (z - zeta) / z)])
 
 
-def attack(chain, theta, ball, bounds, rate, *, examples, seed_value, witnesses):
-    """Hypothesis draws ``examples`` payloads of the ball's set and a configuration each (tested with the
+def attack(chain, theta, pset, bounds, rate, *, examples, seed_value, witnesses):
+    """Hypothesis draws ``examples`` payloads of the set and a configuration each (tested with the
     ``witnesses`` (K, n) too): {examples, smallest_margin, worst, violation}; the first margin below -TOLERANCE
     stops the hunt and is the violation (payload Phi, q)."""
     lo, hi = search_box(chain)
-    m, c, r = ball.floats
+    m, c, axes = pset.floats
     seen = {"examples": 0, "smallest": np.inf, "worst": None, "violation": None}
 
     @seed(seed_value)
     @settings(max_examples=examples, deadline=None, database=None, derandomize=False,
               phases=[Phase.generate, Phase.target], suppress_health_check=list(HealthCheck))
-    @given(payloads(m, c, r), st.lists(st.floats(0, 1, allow_nan=False), min_size=chain.n, max_size=chain.n))
+    @given(payloads(m, c, axes), st.lists(st.floats(0, 1, allow_nan=False), min_size=chain.n, max_size=chain.n))
     def hunt(phi, u):
         q = np.vstack([witnesses, lo + (hi - lo) * np.asarray(u)])
-        margins = _margins(chain, theta, ball, bounds, rate, phi, q)
+        margins = _margins(chain, theta, pset, bounds, rate, phi, q)
         k = int(np.argmin(margins))
         seen["examples"] += 1
         if margins[k] < seen["smallest"]:
@@ -93,37 +93,38 @@ def attack(chain, theta, ball, bounds, rate, *, examples, seed_value, witnesses)
     return seen
 
 
-def _beyond(chain, theta, ball, alpha2, point, q):
+def _beyond(chain, theta, pset, alpha2, point, q):
     """The lightest of HEAVIER x the set's mass, at the worst point, whose lambda_max at q (a value) goes beyond
     alpha2 (the certified constant)."""
     for factor in HEAVIER:
-        mass = factor * float(ball.mass)
-        value = np.linalg.eigvalsh(composite.mass_matrix(chain, q, with_payload(theta, ball, point_mass(mass, point))))[-1]
+        mass = factor * float(pset.mass)
+        loaded = with_payload(theta, pset, point_mass(mass, point))
+        value = np.linalg.eigvalsh(composite.mass_matrix(chain, q, loaded))[-1]
         if value > alpha2:
             return {"mass": mass, "com": list(point), "lambda_max": float(value), "alpha2": alpha2}
     return None
 
 
-def envelope_result(name, chain, theta, ball, *, ramp_s, profile, examples, points, goal, seed_value=0,
+def envelope_result(name, chain, theta, pset, *, ramp_s, profile, examples, points, goal, speed=None, seed_value=0,
                     progress=None):
     """The Result of one envelope: the constants, the brackets, the curve against the mass (``points`` masses below
     the set's), and the attack (``examples`` Hypothesis payloads); ``goal`` the sup brackets' (None: the ladder's
-    default)."""
+    default); ``speed``: the payload's particles move inside the set at most this fast (m/s; Theorem 5)."""
     rate = ramp_rate(ramp_s)
-    masses = [ball.mass * Fraction(i, points + 1) for i in range(1, points + 1)]
-    found = envelope(chain, theta, ball, rate=rate, masses=masses, goal=goal, samples=profile.samples,
+    masses = [pset.mass * Fraction(i, points + 1) for i in range(1, points + 1)]
+    found = envelope(chain, theta, pset, rate=rate, speed=speed, masses=masses, goal=goal, samples=profile.samples,
                      refine_s=profile.refine_s, rng=np.random.default_rng(seed_value), progress=progress)
     low, high, chi = found["lower"], found["upper"], found["chi"]
     bounds = (low["certified"]["value"], high["certified"]["value"], chi["certified"]["value"],
               found["ingredients"]["zeta"][1])
     witnesses = np.array([low["observed"]["witness"], high["observed"]["witness"], chi["observed"]["witness"]])
-    seen = attack(chain, theta, ball, bounds, rate, examples=examples, seed_value=seed_value,
+    seen = attack(chain, theta, pset, bounds, rate, examples=examples, seed_value=seed_value,
                   witnesses=witnesses)
     worst = found["worst_payload"]
-    beyond = _beyond(chain, theta, ball, bounds[1], worst["com"], np.asarray(worst["q"]))
+    beyond = _beyond(chain, theta, pset, bounds[1], worst["com"], np.asarray(worst["q"]))
     inverted = [k for k, b in (("inf lambda_min(M)", low["observed"]), ("sup lambda_max(M)", high["observed"]),
                                ("sup sigma_max(M(q, Thetadot))", chi["observed"])) if not b["lower"] <= b["upper"]]
-    label = f"{name}: payloads up to {float(ball.mass):g} kg within {float(ball.radius):g} m on body {ball.body + 1}"
+    label = f"{name}: {pset.describe()}"
     if seen["violation"] is not None:
         verdict = Verdict.VIOLATED
         summary = (f"{label}: a payload of the set goes beyond a certified constant (relative margin "
@@ -147,7 +148,7 @@ def envelope_result(name, chain, theta, ball, *, ramp_s, profile, examples, poin
                                                                             "constant over the examples"),
                    "worst": seen["worst"], "violation": seen["violation"]},
         "beyond_the_set": beyond or "no heavier payload at the worst point goes beyond alpha2",
-        "curve": _curve(found, ball),
+        "curve": _curve(found, pset),
         "curve_certified": [{"mass": row["mass"],
                              "alpha2": quantity(row["alpha2"]["certified"], "upper_bound", "sup lambda_max(M) over the "
                                                 "payloads of this mass", certificate=row["alpha2"]["certificate"]),
@@ -155,17 +156,18 @@ def envelope_result(name, chain, theta, ball, *, ramp_s, profile, examples, poin
                                              row["chi"]["certified"]["how"],
                                              certificate=row["chi"]["certified"].get("certificate"))}
                             for row in found["curve"]],
-        "figures": {f"{name}: constants against the payload's mass": {"series": _series(found, ball)}},
+        "figures": {f"{name}: constants against the payload's mass": {"series": _series(found, pset)}},
+        **({"theorem5": _theorem5(found["theorem5"], speed)} if speed is not None else {}),
     }
     counterexample, violation = None, seen["violation"]
     if violation is None and inverted:  # the worst point mass itself goes beyond
-        phi = point_mass(float(ball.mass), worst["com"])
+        phi = point_mass(float(pset.mass), worst["com"])
         q = np.asarray([worst["q"]])
         violation = {"phi": phi.tolist(), "q": worst["q"],
-                     "margin": float(_margins(chain, theta, ball, bounds, rate, phi, q)[0])}
+                     "margin": float(_margins(chain, theta, pset, bounds, rate, phi, q)[0])}
     if violation is not None:
         counterexample = {"kind": "payload-envelope", "data": {
-            "name": name, "chain": chain.to_data(), "theta": np.asarray(theta).tolist(), "payload_set": ball.to_json(),
+            "name": name, "chain": chain.to_data(), "theta": np.asarray(theta).tolist(), "payload_set": pset.to_json(),
             "rate": str(rate), "bounds": list(bounds), **violation}}
     return Result(ID, verdict, summary, evidence, counterexample)
 
@@ -190,10 +192,20 @@ def _constants(found):
     return out
 
 
-def _curve(found, ball):
+def _theorem5(t5, speed):
+    how = ("the prover's certified sides (Bernstein bounds), not re-proved: no certificate kind covers sup "
+           "sigma_max(Y_p)")
+    return {"speed": quantity(float(speed), "exact", "the particles' speed inside the set (m/s)"),
+            "psi_star": quantity(t5["psi_star"], "upper_bound", "m V (1 + (|c| + a_max)^2)^(1/2), rounded up"),
+            "paper": quantity(t5["paper"], "upper_bound", "sqrt(6N) Psi* max_p sup_q sigma_max(Y_p): " + how),
+            "sharp": quantity(t5["sharp"], "upper_bound", "Psi* sup_q (sum_p sigma_max(Y_p)^2)^(1/2): " + how),
+            "brackets": t5["brackets"]}
+
+
+def _curve(found, pset):
     rows = [{"mass": 0.0, "alpha1": found["lower"]["certified"]["value"], "alpha2_attained": None,
              "alpha2_certified": None, "chi_certified": 0.0}]
-    for row in found["curve"] + [{"mass": float(ball.mass), "alpha2": {"attained": found["upper"]["observed"]["lower"],
+    for row in found["curve"] + [{"mass": float(pset.mass), "alpha2": {"attained": found["upper"]["observed"]["lower"],
                                                                        "certified": found["upper"]["certified"]["value"]},
                                   "chi": found["chi"]}]:
         rows.append({"mass": row["mass"], "alpha1": found["lower"]["certified"]["value"],
@@ -202,8 +214,8 @@ def _curve(found, ball):
     return rows
 
 
-def _series(found, ball):
-    rows = _curve(found, ball)[1:]
+def _series(found, pset):
+    rows = _curve(found, pset)[1:]
     line = lambda key: [[r["mass"], r[key]] for r in rows if r[key] is not None]  # noqa: E731
     return {"title": "certified constants against the payload's mass", "x_label": "payload mass (kg)",
             "y_label": "constant", "y_log": True,
@@ -215,7 +227,7 @@ def _cases(ctx, deep):
     if ctx.scene is None:
         for name, mass, radius in BUILT_IN["deep" if deep else "ci"]:
             scene = getattr(robots, name)()
-            yield name, scene.chain, scene.trajectory.base, Ball(scene.chain.n - 1, mass, (0, 0, 0), radius)
+            yield name, scene.chain, scene.trajectory.base, PayloadSet.ball(scene.chain.n - 1, mass, (0, 0, 0), radius)
         return
     scene = ctx.scene
     loads = sorted((load for load in scene.trajectory.loads if isinstance(load, Payload)), key=lambda p: -p.phi[0])
@@ -223,7 +235,8 @@ def _cases(ctx, deep):
         body, mass, centre = loads[0].body, Fraction(float(loads[0].phi[0])), loads[0].phi[1:4] / loads[0].phi[0]
     else:
         body, mass, centre = scene.chain.n - 1, Fraction(5), np.zeros(3)
-    yield scene.name, scene.chain, scene.trajectory.base, Ball(body, mass, tuple(map(float, centre)), Fraction(1, 10))
+    yield scene.name, scene.chain, scene.trajectory.base, PayloadSet.ball(body, mass, tuple(map(float, centre)),
+                                                                          Fraction(1, 10))
 
 
 @check(ID)
@@ -231,10 +244,10 @@ def payload_envelope(ctx):
     """In a run: the profile's Hypothesis examples per hunt, the ladder's default goal, no curve points in ci
     (``inertiaproof envelope`` spends the envelope's budget: Profile.envelope_*)."""
     deep = ctx.profile.refine_s >= DEEP_S
-    results = [envelope_result(name, chain, theta, ball, ramp_s=RAMP_S, profile=ctx.profile,
+    results = [envelope_result(name, chain, theta, pset, ramp_s=RAMP_S, profile=ctx.profile,
                                examples=ctx.profile.examples, points=ctx.profile.envelope_points if deep else 0,
                                goal=ctx.profile.envelope_goal if deep else None, seed_value=ctx.seed,
-                               progress=ctx.progress) for name, chain, theta, ball in _cases(ctx, deep)]
+                               progress=ctx.progress) for name, chain, theta, pset in _cases(ctx, deep)]
     verdict = combine(r.verdict for r in results)
     first = next((r for r in results if r.verdict == verdict), results[0])
     return Result(ID, verdict, "; ".join(r.summary for r in results),
@@ -244,10 +257,8 @@ def payload_envelope(ctx):
 @replayer("payload-envelope")
 def replay_payload(data, ctx):
     """The saved payload at its configuration against the saved certified constants: still beyond one is VIOLATED."""
-    written = data["payload_set"]
-    ball = Ball(written["body"] - 1, Fraction(written["mass"]), tuple(map(Fraction, written["centre"])),
-                Fraction(written["radius"]))
-    margin = float(_margins(Chain.from_data(data["chain"]), np.asarray(data["theta"], float), ball, data["bounds"],
+    pset = PayloadSet.from_json(data["payload_set"])
+    margin = float(_margins(Chain.from_data(data["chain"]), np.asarray(data["theta"], float), pset, data["bounds"],
                             Fraction(data["rate"]), np.asarray(data["phi"], float), np.asarray([data["q"]], float))[0])
     verdict = Verdict.VIOLATED if margin < -TOLERANCE else Verdict.HOLDS
     return Result(ID, verdict, f"{data['name']}: the saved payload's relative margin to the certified constants is "

@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given, settings
 
 from inertiaproof.bounds import payload
-from inertiaproof.bounds.payload import Ball, envelope
+from inertiaproof.bounds.payload import PayloadSet, envelope
 from inertiaproof.checks import payload_envelope as check
 from inertiaproof.cli import main as cli_main
 from inertiaproof.counterexamples.payloads import payloads
@@ -25,7 +25,7 @@ from inertiaproof.suite.profiles import PROFILES
 from inertiaproof.verify.cli import check as verify
 
 ARM = robots.planar_2r()
-BALL = Ball(1, 2, (0, 0, 0), Fraction(1, 10))
+BALL = PayloadSet.ball(1, 2, (0, 0, 0), Fraction(1, 10))
 RATE = Fraction(15, 8)
 
 
@@ -100,7 +100,7 @@ def test_payloads_of_the_set_stay_within_and_heavier_ones_do_not(found):
 
 
 @settings(max_examples=50, deadline=None)
-@given(payloads(2.0, np.array([0.1, 0.0, 0.05]), 0.1))
+@given(payloads(2.0, np.array([0.1, 0.0, 0.05]), np.full(3, 0.1)))
 def test_drawn_payloads_lie_in_the_lmi_set(phi):
     """Wensing, Kim and Slotine's description: J = f(Phi) >= 0, tr(Q J) >= 0 for the ball's Q, mass <= m."""
     j = pseudo_inertia(phi)
@@ -194,3 +194,82 @@ def test_a_payload_beyond_a_constant_is_saved_and_replays(monkeypatch):
     a1, a2, chi, zeta = data["bounds"]
     data["bounds"] = [a1 / 2, 2 * a2, 2 * chi, 2 * zeta]  # with honest constants the same payload stays within
     assert REPLAYERS["payload-envelope"](data, None).verdict == Verdict.HOLDS
+
+
+def test_the_ellipsoid_cover_bounds_every_point_and_is_the_least_diagonal():
+    """U >= S(d)^T S(d) = |d|^2 I - d d^T (Tjaja) on the ellipsoid, and no diagonal entry can be lowered: U_i is
+    reached at the end of another semi-axis."""
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        axes = rng.random(3) ** rng.integers(1, 4)
+        u = payload.cover_inertia(axes)
+        d = rng.normal(size=(300, 3))
+        d = axes * d / np.linalg.norm(d, axis=1)[:, None]
+        gram = np.einsum("k,ij->kij", (d * d).sum(1), np.eye(3)) - d[:, :, None] * d[:, None, :]
+        assert np.linalg.eigvalsh(np.diag(u) - gram).min() >= -1e-12 * u.max()
+        ends = np.diag(axes)  # d = a_j e_j: (|d|^2 - d_i^2) = a_j^2 for i != j
+        assert np.allclose(u, [max((ends[j] ** 2).sum() - ends[j][i] ** 2 for j in range(3)) for i in range(3)])
+
+
+ELLIPSOID = PayloadSet(1, 2, (Fraction(1, 20), 0, 0), (Fraction(3, 20), Fraction(1, 20), Fraction(1, 50)))
+
+
+def test_an_ellipsoid_envelope_is_certified_re_proved_and_attacked():
+    found = envelope(ARM.chain, ARM.trajectory.base, ELLIPSOID, rate=RATE, samples=500, refine_s=0.5)
+    for name, cert in _certificates(found).items():
+        assert verify(json.loads(json.dumps(cert)))["status"] == "re-proved", name
+    assert found["upper"]["certified"]["certificate"]["payload"]["semi_axes"] == ["3/20", "1/20", "1/50"]
+    high = found["upper"]["observed"]
+    assert high["lower"] <= high["upper"] <= 1.25 * high["lower"]
+    d = (np.asarray(found["worst_payload"]["com"]) - [0.05, 0, 0]) / [0.15, 0.05, 0.02]
+    assert d @ d == pytest.approx(1, rel=1e-9)  # on the boundary
+    bounds = (found["lower"]["certified"]["value"], found["upper"]["certified"]["value"],
+              found["chi"]["certified"]["value"], found["ingredients"]["zeta"][1])
+    seen = check.attack(ARM.chain, ARM.trajectory.base, ELLIPSOID, bounds, RATE, examples=300, seed_value=2,
+                        witnesses=np.array([high["witness"]]))
+    assert seen["violation"] is None
+    wider = copy.deepcopy(found["upper"]["certified"]["certificate"])
+    wider["payload"]["semi_axes"] = ["3/5", "3/5", "3/5"]  # the same bound claimed for a ball four times as far
+    assert verify(wider)["status"] in ("refuted", "not decided")
+
+
+def test_envelope_command_with_an_ellipsoid(capsys):
+    assert cli_main(["envelope", "scenes/planar_2r_payload.toml", "--link", "2", "--mass", "1", "--ellipsoid",
+                     "0.15", "0.05", "0.02", "--no-verify"]) == 0
+    assert "ellipsoid with semi-axes (0.15, 0.05, 0.02)" in capsys.readouterr().out
+    assert cli_main(["envelope", "scenes/planar_2r_payload.toml", "--link", "2", "--mass", "1", "--ellipsoid",
+                     "0.1", "-1", "0.1"]) == 2
+    assert "--ellipsoid: must be >= 0" in capsys.readouterr().err
+
+
+def test_a_moving_payload_adds_its_share_to_chi_and_the_sum_is_re_proved():
+    still = envelope(ARM.chain, ARM.trajectory.base, BALL, rate=RATE, samples=300, refine_s=0.2)
+    moving = envelope(ARM.chain, ARM.trajectory.base, BALL, rate=RATE, speed=Fraction(1, 2), samples=300,
+                      refine_s=0.2)
+    sharp, paper = moving["chi"]["certified"], moving["chi"]["paper"]
+    assert sharp["value"] > still["chi"]["certified"]["value"] and paper["upper"] > still["chi"]["paper"]["upper"]
+    for cert in (sharp["certificate"], paper["certificate"]):
+        assert cert["claim"]["kind"] == "sum" and verify(json.loads(json.dumps(cert)))["status"] == "re-proved"
+    low = copy.deepcopy(sharp["certificate"])
+    low["claim"]["bound"] = str(Fraction(low["terms"][0]["claim"]["bound"]))  # the moving share dropped
+    assert verify(low)["status"] == "refuted"
+    wrong = copy.deepcopy(sharp["certificate"])
+    wrong["terms"][0]["claim"]["bound"] = str(Fraction(wrong["terms"][0]["claim"]["bound"]) / 2)  # its product fails
+    wrong["claim"]["bound"] = str(sum(Fraction(t["claim"]["bound"]) for t in wrong["terms"]))
+    assert verify(wrong)["status"] == "refuted"
+    t5 = moving["theorem5"]
+    psi = 0.5 * 2 * np.sqrt(1 + 0.1**2)  # m V (1 + (|c| + R)^2)^(1/2)
+    assert psi <= t5["psi_star"] <= psi * (1 + 1e-12) and t5["sharp"] <= t5["paper"]
+
+
+def test_progress_of_a_bracket_not_yet_finite_is_printed(monkeypatch):
+    """A deep envelope crashed formatting the progress line of a bracket whose certified side was still infinite."""
+    from inertiaproof.bounds import extremes
+
+    clock = iter(range(10**6))  # a second per reading
+    monkeypatch.setattr(extremes.time, "perf_counter", lambda: float(next(clock)))
+    lines = []
+    b = extremes.bracket_extreme(lambda q: q[:, 0] ** 2, lambda c, r: np.full(len(c), np.inf), np.zeros(1),
+                                 np.ones(1), sense="max", quantity_name="x^2", samples=16, refine_s=5,
+                                 rng=np.random.default_rng(0), progress=lines.append, max_boxes=300)
+    assert b.observed == pytest.approx(1, abs=0.2) and any("unbounded" in line for line in lines)

@@ -172,7 +172,8 @@ def test_the_checker_imports_only_flint_and_the_standard_library():
                 continue
             for name in names:
                 assert name.split(".")[0] in allowed, f"{path.name} imports {name}"
-    assert int(about().split(": ")[1].split()[0]) < 1150  # 1,000 before the payload-envelope claims (100 lines)
+    # 1,000 before the payload-envelope claims (110 lines) and the sum claim (45 lines)
+    assert int(about().split(": ")[1].split()[0]) < 1200
 
 
 @pytest.fixture(scope="module")

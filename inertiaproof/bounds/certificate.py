@@ -19,7 +19,7 @@ from inertiaproof.model.exact import definiteness, integer_matrix
 from .domain import certification_obstacle, search_box
 
 __all__ = ["PayloadClaim", "SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "key_step_certificate",
-           "payload_f_certificate", "product_certificate", "spectrum_certificate"]
+           "payload_f_certificate", "product_certificate", "spectrum_certificate", "sum_certificate"]
 
 SCHEMA = "inertiaproof.certificate/1"
 STATEMENT = {"lambda_min": "lambda_min(M(q, Theta)) >= {bound}", "lambda_max": "lambda_max(M(q, Theta)) <= {bound}"}
@@ -156,11 +156,11 @@ class PayloadClaim:
     """bound -> the certificate (kind ``payload-envelope``) of a bracket's certified side over a payload set: the
     spectrum claim ``inner`` proved (parameter sets ``arm`` with, for "lambda_max", Phi_U of Young's ``eps`` at the
     payload's body: :func:`inertiaproof.bounds.payload.covering_parameters`), restated for the arm ``arm`` (V, N,
-    10) carrying any payload of the ``ball``; the checker adds Phi_U itself."""
+    10) carrying any payload of the set ``payloads``; the checker adds Phi_U itself."""
 
     inner: object
     arm: np.ndarray
-    ball: object
+    payloads: object
     quantity: str
     eps: float | None = None
 
@@ -173,12 +173,10 @@ class PayloadClaim:
         if len(cert["parameters"]) != len(sets):
             return None
         claim = {**cert["claim"], "kind": "payload-envelope",
-                 "statement": f"for all q in the box, Theta in the hull of the {len(sets)} parameter set(s) and every "
-                              f"consistent payload Phi_p of mass <= {float(self.ball.mass):g} in the ball of radius "
-                              f"{float(self.ball.radius):g} around {[float(x) for x in self.ball.centre]} on body "
-                              f"{self.ball.body + 1}: " + PAYLOAD_STATEMENT[self.quantity].format(
-                                  bound=f"{float(bound):.10g}")}
-        return {**cert, "claim": claim, "parameters": [_rows(s) for s in sets], "payload": self.ball.to_json(),
+                 "statement": f"for all q in the box, Theta in the hull of the {len(sets)} parameter set(s) and all "
+                              f"consistent {self.payloads.describe()} (Phi_p): "
+                              + PAYLOAD_STATEMENT[self.quantity].format(bound=f"{float(bound):.10g}")}
+        return {**cert, "claim": claim, "parameters": [_rows(s) for s in sets], "payload": self.payloads.to_json(),
                 **({"epsilon": exact(self.eps)} if self.quantity == "lambda_max" else {})}
 
 
@@ -189,16 +187,16 @@ def _pseudo_exact(row):
     return [[half - i11, -i12, -i13, h1], [-i12, half - i22, -i23, h2], [-i13, -i23, half - i33, h3], [h1, h2, h3, m]]
 
 
-def payload_f_certificate(arm, ball, beta):
+def payload_f_certificate(arm, payloads, beta):
     """The certificate (kind ``payload-envelope``, quantity ``lambda_max_f``) of "for every body l, Theta in the hull
-    of ``arm`` (V, N, 10) and payload Phi_p of the ``ball`` (at its body): lambda_max(f(Phi_l + Phi_p)) <= bound",
-    bound = max_l lambda_max(f(Phi_l)) (+ ``beta`` at the payload's body), beta >= m ((|c| + R)^2 + 1) a Fraction;
-    the bound is found in floats and confirmed (raised by 2^-40 relative until it holds) in exact arithmetic. None
-    where a row is not finite."""
+    of ``arm`` (V, N, 10) and payload Phi_p of the set ``payloads`` (at its body): lambda_max(f(Phi_l + Phi_p)) <=
+    bound", bound = max_l lambda_max(f(Phi_l)) (+ ``beta`` at the payload's body), beta >= m ((|c| + a_max)^2 + 1) a
+    Fraction; the bound is found in floats and confirmed (raised by 2^-40 relative until it holds) in exact
+    arithmetic. None where a row is not finite."""
     arm = np.asarray(arm, float)
     if not np.all(np.isfinite(arm)):
         return None
-    lifts = [Fraction(beta) if l == ball.body else Fraction(0) for l in range(arm.shape[1])]
+    lifts = [Fraction(beta) if l == payloads.body else Fraction(0) for l in range(arm.shape[1])]
     pseudo = [(_pseudo_exact(row), lift) for rows in arm for row, lift in zip(rows, lifts)]
     bound = Fraction(max(float(np.linalg.eigvalsh(np.array(f, float))[-1] + lift) for f, lift in pseudo))
     step = abs(bound) * Fraction(1, 2**40) + Fraction(1, 2**60)
@@ -208,11 +206,10 @@ def payload_f_certificate(arm, ball, beta):
     sets = np.unique(arm.reshape(len(arm), -1), axis=0).reshape((-1,) + arm.shape[1:])
     return {"schema": SCHEMA,
             "claim": {"kind": "payload-envelope", "quantity": "lambda_max_f", "bound": exact(bound),
-                      "statement": f"for every body l, Theta in the hull of the {len(sets)} parameter set(s) and every "
-                                   f"consistent payload Phi_p of mass <= {float(ball.mass):g} in the ball of radius "
-                                   f"{float(ball.radius):g} on body {ball.body + 1}: lambda_max(f(Phi_l + Phi_p)) <= "
+                      "statement": f"for every body l, Theta in the hull of the {len(sets)} parameter set(s) and all "
+                                   f"consistent {payloads.describe()} (Phi_p): lambda_max(f(Phi_l + Phi_p)) <= "
                                    f"{float(bound):.10g}"},
-            "parameters": [_rows(s) for s in sets], "payload": ball.to_json(), "beta": exact(beta)}
+            "parameters": [_rows(s) for s in sets], "payload": payloads.to_json(), "beta": exact(beta)}
 
 
 BODY_CLAIMS = {  # inertiaproof.bounds.time.BODY_FUNCTIONS name: (matrix, quantity, statement)
@@ -260,6 +257,22 @@ def product_certificate(relation, bound, factor, ingredients, statement, provena
                       "statement": statement.format(bound=f"{float(bound):.10g}")},
             "ingredients": [{"power": int(p), "of": c} for c, p in ingredients],
             "provenance": provenance}
+
+
+def sum_certificate(relation, terms, statement):
+    """(value, certificate) of "sum_i x_i ``relation`` value" (kind ``sum``) from ``terms``, certificates of upper
+    claims (``<=``) or lower ones (``>=``): value is the float nearest the exact sum of their bounds, moved outward
+    when rounding went inward. (inf or nan, None) when a term has none."""
+    if any(t is None for t in terms):
+        return np.inf if relation == "<=" else -np.inf, None
+    total = sum(Fraction(t["claim"]["bound"]) for t in terms)
+    value = float(total)
+    if (Fraction(value) < total) if relation == "<=" else (Fraction(value) > total):
+        value = float(np.nextafter(value, np.inf if relation == "<=" else -np.inf))
+    return value, {"schema": SCHEMA,
+                   "claim": {"kind": "sum", "relation": relation, "bound": exact(value),
+                             "statement": statement.format(bound=f"{value:.10g}")},
+                   "terms": terms}
 
 
 def key_step_certificate(choi, lower, upper):

@@ -226,7 +226,8 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
         if abs(best - certified) <= rtol * max(abs(best), 1e-300) or len(bounds) > max_boxes:
             break
         if progress and time.perf_counter() - last_report > 2.0:
-            progress(f"{quantity_name}: [{conv[-1][1]:.6g}, {conv[-1][2]:.6g}] after {boxes} boxes")
+            sides = ", ".join("unbounded" if x is None else f"{x:.6g}" for x in conv[-1][1:])  # None: not finite yet
+            progress(f"{quantity_name}: [{sides}] after {boxes} boxes")
             last_report = time.perf_counter()
     if len(bounds) == 0:
         certified = best

@@ -1,6 +1,7 @@
-"""``inertiaproof envelope ROBOT --link NAME --mass M [--radius R] [--centre X Y Z] [--ramp T]``: certified alpha1,
-alpha2 and chi for every consistent payload of mass at most M within R of a point of a link (Theorems 2-4 over the
-payload set: :mod:`inertiaproof.bounds.payload`), the bracket of each true extreme, the worst payload found, the
+"""``inertiaproof envelope ROBOT --link NAME --mass M [--radius R | --ellipsoid A B C] [--centre X Y Z] [--ramp T]``:
+certified alpha1, alpha2 and chi for every consistent payload of mass at most M within R of a point of a link (or in
+the ellipsoid with semi-axes A, B, C along the link's axes; Theorems 2-4 over the payload set:
+:mod:`inertiaproof.bounds.payload`), the bracket of each true extreme, the worst payload found, the
 constants against the payload's mass, and a Hypothesis attack of payloads drawn from the set.
 
 ROBOT is a URDF, MJCF or xacro file (the link's body: the child of its movable joint with the links fixed to it;
@@ -50,12 +51,19 @@ def configure(parser):
     parser.add_argument("robot", metavar="ROBOT", help="a URDF, MJCF or xacro file, or a scene (*.toml)")
     parser.add_argument("--link", required=True, help="the link (a scene: the body's number) that carries the payload")
     parser.add_argument("--mass", required=True, help="the heaviest payload (kg, as written: 3 or 2.5)")
-    parser.add_argument("--radius", default="0.1", help="the payload lies within this distance (m) of the centre "
-                        "(default %(default)s)")
+    shape = parser.add_mutually_exclusive_group()
+    shape.add_argument("--radius", default="0.1", help="the payload lies within this distance (m) of the centre "
+                       "(default %(default)s)")
+    shape.add_argument("--ellipsoid", nargs=3, metavar=("A", "B", "C"),
+                       help="the payload lies in the ellipsoid around the centre with these semi-axes (m) along the "
+                       "link's x, y and z axes")
     parser.add_argument("--centre", nargs=3, default=("0", "0", "0"), metavar=("X", "Y", "Z"),
                         help="the centre in the link's frame (m; default its origin)")
     parser.add_argument("--ramp", default="1", help="the payload is taken up over this many seconds with the scenes' "
                         "smootherstep profile, peak rate 15/8 per ramp (default %(default)s)")
+    parser.add_argument("--moving", metavar="V", help="the payload's particles move inside the set at speeds up to V "
+                        "(m/s) relative to the link (a liquid, a sliding part): chi includes it, and Theorem 5's "
+                        "bounds of H(q, Psi) are reported")
     parser.add_argument("--profile", choices=sorted(PROFILES), default="ci")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--out", metavar="DIR", help="write envelope.json, .csv, .html, .pdf and certificates/ there")
@@ -90,23 +98,43 @@ def robot_arm(path, link):
     raise InputError(f"{path}: --link {link!r}: not moved by a revolute or prismatic joint (a fixed base)")
 
 
-def payload_envelope(robot, link, mass, *, radius="0.1", centre=("0", "0", "0"), ramp="1", profile="ci", seed=0,
-                     progress=None):
-    """The :class:`~inertiaproof.result.Result` of the payload envelope (the Python API of the command)."""
-    from inertiaproof.bounds.payload import Ball  # noqa: PLC0415
+def _semi_axes_in_body(axes, turn, link):
+    """The semi-axes along the body's axes of an ellipsoid with ``axes`` along the link's, whose frame is turned by
+    ``turn`` (3, 3) against the body's: a ball, or a turn that maps axes onto axes."""
+    if len(set(axes)) == 1:
+        return tuple(axes)
+    onto = np.abs(turn) > 1 - 1e-12
+    if not (onto.sum(0) == 1).all() or not np.allclose(np.abs(turn), onto, atol=1e-12):
+        raise InputError(f"--link {link!r}: its frame is turned against its body's by other than a quarter turn; "
+                         "an --ellipsoid's axes would not be the body's (give a ball, --radius)")
+    return tuple(axes[int(np.argmax(onto[i]))] for i in range(3))
+
+
+def payload_envelope(robot, link, mass, *, radius="0.1", ellipsoid=None, centre=("0", "0", "0"), ramp="1",
+                     moving=None, profile="ci", seed=0, progress=None):
+    """The :class:`~inertiaproof.result.Result` of the payload envelope (the Python API of the command):
+    ``ellipsoid`` (three semi-axes along the link's axes) in place of the ball of ``radius``; ``moving``: the
+    particles' speed inside the set (m/s)."""
+    from inertiaproof.bounds.payload import PayloadSet  # noqa: PLC0415
     from inertiaproof.checks.payload_envelope import envelope_result  # noqa: PLC0415
 
-    mass, radius = _decimal(mass, "--mass", "> 0"), _decimal(radius, "--radius", ">= 0")
-    ramp = _decimal(ramp, "--ramp", "> 0")
+    mass, ramp = _decimal(mass, "--mass", "> 0"), _decimal(ramp, "--ramp", "> 0")
+    if ellipsoid is None:
+        axes = [_decimal(radius, "--radius", ">= 0")] * 3
+    elif len(ellipsoid) != 3:
+        raise InputError(f"--ellipsoid: three semi-axes, got {len(ellipsoid)}")
+    else:
+        axes = [_decimal(x, "--ellipsoid", ">= 0") for x in ellipsoid]
     centre = [_decimal(x, "--centre") for x in centre]
+    speed = None if moving is None else _decimal(moving, "--moving", ">= 0")
     name, chain, theta, body, pose = robot_arm(robot, link)
     in_body = pose[:3, :3] @ np.array([float(x) for x in centre]) + pose[:3, 3]
     exact_centre = centre if np.allclose(pose, np.eye(4), atol=0) else tuple(map(float, in_body))
-    ball = Ball(body, mass, exact_centre, radius)
+    pset = PayloadSet(body, mass, exact_centre, _semi_axes_in_body(axes, pose[:3, :3], link))
     chosen = PROFILES[profile]
-    return envelope_result(f"{name} ({link})", chain, theta, ball, ramp_s=float(ramp), profile=chosen,
+    return envelope_result(f"{name} ({link})", chain, theta, pset, ramp_s=float(ramp), profile=chosen,
                            examples=chosen.envelope_examples, points=chosen.envelope_points, goal=chosen.envelope_goal,
-                           seed_value=seed, progress=progress)
+                           speed=speed, seed_value=seed, progress=progress)
 
 
 def _print(result, verified):
@@ -123,6 +151,11 @@ def _print(result, verified):
     print("curve (kg: alpha2 certified, chi certified): " + "; ".join(
         f"{r['mass']:g}: {r['alpha2_certified'] if r['alpha2_certified'] is not None else '-'}, {r['chi_certified']:.6g}"
         for r in ev["curve"]))
+    if "theorem5" in ev:
+        t5 = ev["theorem5"]
+        print(f"Theorem 5 (particles at <= {t5['speed']['value']:g} m/s): Psi* <= {t5['psi_star']['value']:.6g}, "
+              f"sigma_max(H(q, Psi)) <= {t5['sharp']['value']:.6g} (paper {t5['paper']['value']:.6g}; the prover's "
+              "bounds of sup sigma_max(Y_p), not re-proved)")
     attack = ev["attack"]
     print(f"attack: {attack['examples']['value']} Hypothesis payloads of the set, smallest margin "
           f"{attack['smallest_margin']['value']:.3g}; beyond the set: {ev['beyond_the_set']}")
@@ -157,9 +190,9 @@ def main(args):
     from inertiaproof.suite.certificates import certificate_tally, settle  # noqa: PLC0415
     from inertiaproof.verify.cli import BUDGET  # noqa: PLC0415
 
-    result = payload_envelope(args.robot, args.link, args.mass, radius=args.radius, centre=args.centre, ramp=args.ramp,
-                              profile=args.profile, seed=args.seed,
-                              progress=lambda message: print(message, file=sys.stderr))
+    result = payload_envelope(args.robot, args.link, args.mass, radius=args.radius, ellipsoid=args.ellipsoid,
+                              centre=args.centre, ramp=args.ramp, moving=args.moving, profile=args.profile,
+                              seed=args.seed, progress=lambda message: print(message, file=sys.stderr))
     out = Path(args.out) if args.out else None
     settle(result, out_dir=out, budget=BUDGET, verify=not args.no_verify, memo={})
     if out is not None:

@@ -17,7 +17,8 @@ __all__ = ["KINDS", "SCHEMA", "prove"]
 SCHEMA = "inertiaproof.certificate/1"
 KINDS = {"mass-matrix-spectrum": spectrum.prove, "body-spectrum": bodies.prove, "key-step": key_step.prove,
          "payload-envelope": payload.prove,
-         "product": lambda cert, budget: product.prove(cert, budget, prove)}  # its ingredients re-proved by prove
+         "product": lambda cert, budget: product.prove(cert, budget, prove),
+         "sum": lambda cert, budget: product.prove_sum(cert, budget, prove)}  # its ingredients re-proved by prove
 PROVED = {}  # outcomes by the certificate's SHA-256 and the budget: a certificate a product embeds, and that a run
 # also cites on its own, is proved once per process (Panda's deep alpha1 embeds its 93 s Def2 bracket)
 

@@ -1,16 +1,22 @@
-"""The ``payload-envelope`` claim: a bound over every consistent payload of a ball, reduced to claims proved elsewhere.
+"""The ``payload-envelope`` claim: a bound over every consistent payload of an ellipsoid, reduced to claims proved
+elsewhere.
 
-``payload``: body k (from 1), mass m, centre c and radius R in body k's frame. The payloads are the closed convex
-hull of the point masses m' delta_x, m' <= m, |x - c| <= R (by the S-lemma, the LMI set f(Phi_p) >= 0, tr(Q
-f(Phi_p)) >= 0 of Wensing, Kim and Slotine 2017); each quantity is convex in Phi_p, so the point masses of mass m
-decide it. With Z(m delta_x) = m A^T A, A = [I3, -S(x)], and f(m delta_x) = m y y^T, y = (x, 1):
+``payload``: body k (from 1), mass m, centre c and ``radius`` R (a ball) or ``semi_axes`` (a, b, c) along body k's
+axes, in body k's frame. The payloads are the closed convex hull of the point masses m' delta_x, m' <= m, x - c = d
+in the ellipsoid (by the S-lemma, the LMI set f(Phi_p) >= 0, tr(Q f(Phi_p)) >= 0 of Wensing, Kim and Slotine 2017);
+each quantity is convex in Phi_p, so the point masses of mass m decide it. With Z(m delta_x) = m A^T A, A = [I3,
+-S(x)], and f(m delta_x) = m y y^T, y = (x, 1):
 
 - ``lambda_min`` (of M(q, Theta + Phi_p e_k), >= bound): Z(Phi_p) >= 0 only adds to M: the ``mass-matrix-spectrum``
   claim of the parameters (the rest of the certificate is its data);
-- ``lambda_max`` (<= bound): Young's inequality with ``epsilon`` > 0 gives Z(m delta_x) <= Z(Phi_U), Phi_U = (1 + eps)
-  Phi(m delta_c) + (1 + 1/eps) m R^2 on I11, I22, I33: the spectrum claim with Phi_U added to body k (exactly, here);
+- ``lambda_max`` (<= bound): Young's inequality with ``epsilon`` > 0, |p + w x d|^2 <= (1 + eps) |p|^2 + (1 + 1/eps)
+  |w x d|^2, and |w x d|^2 <= w^T U w for U = diag(max(b, c)^2, max(a, c)^2, max(a, b)^2) (by the determinant
+  lemma: for a >= b >= c, U - |d|^2 I + d d^T >= 0 reduces to d_1^2/a^2 + (d_2^2 + d_3^2)/b^2 <= 1) give Z(m
+  delta_x) <= Z(Phi_U), Phi_U = (1 + eps) Phi(m delta_c) + (1 + 1/eps) m U on I11, I22, I33: the spectrum claim
+  with Phi_U added to body k (exactly, here);
 - ``lambda_max_f`` (every body's lambda_max(f(Phi_l + [l = k] Phi_p)) <= bound): m |y|^2 <= beta when beta >= m
-  ((|c| + R)^2 + 1) (decided exactly by squaring), then bound I - f(Phi_l) - [l = k] beta I >= 0 exactly per row.
+  ((|c| + R)^2 + 1), R the largest semi-axis (decided exactly by squaring), then bound I - f(Phi_l) - [l = k] beta I
+  >= 0 exactly per row.
 """
 
 from __future__ import annotations
@@ -30,27 +36,30 @@ QUANTITIES = ("lambda_min", "lambda_max", "lambda_max_f")
 def _payload(cert, bodies):
     payload = cert.get("payload")
     if not isinstance(payload, dict):
-        raise BadCertificate("payload: {body, mass, centre, radius}")
+        raise BadCertificate("payload: {body, mass, centre, radius or semi_axes}")
     body = payload.get("body")
     if not isinstance(body, int) or not 1 <= body <= bodies:
         raise BadCertificate(f"payload.body: a body from 1 to {bodies}")
-    mass, radius = rational(payload.get("mass"), "payload.mass"), rational(payload.get("radius"), "payload.radius")
-    centre = payload.get("centre")
-    if not isinstance(centre, list) or len(centre) != 3:
-        raise BadCertificate("payload.centre: three numbers")
+    mass = rational(payload.get("mass"), "payload.mass")
+    centre, axes = payload.get("centre"), payload.get("semi_axes", [payload.get("radius")] * 3)
+    for name, value in (("centre", centre), ("semi_axes", axes)):
+        if not isinstance(value, list) or len(value) != 3:
+            raise BadCertificate(f"payload.{name}: three numbers")
     centre = [rational(x, f"payload.centre[{i}]") for i, x in enumerate(centre)]
-    if mass < 0 or radius < 0:
-        raise BadCertificate("payload: mass and radius must be >= 0")
-    return body - 1, mass, centre, radius
+    axes = [rational(x, f"payload.semi_axes[{i}]") for i, x in enumerate(axes)]
+    if mass < 0 or min(axes) < 0:
+        raise BadCertificate("payload: mass and radius (semi-axes) must be >= 0")
+    return body - 1, mass, centre, axes
 
 
-def covering(mass, centre, radius, eps):
-    """Phi_U (10 exact rationals): (1 + eps) Phi(m delta_c) + (1 + 1/eps) m R^2 on I11, I22, I33."""
+def covering(mass, centre, axes, eps):
+    """Phi_U (10 exact rationals): (1 + eps) Phi(m delta_c) + (1 + 1/eps) m U on I11, I22, I33."""
     c1, c2, c3 = centre
-    s, lift = 1 + eps, (1 + 1 / eps) * mass * radius**2
-    m = s * mass
-    return [m, m * c1, m * c2, m * c3, m * (c2**2 + c3**2) + lift, m * (c1**2 + c3**2) + lift,
-            m * (c1**2 + c2**2) + lift, -m * c1 * c2, -m * c2 * c3, -m * c1 * c3]
+    sa, sb, sc = (x * x for x in axes)
+    u1, u2, u3 = ((1 + 1 / eps) * mass * u for u in (max(sb, sc), max(sa, sc), max(sa, sb)))
+    m = (1 + eps) * mass
+    return [m, m * c1, m * c2, m * c3, m * (c2**2 + c3**2) + u1, m * (c1**2 + c3**2) + u2, m * (c1**2 + c2**2) + u3,
+            -m * c1 * c2, -m * c2 * c3, -m * c1 * c3]
 
 
 def _written(sets):
@@ -65,15 +74,15 @@ def prove(cert, budget):
     if quantity not in QUANTITIES:
         raise BadCertificate(f"claim.quantity: one of {list(QUANTITIES)}")
     sets = parameter_sets(cert.get("parameters"))
-    k, mass, centre, radius = _payload(cert, len(sets[0]))
+    k, mass, centre, axes = _payload(cert, len(sets[0]))
     if quantity == "lambda_max_f":
-        return _flange(claim, sets, k, mass, centre, radius, cert.get("beta"))
+        return _flange(claim, sets, k, mass, centre, max(axes), cert.get("beta"))
     inner = {**cert, "claim": {**claim, "kind": "mass-matrix-spectrum"}}
     if quantity == "lambda_max":
         eps = rational(cert.get("epsilon"), "epsilon")
         if eps <= 0:
             raise BadCertificate("epsilon: must be > 0")
-        extra = covering(mass, centre, radius, eps)
+        extra = covering(mass, centre, axes, eps)
         for rows in sets:
             rows[k] = [a + b for a, b in zip(rows[k], extra)]
         inner["parameters"] = _written(sets)

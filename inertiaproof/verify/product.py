@@ -16,6 +16,10 @@ positive and unbounded). The claim holds when its ingredients' do and f prod c_i
 (clamped at 0 for ``<=``): with P = prod c_i^p_i >= 0 and f = sqrt(r), f P - bound has the sign of r P^2 -
 bound^2 where bound >= 0 (decided exactly). Where that fails the claim is refuted (the ingredients give no more);
 else an ingredient refuted refutes it, and one not decided leaves it not decided.
+
+The ``sum`` claim: sum_i x_i ``relation`` bound from ``terms`` (certificates: upper claims for ``<=``, lower for
+``>=``) bounding x_i by b_i: x_i <= b_i for all i gives sum x_i <= sum b_i whatever their signs, so it holds when
+sum b_i <= bound (>= for ``>=``, decided exactly) and every term is re-proved.
 """
 
 from __future__ import annotations
@@ -26,13 +30,14 @@ from .bodies import parameter_sets, pseudo_inertia, spatial_inertia
 from .exact import BadCertificate, rational, semidefinite
 from .outcome import Outcome
 
-__all__ = ["prove"]
+__all__ = ["prove", "prove_sum"]
 
 DEPTH = 4  # products nested in products
 LOWER = {("mass-matrix-spectrum", "lambda_min"), ("body-spectrum", "lambda_min"), ("payload-envelope", "lambda_min"),
-         ("product", ">=")}
+         ("product", ">="), ("sum", ">=")}
 UPPER = {("mass-matrix-spectrum", "lambda_max"), ("body-spectrum", "lambda_max"), ("body-spectrum", "sigma_max"),
-         ("payload-envelope", "lambda_max"), ("payload-envelope", "lambda_max_f"), ("product", "<=")}
+         ("payload-envelope", "lambda_max"), ("payload-envelope", "lambda_max_f"), ("product", "<="),
+         ("sum", "<=")}
 
 
 def _nonnegative(sub, key):
@@ -42,6 +47,11 @@ def _nonnegative(sub, key):
               ("payload-envelope", "lambda_max_f"): pseudo_inertia}.get(key)
     return matrix is not None and any(
         all(semidefinite(matrix(row)) for row in rows) for rows in parameter_sets(sub.get("parameters")))
+
+
+def _key(sub):
+    kind = sub["claim"].get("kind")
+    return kind, sub["claim"].get("relation" if kind in ("product", "sum") else "quantity")
 
 
 def _parse(cert):
@@ -64,8 +74,7 @@ def _parse(cert):
             raise BadCertificate(f"{where}.of: a certificate")
         if type(power) is not int or not 1 <= power <= 16:
             raise BadCertificate(f"{where}.power: an integer from 1 to 16")
-        kind = sub["claim"].get("kind")
-        key = (kind, sub["claim"].get("relation" if kind == "product" else "quantity"))
+        key = _key(sub)
         if key not in (LOWER if relation == ">=" else UPPER):
             raise BadCertificate(f"{where}: a {'lower' if relation == '>=' else 'upper'} claim expected, not {key}")
         b = rational(sub["claim"].get("bound"), f"{where}.of.claim.bound")
@@ -96,20 +105,54 @@ def prove(cert, budget, prove_any, depth=0):
         value = (arb(r).sqrt() * arb(p)).str(10, radius=False)
         return Outcome("refuted", f"the ingredients' bounds give factor * prod b_i^p_i = {value}, not {relation} "
                        f"{float(bound):.10g} (exact rational arithmetic)", 0, {"product": value})
+    return _prove_parts(cert, [sub for sub, _, _ in parsed], "ingredient", budget, prove_any, depth,
+                        f"{len(parsed)} ingredient(s) re-proved; factor * prod b_i^p_i {relation} bound decided "
+                        "exactly")
+
+
+def _prove_parts(cert, parts, label, budget, prove_any, depth, done):
+    """Each part (``label``: ingredient or term) re-proved, products and sums here (nested ``depth`` deep), the rest
+    by ``prove_any``: the first refuted refutes the claim, any not decided leaves it not decided."""
     boxes, undecided = 0, []
-    for i, (sub, _, _) in enumerate(parsed):
+    nested = {"product": prove, "sum": prove_sum}
+    for i, sub in enumerate(parts):
         try:
-            nested = sub.get("schema") == cert["schema"] and sub["claim"].get("kind") == "product"
-            out = prove(sub, budget, prove_any, depth + 1) if nested else prove_any(sub, budget)
+            own = sub.get("schema") == cert["schema"] and sub["claim"].get("kind") in nested
+            out = nested[sub["claim"]["kind"]](sub, budget, prove_any, depth + 1) if own else prove_any(sub, budget)
         except BadCertificate as exc:
-            raise BadCertificate(f"ingredients[{i}].of: {exc}") from None
+            raise BadCertificate(f"{label}s[{i}]: {exc}") from None
         boxes += out.boxes
         if out.status == "refuted":
-            return Outcome("refuted", f"ingredient {i} ({sub['claim'].get('statement', '')}): {out.why}", boxes,
-                           {"ingredient": i, "where": out.where})
+            return Outcome("refuted", f"{label} {i} ({sub['claim'].get('statement', '')}): {out.why}", boxes,
+                           {label: i, "where": out.where})
         if out.status != "re-proved":
-            undecided.append(f"ingredient {i}: {out.why}")
+            undecided.append(f"{label} {i}: {out.why}")
     if undecided:
         return Outcome("not decided", "; ".join(undecided), boxes)
-    return Outcome("re-proved", f"{len(parsed)} ingredient(s) re-proved; factor * prod b_i^p_i {relation} bound "
-                   "decided exactly", boxes)
+    return Outcome("re-proved", done, boxes)
+
+
+def prove_sum(cert, budget, prove_any, depth=0):
+    """The :class:`Outcome` of the sum claim: sum b_i ``relation`` bound decided exactly, then each term re-proved."""
+    if depth > DEPTH:
+        raise BadCertificate(f"terms: claims nested deeper than {DEPTH}")
+    claim = cert["claim"]
+    relation, bound = claim.get("relation"), rational(claim.get("bound"), "claim.bound")
+    if relation not in (">=", "<="):
+        raise BadCertificate("claim.relation: '>=' or '<='")
+    terms = cert.get("terms")
+    if not isinstance(terms, list) or not terms:
+        raise BadCertificate("terms: a nonempty list of certificates")
+    total = fmpq(0)
+    for i, sub in enumerate(terms):
+        if not isinstance(sub, dict) or not isinstance(sub.get("claim"), dict):
+            raise BadCertificate(f"terms[{i}]: a certificate")
+        if _key(sub) not in (LOWER if relation == ">=" else UPPER):
+            raise BadCertificate(f"terms[{i}]: a {'lower' if relation == '>=' else 'upper'} claim expected, not "
+                                 f"{_key(sub)}")
+        total += rational(sub["claim"].get("bound"), f"terms[{i}].claim.bound")
+    if not (total >= bound if relation == ">=" else total <= bound):
+        return Outcome("refuted", f"the terms' bounds sum to {float(total):.10g}, not {relation} {float(bound):.10g} "
+                       "(exact rational arithmetic)", 0, {"sum": str(total)})
+    return _prove_parts(cert, terms, "term", budget, prove_any, depth,
+                        f"{len(terms)} term(s) re-proved; sum b_i {relation} bound decided exactly")
