@@ -12,6 +12,7 @@ from inertiaproof.result import Verdict
 from inertiaproof.scene import robots
 from inertiaproof.scene.format import load_scene
 from inertiaproof.sim import crosscheck, simulate, study
+from inertiaproof.sim.control import controller
 from inertiaproof.suite.context import Context
 from inertiaproof.suite.outputs import Outputs
 from inertiaproof.suite.profiles import PROFILES
@@ -114,3 +115,26 @@ def test_balance_holds_where_the_residual_follows_the_tolerance_and_the_referenc
     assert _study(level, (1e-12, 2.9e-6)).balance_verdict()[0] == Verdict.VIOLATED
     assert _study(measured, (1e-12, 1e-9)).balance_verdict()[0] == Verdict.HOLDS  # the 1e-10 run still decides
     assert _study({1e-3: 2.61e-5, 1e-6: 5e-4}, (1e-12, 1.15e-10)).balance_verdict()[0] == Verdict.INCONCLUSIVE
+
+
+def test_a_level_balance_with_runs_stopped_by_the_clock_is_inconclusive_not_violated():
+    """A run of the reference method stopped by the wall-clock safety net (status clock, machine-dependent) might
+    have shown the residual falling: the level balance is then INCONCLUSIVE; with the same runs finished or stopped
+    by the counted budget it stays VIOLATED."""
+    level = {1e-3: 3e-6, 1e-6: 3e-6}
+    broken = _study(level, (1e-12, 2.9e-6))
+    assert broken.balance_verdict()[0] == Verdict.VIOLATED
+    for status, verdict in ((simulate.CLOCK, Verdict.INCONCLUSIVE), ("budget", Verdict.VIOLATED)):
+        st = _study(level, (1e-12, 2.9e-6))
+        st.runs.append((simulate.Run("DOP853", 1e-9, status, 60.0, 0, 10, "stopped"), None))
+        assert st.balance_verdict()[0] == verdict, status
+        assert ("wall clock" in st.balance_verdict()[3]) == (status == simulate.CLOCK)
+
+
+def test_a_run_past_its_seconds_is_clock_and_past_its_evaluations_budget():
+    scene = robots.BUILTIN["planar-2r-payload"]()
+    system = simulate.System(scene.chain, scene.trajectory, controller(scene.chain, scene.trajectory, scene.control))
+    clock = simulate.simulate(system, 0.5, "RK45", 1e-6, max_seconds=0.0)
+    assert clock.status == simulate.CLOCK and "wall-clock" in clock.note and not clock.finished
+    counted = simulate.simulate(system, 0.5, "RK45", 1e-6, max_evaluations=20)
+    assert counted.status == "budget" and "budget 20" in counted.note

@@ -13,7 +13,8 @@ divergence D(z, Theta) >= 0, zero iff Theta_hat = Theta, with
 which cancels the parameter term of V = 1/2 s^T M s + D in the Lyapunov argument
 (inertiaproof.sim.tracking). ``divergence_gradient`` is dD/dTheta: what a
 time-varying Theta adds to Ddot. A new law subclasses :class:`AdaptiveLaw`,
-implements its five methods and enters :data:`LAWS` (README: adaptive laws).
+implements its five methods and enters :data:`LAWS` (README: adaptive laws); ``linearization`` (for implicit
+integration) has a default by finite differences.
 """
 
 from __future__ import annotations
@@ -22,11 +23,13 @@ import numpy as np
 
 from inertiaproof.model.inertia import pseudo_inertia
 
-__all__ = ["AdaptiveLaw", "LAWS", "NaturalAdaptation", "SlotineLi", "adjoint", "f_inverse", "f_map", "make_law"]
+__all__ = ["AdaptiveLaw", "LAWS", "NaturalAdaptation", "SlotineLi", "adjoint", "f_inverse", "f_map", "make_law",
+           "per_body_jacobian"]
 
 F_MATRIX = pseudo_inertia(np.eye(10)).reshape(10, 16).T  # vec(f(x)) = F x: f of Theorem 1 as a 16 x 10 matrix
 ADJOINT_INVERSE = np.linalg.inv(F_MATRIX.T @ F_MATRIX)  # f^{-*}(g) = f((F^T F)^{-1} g)
 F_PSEUDO_INVERSE = ADJOINT_INVERSE @ F_MATRIX.T  # x = F^+ vec(f(x))
+SQRT_EPS = np.sqrt(np.finfo(float).eps)
 
 
 def f_map(x):
@@ -72,8 +75,29 @@ class AdaptiveLaw:
         """dD/dTheta (..., N, 10)."""
         raise NotImplementedError
 
+    def linearization(self, z, g):
+        """(d estimate/dz, d rate/dz, d rate/dg) at (z, g), per body (..., N, 10, 10) with [..., i, k] = d out_i /
+        d in_k, for the Newton matrix of an implicit integrator (inertiaproof.sim.tracking), where an approximation
+        suffices. By default forward differences of the law's own methods (a law acts on each body separately);
+        the two laws here give closed forms."""
+        g_probe = g[..., None, :, :]
+        return (per_body_jacobian(self.estimate, z),
+                per_body_jacobian(lambda x: self.rate(x, g_probe), z),
+                per_body_jacobian(lambda x: self.rate(z[..., None, :, :], x), g))
+
     def __repr__(self):
         return f"{type(self).__name__}({self.gain:g})"
+
+
+def per_body_jacobian(fun, x):
+    """d fun / dx (..., N, 10, 10) of a map fun acting on each body's 10 components of x (..., N, 10), by forward
+    differences: fun takes (..., K, N, 10) with a probe axis K (1 at x, 10 at the probes); steps sqrt(eps) x the
+    body's largest |x_k| (sqrt(eps) where the body's x is zero)."""
+    size = np.broadcast_to(np.abs(x).max(-1, keepdims=True), x.shape)
+    h = SQRT_EPS * np.where(size > 0, size, 1.0)  # (..., N, 10)
+    probes = x[..., None, :, :] + np.moveaxis(h[..., None] * np.eye(x.shape[-1]), -2, -3)  # (..., 10 k, N, 10)
+    change = fun(probes) - fun(x[..., None, :, :])  # (..., 10 k, N, 10 i)
+    return np.moveaxis(change / np.moveaxis(h, -1, -2)[..., None], -3, -1)
 
 
 class SlotineLi(AdaptiveLaw):
@@ -96,6 +120,10 @@ class SlotineLi(AdaptiveLaw):
 
     def divergence_gradient(self, z, theta):
         return (theta - z) / self.gain
+
+    def linearization(self, z, g):
+        eye = np.broadcast_to(np.eye(10), z.shape + (10,))
+        return eye, np.zeros_like(eye), -self.gain * eye
 
 
 class NaturalAdaptation(AdaptiveLaw):
@@ -132,6 +160,14 @@ class NaturalAdaptation(AdaptiveLaw):
 
     def divergence_gradient(self, z, theta):
         return adjoint(self.mirror(z) - np.linalg.inv(f_map(theta))) / self.gain
+
+    def linearization(self, z, g):
+        """Closed forms: d f^-1(U^-1) = -f^-1(U^-1 f(dz) U^-1) (finite differences lose it when U is as
+        ill-conditioned as a thin rod's), and the rate is linear in g and free of z."""
+        u_inv = np.linalg.inv(self.mirror(z))[..., None, :, :]
+        d_estimate = np.swapaxes(-f_inverse(u_inv @ f_map(np.eye(10)) @ u_inv), -1, -2)
+        rate = np.broadcast_to(self.gain * ADJOINT_INVERSE.T, d_estimate.shape)
+        return d_estimate, np.zeros_like(d_estimate), rate
 
 
 LAWS = {law.name: law for law in (SlotineLi, NaturalAdaptation)}

@@ -17,8 +17,9 @@ with X the plant's terms beyond Eq. (1) (gre: (M(q, Thetadot) + H) qd + J^T Q^T 
 classical: 0), assembled here from inertiaproof.dynamics.terms independently of the plant's inverse dynamics.
 A run integrates the right-hand side as W; max |V - V(0) - W| / max |V| is its Lyapunov balance error.
 
-Runs on one chain are integrated together (one state vector, batched NumPy, RK45); each keeps its own
-trajectory, law, gains, reference, initial estimate and plant, and keeps what it reached when the batch stops early.
+Runs on one chain are integrated together (one state vector, batched NumPy; RK45, or BDF / Radau with a block-diagonal
+Jacobian when the batch is stiff); each keeps its own trajectory, law, gains, reference, initial estimate and plant,
+and keeps what it reached when the batch stops early.
 """
 
 from __future__ import annotations
@@ -27,21 +28,26 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import RK45
+from scipy import sparse
+from scipy.integrate import BDF, RK45, Radau
 
 from inertiaproof.dynamics import motion, regressors, terms
 
 from .adaptive import make_law
 from .control import controller, reference_motion
-from .simulate import MAX_CONDITION
+from .simulate import CLOCK, MAX_CONDITION
 
-__all__ = ["NOT_STARTED", "PLANTS", "Batch", "Gains", "Reference", "RK45_STABILITY", "Run", "RunSpec", "scene_specs",
-           "simulate", "STIFF_FACTOR"]
+__all__ = ["CLOCK", "choose_method", "IMPLICIT", "IMPLICIT_DEFAULT", "NOT_STARTED", "PLANTS", "Batch", "Gains",
+           "Reference", "RK45_STABILITY", "Run", "RunSpec", "scene_specs", "simulate", "SOLVERS", "spent"]
 
 PLANTS = ("gre", "pagilla", "classical")
 RK45_STABILITY = 3.3  # RK45 (Dormand-Prince) is stable on the negative real axis for h |lambda| <= 3.306
-NOT_STARTED = ("ill-conditioned", "too stiff")  # statuses of a batch that simulate() does not integrate
-STIFF_FACTOR = 10.0  # too stiff: RK45 would cover less than 1 / STIFF_FACTOR of the horizon within the budget
+NOT_STARTED = ("ill-conditioned", "no start")  # statuses of a batch that simulate() does not integrate
+SOLVERS = {"RK45": RK45, "BDF": BDF, "Radau": Radau}
+IMPLICIT = ("BDF", "Radau")
+MAX_JACOBIAN_BYTES = 2 ** 28  # dense blocks of one batch's Jacobian beyond this: RK45 whatever the stiffness
+STIFFNESS_TIMES = 5  # instants over the horizon at which Batch.stiffness looks
+IMPLICIT_DEFAULT = "BDF"  # measured faster than Radau on the stiff scenes (README: stiff runs)
 KEPT = {"gre": (1.0, 1.0), "pagilla": (1.0, 0.0), "classical": (0.0, 0.0)}  # (Thetadot, Psi) each plant keeps
 
 
@@ -115,6 +121,7 @@ class Batch:
         self.trajectories = _groups([s.trajectory for s in self.specs])
         self.laws = _groups([s.law for s in self.specs])
         self.evaluations = 0
+        self.jacobians = 0
 
     def split(self, y):
         """(q, qd, z, W) of states y (..., B * size)."""
@@ -154,15 +161,20 @@ class Batch:
         return motion.Parameters(p.theta, self.keep_rate[:, None, None] * p.theta_dot,
                                  self.keep_psi[:, None] * p.psi, self.keep_psi[:, None] * p.psi_dot)
 
-    def rhs(self, t, y):
-        self.evaluations += 1
+    def controller(self, t, y):
+        """(q, qd, z, kin, s, R) at states y: the sliding variable s = qd - qd_r and the regressors R_l(q, qd, qd_r,
+        qdd_r) (RoboticRegressor) of the controller of the module docstring."""
         q, qd, z, _ = self.split(y)
         kin = motion.kinematics(self.chain, q)
         q_d, qd_d, qdd_d = self.reference(t)
         e, e_dot = q - q_d, qd - qd_d
         qd_r, qdd_r = qd_d - self.lam * e, qdd_d - self.lam * e_dot
-        s = qd - qd_r
         r = regressors.regressor(kin.qj, kin.dqj, kin.rotations, self.chain.gravity, qd, qd_r, qdd_r)
+        return q, qd, z, kin, qd - qd_r, r
+
+    def rhs(self, t, y):
+        self.evaluations += 1
+        _, qd, z, kin, s, r = self.controller(t, y)
         tau = regressors.apply_regressor(r, self.per_law("estimate", z)) - self.kd * s
         p = self.parameters(t)
         plant = self.plant_parameters(p)
@@ -171,6 +183,63 @@ class Batch:
         zdot = self.per_law("rate", z, np.einsum("...lkh,...k->...lh", r, s))
         power = self.lyapunov_power(kin, p, plant, qd, s, z)
         return np.concatenate([qd, qdd, zdot.reshape(zdot.shape[:-2] + (-1,)), power[..., None]], -1).reshape(y.shape)
+
+    def jacobian_blocks(self, t, y):
+        """Per run, d ydot / dy (B, size, size) at the state y (B * size,): the terms that make the loop stiff.
+
+        In s the closed loop reads M(q, Theta) sdot = -K_D s + sum_l R_l (Phi_hat_l - Phi_l) - C s - X (module
+        docstring), with s = qd - qd_d + Lambda e, qdd = sdot + qdd_d - Lambda (qd - qd_d) and zdot = rate(z, R^T s):
+
+            d qdd / dq = -M^-1 K_D Lambda,   d qdd / dqd = -Lambda - M^-1 K_D,   d qdd / dz_l = M^-1 R_l dPhi_hat_l/dz_l,
+            d zdot_l / d(q, qd) = (d rate / dg) R_l^T (Lambda, I),   d zdot_l / dz_l = d rate / dz
+
+        (the law's own linearization). Left out: the derivatives of M, C, G and R in q and qd, which scale with the
+        motion's speed, not with K_D or the adaptation gain. For the Newton iterations of Radau and BDF (an
+        approximate Jacobian costs iterations, not accuracy) and for the stiffness estimate."""
+        _, _, z, kin, s, r = self.controller(t, y)
+        n, size, runs = self.n, self.size, len(self.specs)
+        minv = np.linalg.inv(terms.mass_matrix(kin.qj, self.parameters(t).theta))
+        g = np.einsum("...lkh,...k->...lh", r, s)
+        d_estimate, d_rate_z, d_rate_g = (np.zeros(z.shape + (10,)) for _ in range(3))
+        for law, idx in self.laws:
+            d_estimate[idx], d_rate_z[idx], d_rate_g[idx] = law.linearization(z[idx], g[idx])
+        out = np.zeros((runs, size, size))
+        zs = slice(2 * n, size - 1)
+        out[:, :n, n:2 * n] = np.eye(n)
+        out[:, n:2 * n, :n] = -minv * (self.kd * self.lam)[:, None, :]
+        out[:, n:2 * n, n:2 * n] = -minv * self.kd[:, None, :] - self.lam[:, :, None] * np.eye(n)
+        out[:, n:2 * n, zs] = np.einsum("bij,bljh,blhm->bilm", minv, r, d_estimate).reshape(runs, n, -1)
+        rate_s = np.einsum("blih,bljh->blij", d_rate_g, r).reshape(runs, -1, n)
+        out[:, zs, :n] = rate_s * self.lam[:, None, :]
+        out[:, zs, n:2 * n] = rate_s
+        blocks = np.zeros((runs, self.bodies, 10, self.bodies, 10))
+        blocks[:, np.arange(self.bodies), :, np.arange(self.bodies), :] = np.moveaxis(d_rate_z, 1, 0)
+        out[:, zs, zs] = blocks.reshape(runs, 10 * self.bodies, 10 * self.bodies)
+        return out
+
+    def jacobian(self, t, y):
+        """:meth:`jacobian_blocks` as one sparse block-diagonal matrix (the runs are independent), for SciPy."""
+        self.jacobians += 1
+        blocks = self.jacobian_blocks(t, y)
+        runs = len(blocks)
+        return sparse.bsr_matrix((blocks, np.arange(runs), np.arange(runs + 1)),
+                                 shape=(runs * self.size,) * 2).tocsc()
+
+    def stiffness(self, horizon=0.0, times=STIFFNESS_TIMES):
+        """Per run, the largest spectral radius of :meth:`jacobian_blocks`, 1/s, at ``times`` instants across
+        [t0, t0 + horizon] on the reference's state with the initial estimate (the loads change M as they come):
+        the fastest mode of the closed loop, damping (M^-1 K_D) and adaptation (gamma R^T M^-1 R) alike. An explicit
+        method must keep h times it inside its stability region."""
+        t0 = self.specs[0].trajectory.span[0]
+        rho = np.zeros(len(self.specs))
+        with np.errstate(all="ignore"):
+            for t in np.linspace(t0, t0 + horizon, times if horizon > 0 else 1):
+                try:
+                    blocks = self.jacobian_blocks(t, self.initial_state(t))
+                    rho = np.fmax(rho, np.abs(np.linalg.eigvals(blocks)).max(-1))
+                except np.linalg.LinAlgError:
+                    return np.full(len(self.specs), np.inf)
+        return rho
 
     def lyapunov_power(self, kin, p, plant, qd, s, z):
         """Vdot by the identity of the module docstring."""
@@ -197,25 +266,13 @@ class Batch:
 
     def start_mass_matrix(self):
         """M(q0, Theta(t0)) of every run (B, n, n)."""
-        q0 = self.split(self.initial_state())[0]
         t0 = np.array([s.trajectory.span[0] for s in self.specs])
+        q0 = self.reference(t0)[0]
         return terms.mass_matrix(self.chain.body_jacobian(q0), self.parameters(t0).theta)
 
-    def fastest_rate(self):
-        """Per run, the fastest damped mode at the start, 1/s: the largest eigenvalue of M(q0, Theta(t0))^-1 K_D.
-
-        A lower estimate of the closed loop's stiffness (the adaptation loop and C are left out): along s it decays
-        as exp(-M^-1 K_D t), and an explicit method must keep h times it inside its stability interval."""
-        m = self.start_mass_matrix()
-        with np.errstate(all="ignore"):
-            try:
-                x = np.linalg.solve(np.linalg.cholesky(m), np.sqrt(self.kd)[..., None] * np.eye(self.n))
-            except np.linalg.LinAlgError:
-                return np.full(len(self.specs), np.inf)
-            return np.linalg.eigvalsh(x @ np.swapaxes(x, -1, -2))[..., -1]
-
-    def initial_state(self):
-        t0 = np.array([s.trajectory.span[0] for s in self.specs])
+    def initial_state(self, t=None):
+        """(q_d, qd_d, z(0), W = 0) at each run's start, or at time t (the reference's state then)."""
+        t0 = np.array([s.trajectory.span[0] for s in self.specs]) if t is None else np.full(len(self.specs), t)
         q0, qd0, _ = self.reference(t0)
         z0 = np.stack([s.law.initial(s.theta_hat0) for s in self.specs]).reshape(len(self.specs), -1)
         return np.concatenate([q0, qd0, z0, np.zeros((len(self.specs), 1))], -1).ravel()
@@ -238,13 +295,16 @@ class Run:
 
     spec: RunSpec
     index: int  # in its batch
-    status: str  # ok, budget, error, nan, step collapse, or one of NOT_STARTED
+    status: str  # ok, budget, clock, error, nan, step collapse, or one of NOT_STARTED
     note: str
     seconds: float  # of the whole batch
     evaluations: int  # right-hand sides of the whole batch
     t: np.ndarray = field(default=None, repr=False)
     y: np.ndarray = field(default=None, repr=False)  # (T, size): q, qd, z, W
     balance_error: float = np.nan
+    method: str = "RK45"  # RK45, BDF, Radau (none: not started)
+    jacobians: int = 0  # of the whole batch
+    looser_balance_error: float = np.nan  # the same run's at 10 x its rtol, when it was simulated again finer
 
     @property
     def finished(self):
@@ -252,66 +312,102 @@ class Run:
 
 
 def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=50_000, max_seconds=60.0,
-             forces=motion.generalized_forces):
-    """Integrate the runs together over [t0, t0 + horizon] (t0 of the first run's trajectory) with RK45; returns
-    (runs, batch). A batch that stops early (``budget``, ``nan``, ``step collapse``, ``error``) keeps the samples
-    it reached. The tolerance applies to the whole state (all runs): a run alone may be resolved better.
+             forces=motion.generalized_forces, method="auto", implicit=IMPLICIT_DEFAULT):
+    """Integrate the runs together over [t0, t0 + horizon] (t0 of the first run's trajectory); returns (runs, batch).
+
+    ``method`` "auto" takes RK45 unless the batch is stiff: the spectral radius rho of its Jacobian at the start
+    (:meth:`Batch.stiffness`, damping and adaptation) keeps RK45 to steps h <= RK45_STABILITY / rho, about
+    6 horizon rho / RK45_STABILITY evaluations; more than ``max_evaluations`` and the batch is integrated with the
+    implicit method ``implicit`` (BDF or Radau) and the Jacobian of :meth:`Batch.jacobian` (block diagonal).
+    "RK45", "BDF" or "Radau" force a method.
+
+    The decisive budget is counted, the same on every machine: ``max_evaluations`` right-hand sides of the batch,
+    each Jacobian and LU factorization counted as one; a batch past it stops as ``budget``. ``max_seconds`` is a
+    safety net only: a batch past it stops as ``clock`` (CLOCK), which depends on the machine, so callers take it
+    as no evidence either way. A batch that stops early (``budget``, ``clock``, ``nan``, ``step collapse``,
+    ``error``) keeps the samples it reached. The tolerance applies to the whole state (all runs): a run alone may
+    be resolved better.
 
     A batch is not started (only its initial sample) when M(q0, Theta(t0)) of a run has a condition number above
     inertiaproof.sim.simulate.MAX_CONDITION (``ill-conditioned``: qdd would keep fewer than 6 digits, the criterion
-    of the stability and loading studies), or (``too stiff``) when its fastest damped mode rho
-    (:meth:`Batch.fastest_rate`) keeps RK45 to steps h <= RK45_STABILITY / rho for about
-    6 horizon rho / RK45_STABILITY evaluations, more than STIFF_FACTOR x ``max_evaluations``: it would stop at the
-    budget within the first tenth of its horizon (a 24-link snake: rho ~ 1e5 /s, ~3e5 evaluations against 2e4).
-    rho is taken at the start: an estimate. A batch that needs less is integrated and may stop at the budget with
-    the samples it reached."""
+    of the stability and loading studies)."""
     batch = Batch(chain, specs, forces)
     t0 = specs[0].trajectory.span[0]
-    t_eval = np.linspace(t0, t0 + horizon, samples)
-    y0 = batch.initial_state()
-    solver = RK45(batch.rhs, t0, y0, t0 + horizon, rtol=rtol, atol=rtol * batch.scale())
-    ys, reached = [y0], 1
-    status, note = "ok", ""
-    start = time.perf_counter()
     with np.errstate(all="ignore"):
         condition = float(np.linalg.cond(batch.start_mass_matrix()).max())
-    rate = float(batch.fastest_rate().max())
-    need = 6 * horizon * rate / RK45_STABILITY
+        try:
+            y0 = batch.initial_state()
+        except np.linalg.LinAlgError as exc:
+            y0 = np.full(len(specs) * batch.size, np.nan)
+            unstartable = f"{type(exc).__name__}: {exc}"
+    start = time.perf_counter()
     if condition > MAX_CONDITION:
         status, note = "ill-conditioned", (f"not started: cond(M(q0, Theta(t0))) = {condition:.1e}: forward dynamics "
                                            "keeps fewer than 6 correct digits in float64")
-    elif np.isfinite(need) and need > STIFF_FACTOR * max_evaluations:  # inf: M(q0) not PD, left to the integrator
-        status, note = "too stiff", (f"not started: the fastest damped mode at the start, lambda_max(M(q0, Theta(t0))^-1 "
-                                     f"K_D) = {rate:.3g} /s, keeps RK45 to steps <= {RK45_STABILITY / rate:.2g} s, about "
-                                     f"{need:.2g} evaluations over {horizon:g} s, more than {STIFF_FACTOR:g} x the "
-                                     f"budget of {max_evaluations}: it would cover less than a tenth of the horizon "
-                                     "(a stiff solver is needed)")
+        ys, t_eval, chosen = [y0], np.array([t0]), "none"
+    elif not np.all(np.isfinite(y0)):
+        status, note = "no start", (f"not started: an adaptive law cannot start from Theta_hat(0) ({unstartable}): "
+                                    "the natural law needs f(Phi_hat_l(0)) positive definite (Theorem 1), not so "
+                                    "for a body whose mass lies on a line or plane")
+        ys, t_eval, chosen = [y0], np.array([t0]), "none"
+    else:
+        chosen = choose_method(batch, horizon, max_evaluations, method, implicit)
+        kw = dict(jac=batch.jacobian) if chosen in IMPLICIT else {}
+        solver = SOLVERS[chosen](batch.rhs, t0, y0, t0 + horizon, rtol=rtol, atol=rtol * batch.scale(), **kw)
+        t_eval = np.linspace(t0, t0 + horizon, samples)
+        status, note, ys = _integrate(solver, batch, t_eval, max_evaluations, start + max_seconds)
+    seconds = time.perf_counter() - start
+    t, y = t_eval[:len(ys)], np.array(ys)
     with np.errstate(all="ignore"):
-        while solver.status == "running" and status == "ok":
-            if batch.evaluations > max_evaluations or time.perf_counter() - start > max_seconds:
-                status, note = "budget", (f"stopped at t = {solver.t:.6g} after {batch.evaluations} evaluations "
-                                          f"(budget {max_evaluations} evaluations or {max_seconds:g} s)")
-                break
+        v = batch.lyapunov(t, y)
+    err = np.abs(v - v[0] - batch.split(y)[3]).max(0) / np.maximum(np.abs(v).max(0), np.finfo(float).tiny)
+    per_run = y.reshape(len(t), len(specs), batch.size)
+    return [Run(spec, i, status, note, seconds, batch.evaluations, t, per_run[:, i], float(err[i]), chosen,
+                batch.jacobians) for i, spec in enumerate(specs)], batch
+
+
+def choose_method(batch, horizon, max_evaluations, method="auto", implicit=IMPLICIT_DEFAULT):
+    """The method simulate() integrates with: ``method``, or for "auto" RK45 unless RK45 would need more than
+    ``max_evaluations`` evaluations by the batch's stiffness, then ``implicit`` (RK45 if the Jacobian's blocks would
+    take more than MAX_JACOBIAN_BYTES)."""
+    if method != "auto":
+        if method not in SOLVERS:
+            raise ValueError(f"method must be 'auto' or one of {sorted(SOLVERS)}, not {method!r}")
+        return method
+    if implicit not in IMPLICIT:
+        raise ValueError(f"implicit must be one of {IMPLICIT}, not {implicit!r}")
+    if len(batch.specs) * batch.size ** 2 * 8 > MAX_JACOBIAN_BYTES:  # the Jacobian would not fit: explicit
+        return "RK45"
+    need = 6 * horizon * float(batch.stiffness(horizon).max()) / RK45_STABILITY
+    return implicit if not need <= max_evaluations else "RK45"
+
+
+def spent(solver, batch):
+    """The counted work of a solver so far: right-hand sides, Jacobians and LU factorizations of the batch."""
+    return batch.evaluations + batch.jacobians + getattr(solver, "nlu", 0)
+
+
+def _integrate(solver, batch, t_eval, max_evaluations, deadline):
+    """Step ``solver`` to its end, sampling at ``t_eval``: (status, note, samples reached)."""
+    ys, reached = [solver.y.copy()], 1
+    with np.errstate(all="ignore"):
+        while solver.status == "running":
+            if spent(solver, batch) > max_evaluations:
+                return "budget", (f"stopped at t = {solver.t:.6g} after {spent(solver, batch)} counted evaluations "
+                                  f"(budget {max_evaluations}; {type(solver).__name__})"), ys
+            if time.perf_counter() > deadline:
+                return CLOCK, (f"stopped at t = {solver.t:.6g} by the wall-clock safety net after "
+                               f"{spent(solver, batch)} counted evaluations (a machine-dependent stop: no evidence)"), ys
             try:
                 message = solver.step()
-            except (np.linalg.LinAlgError, ValueError, FloatingPointError) as exc:
-                status, note = "error", f"{type(exc).__name__}: {exc} (at t = {solver.t:.6g})"
-                break
+            except (np.linalg.LinAlgError, ValueError, FloatingPointError, RuntimeError) as exc:
+                return "error", f"{type(exc).__name__}: {exc} (at t = {solver.t:.6g})", ys
             if solver.status == "failed":
-                status, note = "step collapse", f"{message} (at t = {solver.t:.6g})"
-                break
+                return "step collapse", f"{message} (at t = {solver.t:.6g})", ys
             if not np.all(np.isfinite(solver.y)):
-                status, note = "nan", f"non-finite state at t = {solver.t:.6g}"
-                break
+                return "nan", f"non-finite state at t = {solver.t:.6g}", ys
             k = np.searchsorted(t_eval, solver.t, side="right")
             if k > reached:
                 ys.extend(solver.dense_output()(t_eval[reached:k]).T)
                 reached = k
-    seconds = time.perf_counter() - start
-    t, y = t_eval[:reached], np.array(ys)
-    with np.errstate(all="ignore"):
-        v = batch.lyapunov(t, y)
-    err = np.abs(v - v[0] - batch.split(y)[3]).max(0) / np.maximum(np.abs(v).max(0), np.finfo(float).tiny)
-    per_run = y.reshape(reached, len(specs), batch.size)
-    return [Run(spec, i, status, note, seconds, batch.evaluations, t, per_run[:, i], float(err[i]))
-            for i, spec in enumerate(specs)], batch
+    return "ok", "", ys
