@@ -18,7 +18,8 @@ steps (exact to round-off):
 Def2, CX-normal and Prop1 use this cross-check on their own chains and on random
 chains of every joint kind and coordinate map the chains support, so a wrong
 rate factor g_l' turns them VIOLATED. Negative controls (QJ and dQJ/dq off by
-one part in a million) must be caught, else the cross-check is INCONCLUSIVE.
+one part in a million of their size, never a null perturbation: :func:`off_by`)
+must be caught, else the cross-check is INCONCLUSIVE.
 """
 
 from __future__ import annotations
@@ -35,7 +36,8 @@ from inertiaproof.suite.registry import replayer
 
 __all__ = [
     "EPS", "FD_STEP", "forward_kinematics", "FORWARD_KINEMATICS_CONTROLS", "kinematics_residuals", "kinematics_result",
-    "PROPERTIES", "references", "replay_forward_kinematics", "TOLERANCE", "twists_of_forward_kinematics", "with_kinematics",
+    "off_by", "PART", "PROPERTIES", "references", "replay_forward_kinematics", "TOLERANCE",
+    "twists_of_forward_kinematics", "with_kinematics",
 ]
 
 TOLERANCE = 1e-10  # relative, against the norm of the quantity compared
@@ -144,10 +146,20 @@ def kinematics_residuals(chain, q, q_dot, qj=None, dqj=None, reference=None):
             PROPERTIES[3]: (_relative(dqj, ref["dqj"], (-3, -2, -1)), 10 * ref["error"] + TOLERANCE)}
 
 
-FORWARD_KINEMATICS_CONTROLS = {  # label: (scale of QJ, scale of dQJ/dq, the property that must see it)
-    "QJ off by one part in a million": (1 + 1e-6, 1.0, PROPERTIES[1]),
-    "dQJ/dq off by one part in a million": (1.0, 1 + 1e-6, PROPERTIES[3]),
+FORWARD_KINEMATICS_CONTROLS = {  # label: (whether QJ, whether dQJ/dq is put off, the property that must see it)
+    "QJ off by one part in a million": (True, False, PROPERTIES[1]),
+    "dQJ/dq off by one part in a million": (False, True, PROPERTIES[3]),
 }
+PART = 1e-6  # the negative controls' size
+
+
+def off_by(x, size):
+    """``x`` put off elementwise by PART (|x| + size), with the sign of x (0 counts as +): a perturbation of at least
+    one part in a million of x that is never null, also where x vanishes identically (dQJ/dq of a chain of slides
+    with identity maps is 0, so a control that only scaled it would change nothing and could not be caught).
+    ``size`` (K,) is the size of QJ per configuration (its largest entry)."""
+    size = np.reshape(size, np.shape(size) + (1,) * (np.ndim(x) - np.ndim(size)))
+    return x + PART * np.where(x < 0, -1.0, 1.0) * (np.abs(x) + size)
 
 
 def _worst(residuals):
@@ -182,8 +194,10 @@ def _on_chains(ctx, check_id, chains):
                       for p, (v, _) in residuals.items()}
         if r > res and counterexample is None:
             counterexample = _counterexample(check_id, chain, q[i], q_dot[i], prop, r, res)
+        size = np.abs(qj).max((-2, -1))
         for label, (a, b, prop) in FORWARD_KINEMATICS_CONTROLS.items():
-            wrong, resolution = kinematics_residuals(chain, q, q_dot, qj * a, dqj * b, reference)[prop]
+            wrong, resolution = kinematics_residuals(chain, q, q_dot, off_by(qj, size) if a else qj,
+                                                     off_by(dqj, size) if b else dqj, reference)[prop]
             controls[label] |= bool((wrong > resolution).any())
     return rows, verdicts, counterexample, controls
 

@@ -30,6 +30,7 @@ from inertiaproof.checks.pointwise import with_hunt
 
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
 from inertiaproof.bounds.constants import lower_constants, upper_constants
+from inertiaproof.bounds.premises import failed_premises
 from inertiaproof.bounds.time import parameter_vertices, time_extreme
 from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
@@ -151,25 +152,47 @@ def cor1(ctx):
 
 
 def cor1_result(ctx, scenes, k_lower=1.0, k_upper=1.0):
-    """Corollary 1: both bounds with 0 < alpha1 <= alpha2 < inf certified on scenes with normal, bounded QJ;
-    k_lower and k_upper multiply the paper's alpha1 and alpha2 (a test misstates one)."""
+    """Corollary 1 (corollary:UniformBounds): both bounds with 0 < alpha1 <= alpha2 < inf certified on scenes with
+    normal, bounded QJ; k_lower and k_upper multiply the paper's alpha1 and alpha2 (a test misstates one). On a scene
+    where a premise certifiably fails (:func:`inertiaproof.bounds.premises.failed_premises`: QJ not normal, the
+    parameters not uniformly consistent or not upper bounded) the corollary claims nothing: that scene HOLDS with the
+    failed premise and its exact witness as the reason. Theorems 2 and 3 are judged on every scene all the same, so a
+    violation of either stays VIOLATED."""
     low = run_scenes("Thm2", ctx, lower_bound_case, scenes, k_lower)
     high = run_scenes("Thm3", ctx, upper_bound_case, scenes, k_upper)
     rows, verdicts = {}, [low.verdict, high.verdict]
-    for name in low.evidence["scenes"]:
-        c1 = low.evidence["scenes"][name]["constants"]["certified"]
-        c2 = high.evidence["scenes"][name]["constants"]["certified"]
-        a1, a2 = float(c1["value"]), float(c2["value"])  # "inf", "nan" as floats again
-        ok = 0 < a1 <= a2 < np.inf
-        rows[name] = {"alpha1_certified": {**c1, "note": "Theorem 2, sharpest certified: " + c1["note"]},
-                      "alpha2_certified": {**c2, "note": "Theorem 3, sharpest certified: " + c2["note"]},
-                      "ordered": ok}
-        verdicts.append(Verdict.HOLDS if ok else Verdict.INCONCLUSIVE)
-    verdict = combine(verdicts)
-    return Result("Cor1", verdict, "certified 0 < alpha1 <= alpha2 < inf on " + "; ".join(
-        f"{n} ({shown(r['alpha1_certified']['value'])} <= {shown(r['alpha2_certified']['value'])})" for n, r in rows.items()),
-        {"scenes": rows, "Thm2": low.evidence, "Thm3": high.evidence},
-        counterexample=low.counterexample or high.counterexample)
+    for scene in scenes:
+        rows[scene.name] = _cor1_row(scene, low.evidence["scenes"][scene.name]["constants"]["certified"],
+                                     high.evidence["scenes"][scene.name]["constants"]["certified"])
+        verdicts.append(Verdict(rows[scene.name]["verdict"]))
+    return Result("Cor1", combine(verdicts), "; ".join(f"{n}: {r['why']}" for n, r in rows.items()),
+                  {"scenes": rows, "Thm2": low.evidence, "Thm3": high.evidence},
+                  counterexample=low.counterexample or high.counterexample)
+
+
+def _cor1_row(scene, c1, c2):
+    """Corollary 1 on one scene from the certified alpha1 (c1) and alpha2 (c2): HOLDS where 0 < alpha1 <= alpha2 <
+    inf is certified, or where a premise certifiably fails (the corollary claims nothing there); INCONCLUSIVE where
+    neither is shown, with what is missing."""
+    a1, a2 = float(c1["value"]), float(c2["value"])  # "inf", "nan" as floats again
+    ok = bool(0 < a1 <= a2 < np.inf)
+    failed = [] if ok else failed_premises(scene)
+    shown_pair = f"{shown(c1['value'])} <= {shown(c2['value'])}"
+    if ok:
+        verdict, why = Verdict.HOLDS, f"certified 0 < alpha1 <= alpha2 < inf ({shown_pair})"
+    elif failed:
+        verdict = Verdict.HOLDS
+        why = ("premise fails: " + "; ".join(f"{f['premise']}: {f['why']}" for f in failed)
+               + f"; so Corollary 1 claims nothing here (certified alpha1, alpha2: {shown_pair})")
+    else:
+        verdict = Verdict.INCONCLUSIVE
+        missing = [side for side, bad in (("alpha1 > 0", not a1 > 0), ("alpha2 < inf", not a2 < np.inf),
+                                          ("alpha1 <= alpha2", a1 > 0 and a2 < np.inf and a1 > a2)) if bad]
+        why = (f"not decided: {', '.join(missing)} not certified ({shown_pair}) and no premise certified to fail "
+               f"(alpha1 from: {c1.get('note', '')}; alpha2 from: {c2.get('note', '')})")
+    return {"alpha1_certified": {**c1, "note": "Theorem 2, sharpest certified: " + c1["note"]},
+            "alpha2_certified": {**c2, "note": "Theorem 3, sharpest certified: " + c2["note"]},
+            "ordered": ok, "premises_failed": failed, "verdict": str(verdict), "why": why}
 
 
 def def3_result(trajectories, spatial=spatial_inertia):

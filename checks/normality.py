@@ -18,6 +18,7 @@ from inertiaproof.checks.forward_kinematics import kinematics_result, with_kinem
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
 from inertiaproof.bounds.constants import lower_constants
 from inertiaproof.bounds.domain import search_box
+from inertiaproof.bounds.premises import normality_failures
 from inertiaproof.bounds.time import time_extreme, vertex_extreme
 from inertiaproof.dynamics.terms import mass_matrix
 from inertiaproof.model.inertia import pseudo_inertia, unit_body
@@ -121,11 +122,13 @@ def def2_result(ctx, scenes, theta_for_identity=None):
         verdicts.append(Verdict.HOLDS if ok else Verdict.VIOLATED)
         refuted = refutations("Def2", [(scene, gamma, unit_bodies(chain)[None], "lmin")])
         found += refuted
+        failed = [] if refuted or gamma.lower > 0 else normality_failures(chain)
         status = ("certificate refuted: the certified lower side lies above the value attained at its witness"
                   if refuted else "normal (certified)" if gamma.lower > 0 else
+                  f"not normal (certified: {failed[0]['why']})" if failed else
                   "not normal (sigma_min(QJ) = 0 attained)" if gamma.observed <= 64 * EPS else
                   "undecided: certified lower side 0, observed > 0")
-        rows[scene.name] = {"status": status, "bracket": gamma.evidence(),
+        rows[scene.name] = {"status": status, "bracket": gamma.evidence(), "not_normal": failed,
                             "identity_residual": quantity(residual, "residual",
                                                           "max relative |M(q, (1,0,I3)) - (QJ)^T QJ| over 256 samples"),
                             "tolerance": quantity(64 * EPS * chain.n, "tolerance")}

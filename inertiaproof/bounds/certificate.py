@@ -19,7 +19,8 @@ from inertiaproof.model.exact import definiteness, integer_matrix
 from .domain import certification_obstacle, search_box
 
 __all__ = ["PayloadClaim", "SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "key_step_certificate",
-           "payload_f_certificate", "product_certificate", "spectrum_certificate", "sum_certificate"]
+           "payload_f_certificate", "product_certificate", "pseudo_exact", "spatial_exact", "spatial_psd",
+           "spectrum_certificate", "sum_certificate", "ZERO_FLOOR"]
 
 SCHEMA = "inertiaproof.certificate/1"
 STATEMENT = {"lambda_min": "lambda_min(M(q, Theta)) >= {bound}", "lambda_max": "lambda_max(M(q, Theta)) <= {bound}"}
@@ -143,8 +144,31 @@ class SpectrumClaim:
     square: bool = False
 
     def __call__(self, bound, note="", witness=None, proof=None):
+        if self.quantity == "lambda_min" and float(bound) == 0.0 and spatial_psd(self.thetas):
+            return body_spectrum_certificate(self.thetas, "lmin_Z", 0.0, ZERO_FLOOR + note)
         bound = Fraction(float(bound)) ** 2 if self.square else bound
         return spectrum_certificate(self.chain, self.thetas, self.quantity, bound, note, witness, proof)
+
+
+ZERO_FLOOR = ("lambda_min(M(q, Theta)) >= 0 for every q as M = (QJ)^T blockdiag(Z(Phi_l)) QJ (MassMatrix, "
+              "DefBlockmatrixZ), so it is Z(Phi_l) >= 0 on the hull that is claimed: ")
+
+
+def spatial_exact(row):
+    """Z(Phi) (DefMatrixZ) of a row of floats, in exact Fractions."""
+    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = (Fraction(float(x)) for x in row)
+    zero = Fraction(0)
+    return [[m, zero, zero, zero, h3, -h2], [zero, m, zero, -h3, zero, h1], [zero, zero, m, h2, -h1, zero],
+            [zero, -h3, h2, i11, i12, i13], [h3, zero, -h1, i12, i22, i23], [-h2, h1, zero, i13, i23, i33]]
+
+
+def spatial_psd(thetas):
+    """Whether Z(Phi_l) >= 0 for every row of ``thetas`` (..., 10), decided exactly (so on their convex hull: Z is
+    linear in Phi); False where a row is not finite."""
+    rows = np.unique(np.asarray(thetas, float).reshape(-1, 10), axis=0)
+    return bool(np.all(np.isfinite(rows))) and all(
+        definiteness(integer_matrix(spatial_exact(row)))[0] in ("pd", "psd")
+        for row in rows)
 
 
 PAYLOAD_STATEMENT = {"lambda_min": "lambda_min(M(q, Theta + Phi_p)) >= {bound}",
@@ -180,9 +204,9 @@ class PayloadClaim:
                 **({"epsilon": exact(self.eps)} if self.quantity == "lambda_max" else {})}
 
 
-def _pseudo_exact(row):
-    """f(Phi) (DefTrafoInertialParameters) of a float row, in exact Fractions."""
-    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = (Fraction(float(x)) for x in row)
+def pseudo_exact(row):
+    """f(Phi) (DefTrafoInertialParameters) of a row of floats or Fractions, in exact Fractions."""
+    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = (x if isinstance(x, Fraction) else Fraction(float(x)) for x in row)
     half = (i11 + i22 + i33) / 2
     return [[half - i11, -i12, -i13, h1], [-i12, half - i22, -i23, h2], [-i13, -i23, half - i33, h3], [h1, h2, h3, m]]
 
@@ -197,7 +221,7 @@ def payload_f_certificate(arm, payloads, beta):
     if not np.all(np.isfinite(arm)):
         return None
     lifts = [Fraction(beta) if l == payloads.body else Fraction(0) for l in range(arm.shape[1])]
-    pseudo = [(_pseudo_exact(row), lift) for rows in arm for row, lift in zip(rows, lifts)]
+    pseudo = [(pseudo_exact(row), lift) for rows in arm for row, lift in zip(rows, lifts)]
     bound = Fraction(max(float(np.linalg.eigvalsh(np.array(f, float))[-1] + lift) for f, lift in pseudo))
     step = abs(bound) * Fraction(1, 2**40) + Fraction(1, 2**60)
     while not all(definiteness(integer_matrix([[(bound - lift if i == j else 0) - f[i][j] for j in range(4)]

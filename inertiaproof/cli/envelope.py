@@ -188,13 +188,19 @@ def main(args):
     if args.seed < 0:
         raise InputError(f"--seed must be a nonnegative integer, got {args.seed}")
     from inertiaproof.suite.certificates import certificate_tally, settle  # noqa: PLC0415
+    from inertiaproof.suite.execution import Executor  # noqa: PLC0415
     from inertiaproof.verify.cli import BUDGET  # noqa: PLC0415
+
+    def say(message):
+        print(message, file=sys.stderr)
 
     result = payload_envelope(args.robot, args.link, args.mass, radius=args.radius, ellipsoid=args.ellipsoid,
                               centre=args.centre, ramp=args.ramp, moving=args.moving, profile=args.profile,
-                              seed=args.seed, progress=lambda message: print(message, file=sys.stderr))
+                              seed=args.seed, progress=say)
     out = Path(args.out) if args.out else None
-    settle(result, out_dir=out, budget=BUDGET, verify=not args.no_verify, memo={})
+    executor = Executor()
+    executor.say = say  # the re-proof's progress ("certificates: k/N tasks, ETA")
+    settle(result, out_dir=out, budget=BUDGET, verify=not args.no_verify, memo={}, executor=executor)
     if out is not None:
         _write(out, result)
     if args.json:
