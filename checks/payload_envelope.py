@@ -174,10 +174,13 @@ def envelope_result(name, chain, theta, pset, *, ramp_s, profile, examples, poin
 
 def _constants(found):
     low, high, chi = found["lower"], found["upper"], found["chi"]
+    sides = {"alpha1": found["brackets"]["inf lambda_min(M)"]["lower"],  # the true extremes' certified sides
+             "alpha2": found["brackets"]["sup lambda_max(M)"]["upper"], "chi": chi["certified"]}
     out = {}
     for name, c, sense in (("alpha1", low, "lower"), ("alpha2", high, "upper"), ("chi", chi, "upper")):
         certified = c["certified"]
         paper = c["paper"]
+        side = sides[name].get("certificate")
         out[name] = {
             "certified": quantity(certified["value"], "certified_constant", certified["how"],
                                   certificate=certified.get("certificate")),
@@ -185,9 +188,11 @@ def _constants(found):
                               "the paper's constant from certified ingredients", certificate=paper.get("certificate")),
             "true_extreme": {
                 "lower": quantity(c["observed"]["lower"], "lower_bound" if sense == "lower" else "sampled",
-                                  "certified side" if sense == "lower" else "attained at the witness"),
+                                  "certified side" if sense == "lower" else "attained at the witness",
+                                  certificate=side if sense == "lower" else None),
                 "upper": quantity(c["observed"]["upper"], "sampled" if sense == "lower" else "upper_bound",
-                                  "attained at the witness" if sense == "lower" else "certified side")},
+                                  "attained at the witness" if sense == "lower" else "certified side",
+                                  certificate=side if sense == "upper" else None)},
         }
     return out
 

@@ -273,3 +273,17 @@ def test_progress_of_a_bracket_not_yet_finite_is_printed(monkeypatch):
                                  np.ones(1), sense="max", quantity_name="x^2", samples=16, refine_s=5,
                                  rng=np.random.default_rng(0), progress=lines.append, max_boxes=300)
     assert b.observed == pytest.approx(1, abs=0.2) and any("unbounded" in line for line in lines)
+
+
+def test_the_true_extremes_certified_sides_cite_their_certificates():
+    result = check.envelope_result("2R", ARM.chain, ARM.trajectory.base, BALL, ramp_s=1.0, profile=PROFILES["ci"],
+                                   examples=10, points=0, goal=None)
+    constants, brackets = result.evidence["constants"], result.evidence["brackets"]
+    for name, side, bracket in (("alpha1", "lower", "inf lambda_min(M)"), ("alpha2", "upper", "sup lambda_max(M)"),
+                                ("chi", "upper", None)):
+        extreme = constants[name]["true_extreme"][side]
+        cert = extreme["certificate"]
+        assert verify(json.loads(json.dumps(cert)))["status"] == "re-proved", name
+        assert Fraction(cert["claim"]["bound"]) == Fraction(extreme["value"]) or bracket is None
+        if bracket is not None:
+            assert extreme["value"] == brackets[bracket][side]["value"]
