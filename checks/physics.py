@@ -21,7 +21,7 @@ from inertiaproof.errors import InputError
 from inertiaproof.result import Result, Verdict, combine, quantity
 from inertiaproof.scene import robots
 from inertiaproof.scene.format import load_scene
-from inertiaproof.sim import capture, crosscheck, study
+from inertiaproof.sim import capture, crosscheck, fixedstep, study
 from inertiaproof.sim.control import controller
 from inertiaproof.suite.registry import check, replayer
 
@@ -182,7 +182,7 @@ def _fmt(x, spec):
     return format(x, spec) if isinstance(x, (int, float)) and np.isfinite(x) else "n/a"
 
 
-def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, counts=None):
+def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, counts=None, scheme=None):
     """Captures of pieces at rest against the equation's solution over each scene's mass window."""
     missing = _engine_missing()
     if missing:
@@ -194,16 +194,18 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
         "assumption": ASSUMPTION,
         "method": ("the equation (ours) against a rigid multibody model (Pinocchio) that gains the mass in K pieces, "
                    "each joining in a plastic capture with the generalized momentum continuous; one fixed grid of "
-                   "classical Runge-Kutta steps over the window for every model (h x fastest closed-loop rate <= 1), "
-                   "captures on grid points; distances at the window's end, relative to the motion's range and "
-                   "speed; K doubles until the observed order settles"),
+                   "steps over the window for every model: classical Runge-Kutta (order 4, h x fastest closed-loop "
+                   "rate <= 1), or on a scene too stiff for that within the study's steps the L-stable 2-stage Radau "
+                   "IIA (order 3, simplified Newton, finite-difference Jacobian); captures on grid points; distances "
+                   "at the window's end, relative to the motion's range and speed; K doubles until the observed "
+                   "order settles"),
         "scenes": {},
     }
     verdicts, counterexample, series = [], None, None
     for ref, scene in scenes:
         control = controller(scene.chain, scene.trajectory, scene.control)
         cs = capture.study(scene.chain, scene.trajectory, control, counts, steps, forces, scene.horizon(), max_steps,
-                           max_count, progress=ctx.progress, budget=ctx.budget)
+                           max_count, progress=ctx.progress, budget=ctx.budget, scheme=scheme)
         verdicts.append(cs.verdict)
         _, order_start, _, _ = capture.convergence_verdict(cs.fine, cs.at_start, cs.floor) if cs.at_start else (
             None, None, None, None)
@@ -213,13 +215,19 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
             "window": [float(cs.window[0]), float(cs.window[1])],
             "verdict": str(cs.verdict),
             "why": cs.why,
-            "steps": quantity(cs.steps, "count", "RK4 steps over the window"),
+            "steps": quantity(cs.steps, "count", "steps of the scheme over the window"),
+            "scheme": cs.scheme.name,
+            "scheme_order": quantity(cs.scheme.order, "count", "the scheme's order of accuracy"),
+            "observed_integration_order": quantity(cs.integration_order, "estimate",
+                                                   "order observed over 4h, 2h, h (the floor uses the lower of the "
+                                                   "two, at least 1)"),
+            "work": {k: quantity(v, "count") for k, v in cs.work.as_dict().items()},
             "fastest_rate": quantity(cs.rate, "estimate", "fastest closed-loop mode, rad/s"),
             "pieces": list(cs.counts),
             "error_at_rest_centred": [quantity(e, "residual") for e in cs.at_rest],
             "order_at_rest_centred": quantity(cs.order, "estimate", "pieces join at the middle of their time slice"),
             "order_at_rest_slice_start": quantity(order_start, "estimate", "pieces join at the start of their slice"),
-            "integration_floor": quantity(cs.floor, "tolerance", "2 x Richardson estimate of the RK4 error"),
+            "integration_floor": quantity(cs.floor, "tolerance", "2 x Richardson estimate of the scheme's error"),
             "mismatch_if_carried": quantity(cs.mismatch, "value",
                                             "distance between (RoboticEquation) and the limit of pieces that arrive "
                                             "with the velocity of the point they join (no M(q, Thetadot) qd term)"),
@@ -238,7 +246,8 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
                                                                          zip(cs.fine, cs.carried_limit)]}}
         if cs.verdict == Verdict.VIOLATED and counterexample is None:
             counterexample = {"kind": "gre-physics-loading", "data": {
-                "scene": ref, "steps": cs.steps, "pieces": list(cs.counts), "errors": cs.at_rest, "floor": cs.floor}}
+                "scene": ref, "steps": cs.steps, "pieces": list(cs.counts), "errors": cs.at_rest, "floor": cs.floor,
+                "scheme": cs.scheme.name}}
     if series:
         evidence["series"] = series
     verdict = combine(verdicts)
@@ -258,8 +267,9 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
 @replayer("gre-physics-loading")
 def replay_loading(data, ctx):
     """Re-run the captures on the saved scene with the current code."""
+    scheme = next((x for x in (fixedstep.RK4, fixedstep.RADAU_IIA) if x.name == data.get("scheme")), None)
     return loading_result([(data["scene"], scene_from(data["scene"]))], ctx, steps=data["steps"],
-                          counts=data["pieces"])
+                          counts=data["pieces"], scheme=scheme)
 
 
 # -- stability and error against run time -------------------------------------------

@@ -6,7 +6,7 @@ from inertiaproof.checks import physics
 
 from inertiaproof.result import Verdict
 from inertiaproof.scene import robots
-from inertiaproof.sim import capture
+from inertiaproof.sim import capture, fixedstep
 from inertiaproof.sim.control import controller
 from inertiaproof.suite.context import Context
 from inertiaproof.suite.profiles import PROFILES
@@ -98,3 +98,43 @@ def test_feedforward_in_chunks_is_the_whole_grid(monkeypatch):
     assert whole.shape == (7, 3, scene.chain.n) and np.allclose(pd.feedforward(times), whole, rtol=0, atol=tol)
     single = pd.feedforward(np.array(times[2, 1]))
     assert single.shape == (scene.chain.n,) and np.allclose(single, whole[2, 1], rtol=0, atol=tol)
+
+
+@pytest.fixture(scope="module")
+def implicit_loading():
+    """The loading study on planar 2R with the implicit scheme the stiff scenes get (chosen there by stiffness)."""
+    return physics.loading_result([({"builtin": "planar-2r-payload"}, robots.planar_2r(2.0))], Context(PROFILES["ci"]),
+                                  steps=64, counts=(4, 8, 16, 32), scheme=fixedstep.RADAU_IIA)
+
+
+def test_the_implicit_scheme_decides_the_loading_study(implicit_loading):
+    """Radau IIA's captures at rest converge with the same order 2 as RK4's; its observed order is its own, 3."""
+    assert implicit_loading.verdict == Verdict.HOLDS, implicit_loading.summary
+    entry = implicit_loading.evidence["scenes"]["planar-2r-payload"]
+    assert entry["scheme"] == fixedstep.RADAU_IIA.name and entry["scheme_order"]["value"] == 3
+    assert abs(entry["order_at_rest_centred"]["value"] - 2.0) < 0.2
+    assert abs(entry["observed_integration_order"]["value"] - 3.0) < 0.3
+    assert entry["work"]["newton_iterations"]["value"] >= entry["work"]["steps"]["value"] > 0
+
+
+def test_the_implicit_scheme_sees_a_perturbed_equation():
+    scene = robots.planar_2r(2.0)
+    result = physics.loading_result([({"builtin": "planar-2r-payload"}, scene)], Context(PROFILES["ci"]),
+                                    forces=_perturbed("parameter_rate", 0.5), steps=64, counts=(4, 8, 16, 32),
+                                    scheme=fixedstep.RADAU_IIA)
+    assert result.verdict == Verdict.VIOLATED, result.summary
+    assert result.counterexample["data"]["scheme"] == fixedstep.RADAU_IIA.name
+    replayed = REPLAYERS["gre-physics-loading"](result.counterexample["data"], Context(PROFILES["ci"]))
+    assert replayed.verdict == Verdict.HOLDS
+    assert replayed.evidence["scenes"]["planar-2r-payload"]["scheme"] == fixedstep.RADAU_IIA.name
+
+
+def test_stiffness_chooses_the_implicit_scheme():
+    """The thin rod's fastest mode (3.7e9 rad/s over a 0.3 s window) would need 2^31 RK4 steps: Radau IIA instead,
+    its steps set by the slow motion; the planar 2R (122 rad/s) keeps RK4."""
+    counts = (4, 8, 16, 32, 64)
+    assert capture.scheme_for((0.2, 0.5), 3.7e9, counts, 128, 2048) == (fixedstep.RADAU_IIA, 0.0)
+    assert capture.scheme_for((1.0, 1.5), 122.0, counts, 128, 2048) == (fixedstep.RK4, 122.0)
+    assert capture.refined_steps(128, 12.0, 2.99, 3, 2048) == 512  # 12x lower floor at order 3: two doublings
+    assert capture.refined_steps(128, 1e6, 3.0, 3, 2048) == 2048  # never beyond max_steps
+    assert capture.refined_steps(128, 1.5, np.nan, 3, 2048) == 256

@@ -18,9 +18,11 @@ second converges to the equation *without* M(q, Thetadot) qd for the added
 mass, a mismatch of order one. The same formulas hold for mass that leaves
 (Thetadot < 0): the equation then has it leave at rest in the Newtonian frame.
 
-All solutions use one fixed grid of classical Runge-Kutta steps; captures sit
-on grid points, so the integration error is the same O(h^4) for every
-variant and is estimated by halving the steps.
+All solutions use one fixed grid of steps of one scheme (inertiaproof.sim.fixedstep); captures sit on grid
+points, so the integration error is the same O(h^p) for every variant and is estimated by halving the steps
+(Richardson, with p the smaller of the scheme's order and the order observed over h, 2h, 4h). The scheme is
+classical Runge-Kutta (p = 4) unless the fastest closed-loop mode would need more steps than the study may take
+(h x rate <= 1); then it is the L-stable 2-stage Radau IIA (p = 3), whose steps only the slow motion sets.
 """
 
 from __future__ import annotations
@@ -34,13 +36,14 @@ from inertiaproof.dynamics import motion
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
 from inertiaproof.result import Verdict
 
-from . import simulate
+from . import fixedstep, simulate
 from .control import FeedforwardPD
 from .multibody import RigidChain
 
 __all__ = [
     "ARRIVALS", "CaptureStudy", "convergence_verdict", "distance", "FLOOR_BELOW", "mass_window", "MAX_FLOOR",
-    "observed_order", "Pieces", "PLACEMENTS", "Solution", "solve", "steps_for", "study",
+    "integration_floor", "observed_order", "Pieces", "PLACEMENTS", "refined_steps", "scheme_for", "Solution", "solve",
+    "steps_for", "study",
 ]
 
 PLACEMENTS = ("start", "middle")  # where in its time slice a piece joins
@@ -106,29 +109,15 @@ class Solution:
     without_rate: np.ndarray  # the rigid chain with Theta(t) and no momentum brought in or taken: qd+ = qd-
     captures: dict = field(default_factory=dict)  # Pieces -> (2n,)
     scale: np.ndarray = None  # per-component scale of the motion over the window (for relative errors)
-
-
-def _rk4(step_fn, state, times, feedforwards, jumps=None):
-    """Classical Runge-Kutta over ``times``; stage inputs from ``feedforwards[i]`` = (t_i, t_i + h/2, t_{i+1});
-    ``jumps(i, state)`` applies captures at grid index i (before step i; index len(times) - 1 after the last)."""
-    for i in range(len(times) - 1):
-        if jumps is not None:
-            state = jumps(i, state)
-        t, h = times[i], times[i + 1] - times[i]
-        f0, fm, f1 = feedforwards[i]
-        k1 = step_fn(t, state, f0)
-        k2 = step_fn(t + h / 2, state + h / 2 * k1, fm)
-        k3 = step_fn(t + h / 2, state + h / 2 * k2, fm)
-        k4 = step_fn(t + h, state + h * k3, f1)
-        state = state + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-    if jumps is not None:
-        state = jumps(len(times) - 1, state)
-    return state
+    equation_quarter_steps: np.ndarray = None  # (RoboticEquation) with steps / 4 (the observed order)
+    scheme: fixedstep.Scheme = fixedstep.RK4
+    work: fixedstep.Work = field(default_factory=fixedstep.Work)  # counts over every model
 
 
 def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.generalized_forces, horizon=2.0,
-          progress=lambda message: None):
-    """Integrate (RoboticEquation) and every capture model over the mass window; see :class:`Solution`."""
+          progress=lambda message: None, scheme=fixedstep.RK4, work=None):
+    """Integrate (RoboticEquation) and every capture model over the mass window with ``scheme``, counting into
+    ``work``; see :class:`Solution`. Raises fixedstep.NewtonFailure when an implicit step does not converge."""
     a, b = mass_window(trajectory, horizon)
     n = scene_chain.n
     pd = FeedforwardPD(scene_chain, control)
@@ -137,23 +126,27 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
     q0, qd0, _ = control.reference(np.array(a))
     start = np.concatenate([q0, qd0])
 
+    work = work if work is not None else fixedstep.Work()
+
     def grid(count):
         times = np.linspace(a, b, count + 1)
-        ff = pd.feedforward(np.stack([times[:-1], times[:-1] + np.diff(times) / 2, times[1:]], -1))
+        ff = pd.feedforward(times[:-1, None] + np.diff(times)[:, None] * np.asarray(scheme.nodes))
         return times, ff
 
+    def run(rhs, grid_times, inputs, jumps=None):
+        return fixedstep.integrate(scheme, rhs, start, grid_times, inputs, jumps, work)
+
     def equation_rhs(t, state, ff):
-        q, qd = state[:n], state[n:]
+        q, qd = state[..., :n], state[..., n:]
         kin = motion.kinematics(scene_chain, q)
-        p = motion.parameters(trajectory, np.array(t))
+        p = motion.parameters(trajectory, np.broadcast_to(t, q.shape[:-1]))
         tau = pd.torque(ff, t, q, qd)
-        return np.concatenate([qd, simulate.accelerations(kin, scene_chain.gravity, p, qd, tau, forces)])
+        return np.concatenate([qd, simulate.accelerations(kin, scene_chain.gravity, p, qd, tau, forces)], -1)
 
     times, ff = grid(steps)
-    progress(f"(RoboticEquation) over [{a:g}, {b:g}] s in {steps} steps")
-    equation = _rk4(equation_rhs, start, times, ff)
-    half_times, half_ff = grid(steps // 2)
-    equation_half = _rk4(equation_rhs, start, half_times, half_ff)
+    progress(f"(RoboticEquation) over [{a:g}, {b:g}] s in {steps} steps of {scheme.name}")
+    equation = run(equation_rhs, times, ff)
+    equation_half, equation_quarter = (run(equation_rhs, *grid(steps // k)) for k in (2, 4))
 
     rigid = RigidChain(scene_chain, trajectory)
     rider_cache = {}
@@ -174,16 +167,23 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
                 rigid.model.inertias[k] = inertia
 
     def rigid_rhs(mass_time_at):
-        def rhs(t, state, f):
+        def one(t, state, f):
             q, qd = state[:n], state[n:]
-            set_mass_time(mass_time_at(t))
             return np.concatenate([qd, rigid.accelerations(q, qd, pd.torque(f, t, q, qd), rider(t))])
+
+        def rhs(t, state, f):  # Pinocchio takes one state at a time
+            if state.ndim == 1:
+                set_mass_time(mass_time_at(t))
+                return one(t, state, f)
+            times, inputs = np.broadcast_to(t, len(state)), np.broadcast_to(f, (len(state), n))
+            return np.stack([rhs(ti, row, fi) for ti, row, fi in zip(times, state, inputs)])
         return rhs
 
     progress("rigid chain with Theta(t), no momentum exchanged with the added mass")
-    without_rate = _rk4(rigid_rhs(lambda t: t), start, times, ff)
+    without_rate = run(rigid_rhs(lambda t: t), times, ff)
 
-    out = Solution((a, b), steps, equation, equation_half, without_rate)
+    out = Solution((a, b), steps, equation, equation_half, without_rate, equation_quarter_steps=equation_quarter,
+                   scheme=scheme, work=work)
     for piece in pieces:
         index, mass_times = piece.schedule(a, b, steps)
         current = {"mass_time": a}
@@ -203,7 +203,7 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
             return np.concatenate([q, qd])
 
         progress(piece.name)
-        out.captures[piece] = _rk4(rigid_rhs(lambda t, c=current: c["mass_time"]), start, times, ff, jumps)
+        out.captures[piece] = run(rigid_rhs(lambda t, c=current: c["mass_time"]), times, ff, jumps)
     span = np.abs(equation - start)
     tiny = np.finfo(float).tiny
     out.scale = np.concatenate([np.full(n, max(span[:n].max(), np.abs(qd0).max() * (b - a), tiny)),
@@ -267,6 +267,33 @@ def steps_for(window, rate, counts, minimum):
     return int(unit * max(1, 2 ** int(np.ceil(np.log2(max(needed / unit, 1.0))))))
 
 
+def scheme_for(window, rate, counts, minimum, max_steps):
+    """(scheme, rate the steps must resolve): RK4 when h x rate <= 1 fits in ``max_steps``; else the L-stable Radau
+    IIA, whose steps only the slow motion sets (rate 0: the fastest mode is damped, not resolved)."""
+    if steps_for(window, rate, counts, minimum) <= max_steps:
+        return fixedstep.RK4, rate
+    return fixedstep.RADAU_IIA, 0.0
+
+
+def integration_floor(sol):
+    """(floor, observed order): 2 x the Richardson estimate |y_h - y_2h| / (2^p - 1) of the error of y_h, relative
+    to the motion's scale, with p the scheme's order, or the order observed over 4h, 2h, h where that is lower
+    (order reduction on a stiff scene), but at least 1."""
+    fine = distance(sol.equation_half_steps, sol.equation, sol.scale)
+    coarse = distance(sol.equation_quarter_steps, sol.equation_half_steps, sol.scale)
+    observed = float(np.log2(coarse / fine)) if fine > 0 and coarse > 0 else np.nan
+    order = sol.scheme.order if not np.isfinite(observed) else float(np.clip(observed, 1.0, sol.scheme.order))
+    return 2 * fine / (2**order - 1), observed
+
+
+def refined_steps(steps, excess, observed, order, max_steps):
+    """Steps that bring the integration floor down by ``excess`` at the observed order (at most the scheme's, at
+    least 1): ``steps`` times a power of 2, at least 2, at most what ``max_steps`` allows."""
+    rate = float(np.clip(observed, 1.0, order)) if np.isfinite(observed) else order
+    doublings = max(1, int(np.ceil(np.log2(excess) / rate)))
+    return steps * 2 ** min(doublings, int(np.log2(max_steps // steps)))
+
+
 @dataclass
 class CaptureStudy:
     """Errors of the captures against the equation at the window's end, refined until the order settles."""
@@ -286,44 +313,65 @@ class CaptureStudy:
     order: float | None
     why: str
     history: list  # (steps, counts) tried
+    scheme: fixedstep.Scheme = fixedstep.RK4
+    integration_order: float = np.nan  # observed over 4h, 2h, h (against scheme.order)
+    work: fixedstep.Work = field(default_factory=fixedstep.Work)  # counts over every solve
 
 
 def study(chain, trajectory, control, counts, steps, forces=motion.generalized_forces, horizon=2.0, max_steps=2048,
-          max_count=256, progress=lambda message: None, budget=UNLIMITED):
-    """Captures of pieces at rest (and carried) against (RoboticEquation). The RK4 steps double until the
-    integration floor lies FLOOR_BELOW under the smallest error; K doubles while the order is unsettled or between
-    the bands of convergence and levelling off."""
+          max_count=256, progress=lambda message: None, budget=UNLIMITED, scheme=None):
+    """Captures of pieces at rest (and carried) against (RoboticEquation). The scheme (unless given) is RK4 unless
+    the fastest closed-loop mode needs more than ``max_steps`` of it (then Radau IIA, :func:`scheme_for`). The steps
+    double until the integration floor lies FLOOR_BELOW under the smallest error (or an implicit step's Newton
+    iterations did not converge); K doubles while the order is unsettled or between the bands of convergence and
+    levelling off. Every limit is a count (steps, pieces, Newton iterations), except the wall-clock safety net
+    ``budget``."""
     window = mass_window(trajectory, horizon)
     rate = simulate.fastest_rate(chain, trajectory, control, window)
     condition = simulate.conditioning(chain, trajectory, control, window)
-    counts, history = tuple(counts), []
+    counts, history, work = tuple(counts), [], fixedstep.Work()
+    chosen, resolved = scheme_for(window, rate, counts, steps, max_steps)
+    if scheme is not None and scheme is not chosen:
+        resolved = rate if scheme is fixedstep.RK4 else 0.0
+    scheme = scheme or chosen
 
     def unanswered(need, why):
         return CaptureStudy(window, need, counts, rate, np.nan, [], counts[-3:], [], [], [], np.nan,
-                            Verdict.INCONCLUSIVE, None, why, history)
+                            Verdict.INCONCLUSIVE, None, why, history, scheme, work=work)
 
     if condition > simulate.MAX_CONDITION:
         return unanswered(steps, f"M is numerically singular for forward dynamics (cond {condition:.1e}): qdd keeps "
                                  f"fewer than 6 correct digits in float64")
+    if scheme.implicit and chosen is scheme:
+        progress(f"fastest closed-loop mode {rate:.3g} rad/s: RK4 would need "
+                 f"{steps_for(window, rate, counts, steps)} steps; {scheme.name} instead")
     while True:
-        need = steps_for(window, rate, counts, steps)
+        need = steps_for(window, resolved, counts, steps)
         fine = counts[-3:]
         if budget.expired:
             return unanswered(need, f"the time budget ({budget.describe()}) ran out before K = {counts[-1]} pieces "
-                                    f"with {need} RK4 steps" + (" (refining)" if history else ""))
+                                    f"with {need} steps" + (" (refining)" if history else ""))
         if need > max_steps:
             return unanswered(need, f"too stiff for the fixed-step study: the fastest closed-loop mode ({rate:.3g} "
-                                    f"rad/s) needs {need} RK4 steps over the window, more than {max_steps}")
+                                    f"rad/s) needs {need} {scheme.name} steps over the window, more than {max_steps}")
         history.append((need, counts))
         pieces = ([Pieces(k, "middle", "rest") for k in counts] + [Pieces(k, "start", "rest") for k in fine]
                   + [Pieces(k, "middle", "carried") for k in fine])
-        with np.errstate(all="ignore"):
-            sol = solve(chain, trajectory, control, pieces, need, forces, horizon, progress)
+        try:
+            with np.errstate(all="ignore"):
+                sol = solve(chain, trajectory, control, pieces, need, forces, horizon, progress, scheme, work)
+        except fixedstep.NewtonFailure as failure:
+            if 2 * need > max_steps:
+                return unanswered(need, f"{failure}, and {2 * need} steps would exceed {max_steps}")
+            steps = 2 * need
+            progress(f"{failure}; {steps} steps")
+            continue
         d = lambda x, y=None: distance(x, sol.equation if y is None else y, sol.scale)  # noqa: E731
-        floor = 2 * d(sol.equation_half_steps) / 15
+        floor, integration_order = integration_floor(sol)
         at_rest = [d(sol.captures[Pieces(k, "middle", "rest")]) for k in counts]
         if floor > FLOOR_BELOW * min(at_rest) and 2 * need <= max_steps:
-            steps = 2 * need
+            steps = refined_steps(need, floor / (FLOOR_BELOW * min(at_rest)), integration_order, sol.scheme.order,
+                                  max_steps)
             progress(f"integration floor {floor:.1e} too close to the errors; {steps} steps")
             continue
         verdict, order, why, settled = convergence_verdict(counts, at_rest, floor)
@@ -336,4 +384,4 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
         [d(sol.captures[Pieces(k, "start", "rest")]) for k in fine],
         [d(sol.captures[Pieces(k, "middle", "carried")]) for k in fine],
         [d(sol.captures[Pieces(k, "middle", "carried")], sol.without_rate) for k in fine],
-        d(sol.without_rate), verdict, order, why, history)
+        d(sol.without_rate), verdict, order, why, history, scheme, integration_order, work)

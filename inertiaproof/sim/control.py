@@ -128,5 +128,6 @@ class FeedforwardPD:
         return out.reshape(shape)
 
     def torque(self, feedforward, t, q, qd):
+        """tau at one time t for states q, qd of shape (n,) or (m, n)."""
         q_ref, qd_ref, _ = self.control.reference(t)
-        return feedforward + self.kp @ (q_ref - q) + self.kd @ (qd_ref - qd)
+        return feedforward + (q_ref - q) @ self.kp.T + (qd_ref - qd) @ self.kd.T

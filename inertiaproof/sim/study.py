@@ -31,17 +31,24 @@ from . import simulate
 from .control import controller
 
 __all__ = [
-    "BALANCE_FLOOR", "cheapest", "classify", "EPS", "LOST_ENERGY", "REFERENCE_BALANCE", "REPEAT_BELOW", "STIFF",
-    "Study", "study", "StudySettings", "substitute_reference", "trajectory_error", "WRONG_ENERGY",
+    "AT_ROUND_OFF", "BALANCE_FLOOR", "balance_rule", "beyond_budget", "cheapest", "classify", "COVER", "EPS",
+    "EXPLICIT", "FAR_ABOVE", "least_evaluations", "LEVEL_ORDER", "LOST_ENERGY", "PREDICTED_BEYOND", "REPEAT_BELOW",
+    "residual_order", "round_off", "STIFF", "Study", "study", "StudySettings", "substitute_reference",
+    "trajectory_error", "WRONG_ENERGY",
 ]
 
 EPS = np.finfo(float).eps
 BALANCE_FLOOR = 1e3 * EPS  # round-off of the relative balance E - E0 - W
 WRONG_ENERGY = 1e3  # a finished run whose balance residual exceeds this many rtol has the wrong energy
-REFERENCE_BALANCE = 1e2  # the reference run (DOP853 or Radau) must keep the balance within this many rtol
+COVER = 2  # decades of rtol the reference method's finished runs must span (and the tail judged level or falling)
+LEVEL_ORDER = 0.25  # an observed order of the residual in rtol below this is level (falls < 3x over two decades)
+AT_ROUND_OFF = 10.0  # a residual within this many round-off estimates has reached round-off
+FAR_ABOVE = 1e3  # a level residual beyond this many round-off estimates in every run is a wrong term
 REPEAT_BELOW = 5.0  # seconds: shorter runs are repeated for a median time; longer ones average their own noise
 LOST_ENERGY = 1e-2  # a run that loses or gains more than this share of the energy in play is wrong at any rtol
 STIFF = 1e4  # fastest closed-loop rate x horizon above which the reference run uses an implicit method
+EXPLICIT = {"RK45": (3.3, 6), "DOP853": (6.0, 12)}  # real stability interval, right-hand sides per step
+PREDICTED_BEYOND = 10.0  # an explicit run is not started when it would need this many times its budget
 
 
 @dataclass(frozen=True)
@@ -50,6 +57,7 @@ class StudySettings:
     tolerances: tuple = (1e-6,)
     reference_rtol: float = 1e-10
     reference_method: str = "DOP853"
+    stiff_method: str = "Radau"  # the reference's method when rate x horizon > STIFF (implicit; BDF selectable)
     horizon: float | None = None  # default: the scene's
     samples: int = 101
     max_evaluations: int = 5_000  # per run (the reference gets three times as many); deterministic
@@ -77,46 +85,84 @@ class Study:
                  "steps": r.steps, "evaluations": r.evaluations, "note": r.note} for r, _ in self.runs]
 
     def balance_verdict(self):
-        """(verdict, coarse residual, reference residual, why) from the reference method's runs.
-
-        HOLDS: some run of the reference method at a tolerance at least 10x below the loosest one (the reference
-        run first, then the others, tightest first) keeps its residual within REFERENCE_BALANCE x its rtol, below
-        the loosest run's: the balance follows the tolerance down to that run's resolution (said in the reason;
-        a reference at a still tighter rtol may level off at the round-off of the dynamics).
-        VIOLATED: the reference run's residual is far beyond that and did not fall by more than a factor 3: no
-        tolerance removes it; but INCONCLUSIVE if a run of the reference method was stopped by the wall clock
-        (status ``clock``: machine-dependent), which might have shown the residual falling.
-        """
+        """(verdict, coarse residual, reference residual, why): the power balance of Prop1, d/dt (T_q + U) = supplied
+        power ((KineticEnergy), (PotentialEnergy) along (RoboticEquation)), judged by the residual's observed order
+        across tolerances (:func:`balance_rule`) over the finished runs of the reference method."""
         ref = self.reference
-        same = [r for r, _ in self.runs if r.method == ref.method and r.finished]
-        if not ref.finished or not [r for r in same if r.rtol > 10 * ref.rtol]:
-            why = (f"the reference run ({ref.method}, rtol {ref.rtol:g}) ended as '{ref.status}': {ref.note}"
-                   if not ref.finished else "no finished run of the reference method at a looser tolerance")
-            return Verdict.INCONCLUSIVE, None, ref.balance_error, why
-        loose = max(same, key=lambda r: r.rtol)
-        b_coarse, b_ref = loose.balance_error, ref.balance_error
-        change = f"rtol {loose.rtol:g} -> {ref.rtol:g}: residual {b_coarse:.2e} -> {b_ref:.2e}"
-        tighter = sorted((r for r in same if r.rtol <= loose.rtol / 10), key=lambda r: r.rtol)
-        for run in [ref, *tighter]:
-            allowed = max(REFERENCE_BALANCE * run.rtol, BALANCE_FLOOR)
-            b = run.balance_error
-            if b <= allowed and (b < b_coarse or b <= BALANCE_FLOOR):
-                if run is ref:
-                    return Verdict.HOLDS, b_coarse, b_ref, f"{change} (<= {allowed:.0e} allowed)"
-                return Verdict.HOLDS, b_coarse, b, (
-                    f"rtol {loose.rtol:g} -> {run.rtol:g}: residual {b_coarse:.2e} -> {b:.2e} (<= {allowed:.0e} "
-                    f"allowed): the balance holds to {b:.1e} of the energy in play; the reference at rtol "
-                    f"{ref.rtol:g} levels off at {b_ref:.2e}, beyond {REFERENCE_BALANCE:g} x its rtol")
-        allowed = max(REFERENCE_BALANCE * ref.rtol, BALANCE_FLOOR)
-        if b_ref > allowed and b_ref > 0.3 * b_coarse and b_ref > 100 * BALANCE_FLOOR:
-            clocked = [r for r, _ in self.runs if r.method == ref.method and r.status == simulate.CLOCK]
-            if clocked:
-                return Verdict.INCONCLUSIVE, b_coarse, b_ref, (f"{change}: level, but {len(clocked)} runs of "
-                                                              f"{ref.method} were stopped by the wall clock (no "
-                                                              "evidence)")
-            return Verdict.VIOLATED, b_coarse, b_ref, (f"{change}: it stays far above {allowed:.0e}, so the simulated "
-                                                      "equation breaks the power balance of Prop1")
-        return Verdict.INCONCLUSIVE, b_coarse, b_ref, f"{change}: neither clearly at the tolerance nor level"
+        if not ref.finished:
+            return Verdict.INCONCLUSIVE, None, ref.balance_error, (
+                f"the reference run ({ref.method}, rtol {ref.rtol:g}) ended as '{ref.status}': {ref.note}")
+        same = [r for r, _ in self.runs if r.method == ref.method and r.finished and r.rtol != ref.rtol] + [ref]
+        finished = [r for r, _ in self.runs if r.finished] + [ref]
+        clocked = sum(r.method == ref.method and r.status == simulate.CLOCK for r, _ in self.runs)
+        verdict, why = balance_rule(same, finished, clocked)
+        return verdict, max(same, key=lambda r: r.rtol).balance_error, ref.balance_error, why
+
+
+def round_off(run):
+    """An upper estimate of the round-off in a run's relative balance residual: eps per right-hand side (each step
+    adds a relative eps to the state, hence to E and W), at least BALANCE_FLOOR."""
+    return max(BALANCE_FLOOR, EPS * run.evaluations)
+
+
+def residual_order(runs):
+    """Least-squares slope of log(balance residual) against log(rtol): how the residual falls with the tolerance
+    (about 1 for integration error, 0 for a residual that no tolerance removes)."""
+    rtol = np.log([r.rtol for r in runs])
+    residual = np.log(np.maximum([r.balance_error for r in runs], np.finfo(float).tiny))
+    return float(np.polyfit(rtol, residual, 1)[0])
+
+
+def balance_rule(same, finished, clocked=0):
+    """(verdict, why) from ``same`` (finished runs of one method at several tolerances), ``finished`` (every finished
+    run of the study, any method) and ``clocked`` (runs of that method stopped by the wall clock).
+
+    A correct equation's residual is integration error: it falls with the tolerance until round-off; a wrong term
+    leaves a residual at its own size, the same for every method and tolerance. So:
+    INCONCLUSIVE when the runs of ``same`` do not cover COVER decades of rtol (named);
+    HOLDS when some finished run's residual is within AT_ROUND_OFF of its round-off estimate (:func:`round_off`);
+    VIOLATED when over the tightest COVER decades of ``same`` the residual is level (observed order < LEVEL_ORDER)
+    and every finished run stays beyond FAR_ABOVE round-off estimates (INCONCLUSIVE instead if runs of the method
+    were stopped by the wall clock: machine-dependent, they might have shown it falling);
+    HOLDS when the residual falls with order >= LEVEL_ORDER (over the tail, or over all tolerances before it
+    levels off within FAR_ABOVE round-off estimates); else INCONCLUSIVE: level from the loosest tolerance at a
+    size between AT_ROUND_OFF and FAR_ABOVE round-off estimates.
+    """
+    same = sorted(same, key=lambda r: -r.rtol)
+    method, tight = same[-1].method, same[-1].rtol
+    covered = f"{method} finished at rtol {', '.join(f'{r.rtol:g}' for r in same)}"
+    if same[0].rtol < 0.99 * 10**COVER * tight:
+        return Verdict.INCONCLUSIVE, (f"{covered}: the rule needs runs of one method over {COVER} decades of rtol "
+                                      "to see whether the residual falls with the tolerance")
+    best = min(finished, key=lambda r: r.balance_error)
+    level_at, floor = best.balance_error, round_off(best)
+    if level_at <= AT_ROUND_OFF * floor:
+        return Verdict.HOLDS, (f"the residual reaches round-off: {level_at:.2e} ({best.method}, rtol {best.rtol:g}), "
+                               f"within {AT_ROUND_OFF:g} x the estimate {floor:.1e}; {_falls(same)}")
+    anchor = min(r.rtol for r in same if r.rtol >= 0.99 * 10**COVER * tight)
+    tail = [r for r in same if r.rtol <= anchor]
+    tail_order, order = residual_order(tail), residual_order(same)
+    trend = (f"{_falls(same)}; over rtol {anchor:g} -> {tight:g} order {tail_order:.2f}; smallest residual "
+             f"{level_at:.2e} ({best.method}, rtol {best.rtol:g}) = {level_at / floor:.0f} x its round-off estimate")
+    if tail_order < LEVEL_ORDER and level_at > FAR_ABOVE * floor:
+        if clocked:
+            return Verdict.INCONCLUSIVE, (f"{trend}: level, but {clocked} runs of {method} were stopped by the "
+                                          "wall clock (no evidence)")
+        return Verdict.VIOLATED, (f"{trend}: level far above round-off in every run, so the simulated equation "
+                                  "breaks the power balance of Prop1")
+    if tail_order >= LEVEL_ORDER:
+        return Verdict.HOLDS, f"{trend}: the residual follows the tolerance (integration error)"
+    if order >= LEVEL_ORDER:
+        return Verdict.HOLDS, (f"{trend}: it follows the tolerance, then levels off within {FAR_ABOVE:g} round-off "
+                               "estimates")
+    return Verdict.INCONCLUSIVE, (f"{trend}: level at every tolerance, between {AT_ROUND_OFF:g} and {FAR_ABOVE:g} "
+                                  "round-off estimates: too close to round-off to call")
+
+
+def _falls(runs):
+    """How the residual falls over ``runs`` (sorted loosest first): endpoints and observed order."""
+    return (f"{runs[0].method} rtol {runs[0].rtol:g} -> {runs[-1].rtol:g}: residual {runs[0].balance_error:.2e} -> "
+            f"{runs[-1].balance_error:.2e} (observed order {residual_order(runs):.2f} over {len(runs)} tolerances)")
 
 
 def trajectory_error(run, reference, n):
@@ -147,7 +193,8 @@ def study(scene, settings=StudySettings(), forces=motion.generalized_forces, pro
     reference_budget = dict(samples=settings.samples, max_evaluations=settings.max_evaluations * 3)
     t0 = scene.trajectory.span[0]
     rate = simulate.fastest_rate(scene.chain, scene.trajectory, system.control, (t0, t0 + horizon))
-    method = settings.reference_method if rate * horizon <= STIFF else "Radau"
+    stiff = rate * horizon > STIFF
+    method = settings.stiff_method if stiff else settings.reference_method
     out = Study(scene.name, horizon, None, rate)
     condition = simulate.conditioning(scene.chain, scene.trajectory, system.control, (t0, t0 + horizon))
     if condition > simulate.MAX_CONDITION:
@@ -161,9 +208,9 @@ def study(scene, settings=StudySettings(), forces=motion.generalized_forces, pro
              f"(fastest closed-loop mode {rate:.3g} rad/s)")
     out.reference = classify(simulate.simulate(system, horizon, method, settings.reference_rtol, **reference_budget,
                                                max_seconds=budget.capped(settings.max_seconds * 3)))
-    if not out.reference.finished and method != "Radau" and not budget.expired:
-        progress(f"reference {method} {out.reference.status}; trying Radau")
-        out.reference = classify(simulate.simulate(system, horizon, "Radau", settings.reference_rtol,
+    if not out.reference.finished and method != settings.stiff_method and not budget.expired:
+        progress(f"reference {method} {out.reference.status}; trying {settings.stiff_method}")
+        out.reference = classify(simulate.simulate(system, horizon, settings.stiff_method, settings.reference_rtol,
                                                    **reference_budget,
                                                    max_seconds=budget.capped(settings.max_seconds * 3)))
     reference = out.reference
@@ -178,8 +225,10 @@ def study(scene, settings=StudySettings(), forces=motion.generalized_forces, pro
                 why = f"{failed.status} at the looser rtol {failed.rtol:g}"
                 out.runs.append((simulate.Run(method, rtol, "not run", 0.0, 0, 0, why), None))
                 continue
-            runs = []
-            while len(runs) < max(1, settings.repeats) and (not runs or runs[0].seconds < REPEAT_BELOW):
+            predicted = beyond_budget(method, rtol, rate, horizon, settings) if stiff else None
+            runs = [predicted] if predicted else []
+            while not predicted and len(runs) < max(1, settings.repeats) and (not runs or
+                                                                               runs[0].seconds < REPEAT_BELOW):
                 runs.append(classify(simulate.simulate(system, horizon, method, rtol, samples=settings.samples,
                                                        max_evaluations=settings.max_evaluations,
                                                        max_seconds=budget.capped(settings.max_seconds))))
@@ -196,6 +245,27 @@ def study(scene, settings=StudySettings(), forces=motion.generalized_forces, pro
             progress(f"errors against the tightest finished run instead: {out.substitute.method} "
                      f"rtol {out.substitute.rtol:g}")
     return out
+
+
+def least_evaluations(method, rate, horizon):
+    """Right-hand sides an explicit method needs at least to stay stable on a mode of ``rate`` rad/s over
+    ``horizon``: steps h <= (stability interval) / rate, each of EXPLICIT's evaluations; 0 for implicit methods."""
+    if method not in EXPLICIT:
+        return 0.0
+    interval, per_step = EXPLICIT[method]
+    return rate * horizon / interval * per_step
+
+
+def beyond_budget(method, rtol, rate, horizon, settings):
+    """A ``budget`` Run without running it when the stiffness estimate says the method would need more than
+    PREDICTED_BEYOND x its budget of right-hand sides (a count, like the budget itself); else None."""
+    need = least_evaluations(method, rate, horizon)
+    if need <= PREDICTED_BEYOND * settings.max_evaluations:
+        return None
+    return simulate.Run(method, rtol, "budget", 0.0, 0, 0, (
+        f"not run: the fastest closed-loop mode ({rate:.3g} rad/s) keeps {method} stable only with at least "
+        f"{need:.2g} right-hand sides over {horizon:g} s, more than {PREDICTED_BEYOND:g} x its budget "
+        f"{settings.max_evaluations}"))
 
 
 def substitute_reference(runs, n):
