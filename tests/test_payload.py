@@ -287,3 +287,14 @@ def test_the_true_extremes_certified_sides_cite_their_certificates():
         assert Fraction(cert["claim"]["bound"]) == Fraction(extreme["value"]) or bracket is None
         if bracket is not None:
             assert extreme["value"] == brackets[bracket][side]["value"]
+
+
+def test_envelope_command_re_proves_within_the_profiles_budget(monkeypatch):
+    """As a run does (Profile.verify_work), not the verify command's default: UR5's certificates without a partition
+    would hold the command for an hour."""
+    from inertiaproof.suite import certificates
+
+    spent = []
+    monkeypatch.setattr(certificates, "settle", lambda result, **kw: spent.append(kw["budget"]))
+    assert cli_main(["envelope", "scenes/planar_2r_payload.toml", "--link", "2", "--mass", "1"]) == 0
+    assert spent == [PROFILES["ci"].verify_work]

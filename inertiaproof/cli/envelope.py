@@ -8,7 +8,9 @@ ROBOT is a URDF, MJCF or xacro file (the link's body: the child of its movable j
 the centre is given in the link's frame) or a scene (``*.toml``; ``--link`` names a body). With ``--out DIR``:
 DIR/envelope.json (the result), DIR/envelope.csv (the curve), DIR/envelope.html and DIR/envelope.pdf (table and
 figure) and DIR/certificates/, which ``inertiaproof verify DIR`` re-proves; the command re-proves them itself
-unless ``--no-verify``.
+within the profile's checker budget (``Profile.verify_work``, as a run does) unless ``--no-verify``: a certificate
+not decided within it (one without the prover's partition, as UR5's Fourier-certified sups) leaves exit 3, and
+``inertiaproof verify DIR --budget N`` may spend more.
 
 Exit status: 0 every constant certified (and re-proved) and no payload of the set beyond one; 1 a payload of the
 set beyond a certified constant, or a certificate refuted; 2 bad usage or input; 3 something not certified or not
@@ -189,7 +191,6 @@ def main(args):
         raise InputError(f"--seed must be a nonnegative integer, got {args.seed}")
     from inertiaproof.suite.certificates import certificate_tally, settle  # noqa: PLC0415
     from inertiaproof.suite.execution import Executor  # noqa: PLC0415
-    from inertiaproof.verify.cli import BUDGET  # noqa: PLC0415
 
     def say(message):
         print(message, file=sys.stderr)
@@ -200,7 +201,8 @@ def main(args):
     out = Path(args.out) if args.out else None
     executor = Executor()
     executor.say = say  # the re-proof's progress ("certificates: k/N tasks, ETA")
-    settle(result, out_dir=out, budget=BUDGET, verify=not args.no_verify, memo={}, executor=executor)
+    settle(result, out_dir=out, budget=PROFILES[args.profile].verify_work, verify=not args.no_verify, memo={},
+           executor=executor)
     if out is not None:
         _write(out, result)
     if args.json:
