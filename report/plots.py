@@ -13,7 +13,7 @@ import math
 __all__ = [
     "bracket", "CHAR", "constants", "DECADES", "DRAW", "draw", "hunt", "LEGEND", "LINE", "MAX_POINTS", "METADATA",
     "narrowing",
-    "PAD", "RED", "render", "series", "stability", "STYLE", "SUPERSCRIPT", "thin", "TICK", "WIDTH",
+    "NOTE_LINE", "PAD", "RED", "render", "series", "stability", "STYLE", "SUPERSCRIPT", "thin", "TICK", "WIDTH",
     "work_precision",
 ]
 
@@ -188,28 +188,64 @@ def series(fig, data):
 
 
 def work_precision(fig, data):
+    """Error against run time, log-log, one panel per scene and one line per method (explicit solid with circles,
+    implicit dashed with squares: ``data["implicit"]``); under each panel's lines, its ``data["use"]`` line (the
+    cheapest method per error) and the methods of ``data["not_run"]`` with why they have no point."""
     scenes = data["scenes"]
-    methods = sorted({m for s in scenes.values() for m in s})
-    colors = {m: f"C{i % 10}" for i, m in enumerate(methods)}
+    implicit = set(data.get("implicit", ()))
+    notes = {scene: _panel_notes(data, scene) for scene in scenes}
+    drawn = list(dict.fromkeys(m for s in scenes.values() for m in s))
+    colors = {m: f"C{i % 10}" for i, m in enumerate(drawn)}
     cols = min(2, len(scenes))
     rows = math.ceil(len(scenes) / cols)
-    fig.set_size_inches(WIDTH, 0.6 + 2.4 * rows)
+    fig.set_size_inches(WIDTH, 0.6 + LEGEND * math.ceil(len(drawn) / 3) + 2.4 * rows)
     axes = fig.subplots(rows, cols, squeeze=False)
+    handles = {}
     for ax, (scene, by_method) in zip(axes.flat, scenes.items()):
         everything = [p for points in by_method.values() for p in points]
         for method, points in by_method.items():
-            points = sorted(points, key=lambda p: p[0])
-            points = [p for p in points if p[0] > 0 and p[1] > 0]
-            ax.plot([p[0] for p in points], [p[1] for p in points], marker="o", color=colors[method], label=method)
+            points = sorted(points, key=lambda p: (-p[2] if len(p) > 2 and p[2] is not None else 0.0, p[0]))
+            points = [p for p in points if p[0] > 0 and p[1] > 0]  # along the tolerance (noisy times may not be)
+            kind = "implicit" if method in implicit else "explicit"
+            (line,) = ax.plot([p[0] for p in points], [p[1] for p in points], color=colors[method],
+                              label=f"{_short(method, 24)} ({kind})", marker="s" if kind == "implicit" else "o",
+                              linestyle="--" if kind == "implicit" else "-")
+            handles.setdefault(method, line)
         _log(ax, "x", [p[0] for p in everything if p[0] > 0])
-        _log(ax, "y", [p[1] for p in everything if p[1] > 0])
+        errors = [p[1] for p in everything if p[1] > 0]
+        _log(ax, "y", errors)
+        if notes[scene] and errors:  # room under the lowest point for the notes: they never hide a line
+            low, high = math.log10(min(errors)), math.log10(max(errors))
+            span = max(high - low, 1.0)
+            share = min(0.6, (NOTE_LINE * len(notes[scene]) + PAD) / (2.4 - 0.7))
+            ax.set_ylim(10 ** (low - 0.05 * span - share / (1 - share) * 1.1 * span), 10 ** (high + 0.05 * span))
+        if notes[scene]:
+            ax.text(0.02, 0.02, "\n".join(notes[scene]), transform=ax.transAxes, fontsize=6.5, va="bottom",
+                    ha="left", linespacing=1.15)
         ax.set_title(_short(scene, 50))
         ax.set_xlabel("run time [s]")
         ax.set_ylabel("error")
     for ax in axes.flat[len(scenes):]:
         ax.set_visible(False)
-    _legend(axes.flat[0], loc="best")
-    _fit(fig)
+    if handles:
+        fig.legend(list(handles.values()), [h.get_label() for h in handles.values()], loc="upper center",
+                   bbox_to_anchor=(0.5, 1.0), ncols=min(3, len(handles)))
+    _fit(fig, legend_above=math.ceil(len(handles) / 3))
+
+
+NOTE_LINE = 0.11  # inches per line of a panel's notes (6.5 pt)
+
+
+def _panel_notes(data, scene):
+    """The lines written into a work-precision panel: which method to use per error, and the methods with no
+    point (why)."""
+    lines = []
+    use = data.get("use", {}).get(scene)
+    if use:
+        lines += ["use: " + part.replace("error ", "") for part in use.split("; ")]
+    for method, why in data.get("not_run", {}).get(scene, {}).items():
+        lines.append(_short(f"{method}: {why}", 70))
+    return lines
 
 
 def stability(fig, data):
@@ -322,7 +358,7 @@ def _fit(fig, legend_above=False):
     right = PAD + CHAR * max(_widest(ax.xaxis) for ax in axes) / 2
     bottom = PAD + TICK + LINE + (LINE if any(ax.get_xlabel() for ax in axes) else 0)
     title = LINE * 1.4 if any(ax.get_title() for ax in axes) else 0
-    top = PAD + title + (LEGEND if legend_above else 0)
+    top = PAD + title + LEGEND * int(legend_above)  # legend_above: True, or the legend's rows
     rows, cols = axes[0].get_subplotspec().get_geometry()[:2]
     axis_width = (width - left - right - (cols - 1) * (left + PAD)) / cols
     axis_height = (height - top - bottom - (rows - 1) * (bottom + title)) / rows

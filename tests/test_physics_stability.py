@@ -87,6 +87,19 @@ def test_a_stiff_scene_defeats_explicit_methods_within_budget():
     rk45 = next(r for r, _ in st.runs if r.method == "RK45")
     assert rk45.note.startswith("not run") and rk45.evaluations == 0  # predicted from the stiffness, a count
     assert st.balance_verdict()[0] != Verdict.VIOLATED
+    rows = {r["method"]: r for r in st.work_precision_rows()}
+    assert rows["RK45"]["predicted"] > 1e9 and not rows["RK45"]["implicit"] and rows["RK45"]["work"] == 0
+    bdf = rows["BDF"]  # counted work: right-hand sides, Jacobians and LU factorizations of the solver
+    assert bdf["implicit"] and bdf["jacobians"] >= 1 and bdf["lus"] >= 1 and bdf["predicted"] is None
+    assert bdf["work"] == bdf["evaluations"] + bdf["jacobians"] + bdf["lus"]
+
+
+def test_a_run_stopped_by_its_budget_keeps_its_jacobian_and_lu_counts():
+    scene = load_scene(SCENES / "stiff_thin_rod.toml")
+    system = simulate.System(scene.chain, scene.trajectory, controller(scene.chain, scene.trajectory, scene.control))
+    run = simulate.simulate(system, 0.3, "Radau", 1e-8, max_evaluations=40)
+    assert run.status == "budget" and run.jacobians >= 1 and run.lus >= 1 and run.work > run.evaluations
+    assert simulate.simulate(system, 0.3, "Euler", 1e-6).status == "error"
 
 
 def test_explicit_runs_are_predicted_beyond_their_budget_only_when_far_beyond():

@@ -20,7 +20,7 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
+from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau, solve_ivp
 
 from inertiaproof.dynamics import energy, motion, terms
 
@@ -30,6 +30,7 @@ __all__ = [
 ]
 
 METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
+_SOLVERS = {"RK45": RK45, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 CLOCK = "clock"  # status of a run stopped by the wall-clock safety net: machine-dependent, no evidence either way
 
 
@@ -77,7 +78,7 @@ class System:
 
     chain: object
     trajectory: object
-    control: Controller
+    control: object  # a controller (inertiaproof.sim.control)
     forces: object = staticmethod(motion.generalized_forces)
     evaluations: int = 0
 
@@ -133,10 +134,19 @@ class Run:
     t: np.ndarray = field(default=None, repr=False)
     y: np.ndarray = field(default=None, repr=False)
     balance_error: float = np.nan  # max_t |E - E0 - W| / energy scale
+    jacobians: int = 0  # Jacobian evaluations (Radau, BDF: finite differences, one vectorized call each; LSODA's own)
+    lus: int = 0  # LU factorizations (Radau: one per real + complex pair)
+    predicted: float | None = None  # right-hand sides a run not started was predicted to need (its stiffness)
 
     @property
     def finished(self):
         return self.status in ("ok", "wrong energy")
+
+    @property
+    def work(self):
+        """Counted work: right-hand sides + Jacobians + LU factorizations (each counted as one, as the tracking
+        batches count it)."""
+        return self.evaluations + self.jacobians + self.lus
 
 
 def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evaluations=200_000, max_seconds=60.0,
@@ -158,21 +168,36 @@ def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evalu
         return system.rhs(t, y)
 
     vectorized = method in ("Radau", "BDF")
+    solvers = []  # the solver solve_ivp makes, to read its Jacobian and LU counts however the run ends
+
+    if method not in _SOLVERS:
+        return Run(method, rtol, "error", 0.0, 0, 0, f"ValueError: method must be one of {METHODS}, not {method!r}")
+
+    class Counted(_SOLVERS[method]):
+        def __init__(self, *args, **kwargs):
+            solvers.append(self)
+            super().__init__(*args, **kwargs)
+
+    def counts():
+        solver = solvers[0] if solvers else None
+        return {"jacobians": int(getattr(solver, "njev", 0) or 0), "lus": int(getattr(solver, "nlu", 0) or 0)}
+
     start = time.perf_counter()
     try:
         with np.errstate(all="ignore"):
-            sol = solve_ivp(fun, (t0, t0 + horizon), y0, method=method, dense_output=True, rtol=rtol,
+            sol = solve_ivp(fun, (t0, t0 + horizon), y0, method=Counted, dense_output=True, rtol=rtol,
                             atol=rtol * scale, vectorized=vectorized)
     except _Budget as stop:
         if stop.clock:
             return Run(method, rtol, CLOCK, time.perf_counter() - start, 0, system.evaluations,
                        f"stopped by the wall-clock safety net ({max_seconds:g} s) after {system.evaluations} "
-                       "right-hand-side evaluations (a machine-dependent stop: no evidence)")
+                       "right-hand-side evaluations (a machine-dependent stop: no evidence)", **counts())
         return Run(method, rtol, "budget", time.perf_counter() - start, 0, system.evaluations,
-                   f"stopped after {system.evaluations} right-hand-side evaluations (budget {max_evaluations})")
+                   f"stopped after {system.evaluations} right-hand-side evaluations (budget {max_evaluations})",
+                   **counts())
     except (np.linalg.LinAlgError, ValueError, FloatingPointError) as exc:
         return Run(method, rtol, "error", time.perf_counter() - start, 0, system.evaluations,
-                   f"{type(exc).__name__}: {exc}")
+                   f"{type(exc).__name__}: {exc}", **counts())
     seconds = time.perf_counter() - start
     steps = max(len(sol.t) - 1, 0)
     if sol.status != 0:
@@ -181,11 +206,11 @@ def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evalu
         else:
             status = "step collapse" if "step size" in sol.message else "solver failure"
         return Run(method, rtol, status, seconds, steps, system.evaluations,
-                   f"{sol.message} (reached t = {sol.t[-1] if sol.t.size else t0:.6g})")
+                   f"{sol.message} (reached t = {sol.t[-1] if sol.t.size else t0:.6g})", **counts())
     y = sol.sol(t_eval).T
     if not (np.all(np.isfinite(sol.y)) and np.all(np.isfinite(y))):
-        return Run(method, rtol, "nan", seconds, steps, system.evaluations, "non-finite state")
-    run = Run(method, rtol, "ok", seconds, steps, system.evaluations, t=t_eval, y=y)
+        return Run(method, rtol, "nan", seconds, steps, system.evaluations, "non-finite state", **counts())
+    run = Run(method, rtol, "ok", seconds, steps, system.evaluations, t=t_eval, y=y, **counts())
     run.balance_error = balance_error(system, sol.t, sol.y.T)
     return run
 

@@ -32,8 +32,8 @@ from .control import controller
 
 __all__ = [
     "AT_ROUND_OFF", "BALANCE_FLOOR", "balance_rule", "beyond_budget", "cheapest", "classify", "COVER", "EPS",
-    "EXPLICIT", "FAR_ABOVE", "least_evaluations", "LEVEL_ORDER", "LOST_ENERGY", "PREDICTED_BEYOND", "REPEAT_BELOW",
-    "residual_order", "round_off", "STIFF", "Study", "study", "StudySettings", "substitute_reference",
+    "EXPLICIT", "FAR_ABOVE", "IMPLICIT", "least_evaluations", "LEVEL_ORDER", "LOST_ENERGY", "PREDICTED_BEYOND",
+    "REPEAT_BELOW", "residual_order", "round_off", "STIFF", "Study", "study", "StudySettings", "substitute_reference",
     "trajectory_error", "WRONG_ENERGY",
 ]
 
@@ -48,6 +48,7 @@ REPEAT_BELOW = 5.0  # seconds: shorter runs are repeated for a median time; long
 LOST_ENERGY = 1e-2  # a run that loses or gains more than this share of the energy in play is wrong at any rtol
 STIFF = 1e4  # fastest closed-loop rate x horizon above which the reference run uses an implicit method
 EXPLICIT = {"RK45": (3.3, 6), "DOP853": (6.0, 12)}  # real stability interval, right-hand sides per step
+IMPLICIT = ("Radau", "BDF", "LSODA")  # LSODA switches to BDF when it detects stiffness
 PREDICTED_BEYOND = 10.0  # an explicit run is not started when it would need this many times its budget
 
 
@@ -76,9 +77,12 @@ class Study:
     substitute: simulate.Run | None = None  # the run errors are measured against when the reference failed
 
     def work_precision_rows(self):
+        """One row per run: error against seconds and counted work (right-hand sides, Jacobians, LU factorizations);
+        ``predicted``: the right-hand sides an explicit method not started would have needed (else None)."""
         return [{"scene": self.scene, "method": r.method, "rtol": r.rtol, "seconds": r.seconds, "error": e,
                  "balance_error": r.balance_error, "steps": r.steps, "evaluations": r.evaluations,
-                 "status": r.status, "note": r.note} for r, e in self.runs]
+                 "jacobians": r.jacobians, "lus": r.lus, "work": r.work, "predicted": r.predicted,
+                 "implicit": r.method in IMPLICIT, "status": r.status, "note": r.note} for r, e in self.runs]
 
     def stability_rows(self):
         return [{"scene": self.scene, "method": r.method, "rtol": r.rtol, "status": r.status, "seconds": r.seconds,
@@ -265,7 +269,7 @@ def beyond_budget(method, rtol, rate, horizon, settings):
     return simulate.Run(method, rtol, "budget", 0.0, 0, 0, (
         f"not run: the fastest closed-loop mode ({rate:.3g} rad/s) keeps {method} stable only with at least "
         f"{need:.2g} right-hand sides over {horizon:g} s, more than {PREDICTED_BEYOND:g} x its budget "
-        f"{settings.max_evaluations}"))
+        f"{settings.max_evaluations}"), predicted=float(need))
 
 
 def substitute_reference(runs, n):
