@@ -46,5 +46,5 @@ PROFILES = {
                     concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6,
                     moment_samples=2**22, bernstein_degree=8, audit_samples=20000, audit_refine_s=5.0, audit_full_refine_s=5.0,
                     check_s=1800.0, run_s=14400.0, memory_mb=6144, verify_work=400_000,
-                    envelope_goal=1.04, envelope_examples=100_000, envelope_points=4),
+                    envelope_goal=1.04, envelope_examples=100_000, envelope_points=2),
 }
