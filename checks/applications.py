@@ -604,9 +604,15 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
                 "space": " ".join(euclidean_runs.__doc__.split(": ", 1)[1].split())}
     if failures:
         data = failures[0]
+        nat = data["laws"]["natural"]
+        t = nat["series"]["t"][int(np.argmin(nat["series"]["lambda_min_f_hat"]))]
+        gain = data["recipes"][1].get("gamma")
+        gain = "the scene's gain" if gain is None else f"gain {gain:.3g}"
         return Result("APP-euclidean-escape", Verdict.VIOLATED,
                       f"the natural law left the consistent set: min lambda_min(f(Phi_hat)) = "
-                      f"{data['laws']['natural']['min_lambda_min_f_hat']:.3g}",
+                      f"{nat['min_lambda_min_f_hat']:.3g} at t = {t:.3g} s ({gain}); its mirror variable U_l = "
+                      "f(Phi_hat_l)^-1 moves continuously, so f(Phi_hat_l) leaves the cone only where U_l turns "
+                      "singular: the estimate blew up in finite time (a finished run; replay it)",
                       {"searched": searched, "run": _brief(data)},
                       counterexample={"kind": "adaptive-escape", "data": _replay_data(data, s)})
     if not witnesses:

@@ -89,7 +89,7 @@ def test_a_scene_file_seeds_its_hunts_by_its_text_not_its_path(tmp_path):
 
 def test_a_euclidean_law_passed_as_natural_is_violated(app_ctx):
     wrong = app.euclidean_escape_result(app_ctx, {KEY: 3}, twin=lambda r: dataclasses.replace(r, law="slotine-li"))
-    assert wrong.verdict == Verdict.VIOLATED
+    assert wrong.verdict == Verdict.VIOLATED and "gain" in wrong.summary and " at t = " in wrong.summary
     assert _saved(wrong, app_ctx).verdict == Verdict.VIOLATED
 
 
