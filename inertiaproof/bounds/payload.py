@@ -48,7 +48,7 @@ from .spectral import spectral
 from .time import vertex_extreme
 
 __all__ = ["PayloadSet", "cover_inertia", "covering_parameters", "envelope", "flange_bound", "psi_square",
-           "with_payload", "worst_point_masses"]
+           "with_payload", "worst_point_masses", "zeta_over_set"]
 
 ALTERNATIONS = 8  # rounds of (top eigenvector, farthest point) per configuration: each raises lambda_max
 LOCAL_STARTS = 4  # the best sampled configurations refined by local search
@@ -224,7 +224,7 @@ def _boundary(payloads):
     return c + axes * np.stack([np.sqrt(1 - z * z) * np.cos(turn), np.sqrt(1 - z * z) * np.sin(turn), z], 1)
 
 
-def _zeta(theta, payloads):
+def zeta_over_set(theta, payloads):
     """(observed, certified, certificate) of max_l lambda_max(f(Phi_l)) over the payload set: observed on points of
     its boundary."""
     f = pseudo_inertia(theta)
@@ -260,7 +260,7 @@ def envelope(chain, theta, payloads, *, rate, speed=None, masses=(), goal=None, 
     lower = lower_constants(xi, z_min, gamma, low, xi_certificate=xi_certificate, z_certificate=z_certificate)
 
     high, worst = _sup_over_set(chain, theta, payloads, "sup over q and payloads of lambda_max(M)", kw, goal)
-    zeta_observed, zeta, zeta_certificate = _zeta(theta, payloads)
+    zeta_observed, zeta, zeta_certificate = zeta_over_set(theta, payloads)
     upper = upper_constants(zeta, np.inf, sigma, high, zeta_observed, zeta_certificate)
     return {"payload": payloads.to_json(), "rate": rate,
             "worst_payload": {"mass": float(payloads.mass), "com": worst.tolist(), "inertia_about_com": [[0.0] * 3] * 3,
