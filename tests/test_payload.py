@@ -298,3 +298,12 @@ def test_envelope_command_re_proves_within_the_profiles_budget(monkeypatch):
     monkeypatch.setattr(certificates, "settle", lambda result, **kw: spent.append(kw["budget"]))
     assert cli_main(["envelope", "scenes/planar_2r_payload.toml", "--link", "2", "--mass", "1"]) == 0
     assert spent == [PROFILES["ci"].verify_work]
+
+
+def test_a_payload_set_of_one_point_is_certified():
+    """R = 0 (and a flat ellipsoid): the farthest point's step divides by the ellipsoid's reach, 0 here (it crashed)."""
+    for pset in (PayloadSet.ball(1, 2, (Fraction(1, 10), 0, 0), 0), PayloadSet(1, 2, (0, 0, 0), (Fraction(1, 10), 0, 0))):
+        found = envelope(ARM.chain, ARM.trajectory.base, pset, rate=RATE, samples=200, refine_s=0.2)
+        high = found["upper"]["observed"]
+        assert np.isfinite(high["lower"]) and high["lower"] <= high["upper"]
+        assert verify(json.loads(json.dumps(found["upper"]["certified"]["certificate"])))["status"] == "re-proved"

@@ -159,7 +159,8 @@ def _farthest(p, omega, semi_axes, rounds=FARTHEST_ROUNDS):
     for _ in range(rounds):
         g = np.cross(p + np.cross(omega, d), omega)
         g = np.where((np.linalg.norm(g, axis=1) > 1e-300)[:, None], g, fallback)
-        d = s * g / np.sqrt(np.einsum("ki,ki->k", g * s, g))[:, None]
+        reach = np.sqrt(np.einsum("ki,ki->k", g * s, g))  # 0: g lies across a flat ellipsoid (or R = 0), d = 0
+        d = s * g / np.where(reach > 0, reach, 1.0)[:, None]
     return d
 
 
