@@ -302,7 +302,8 @@ def test_envelope_command_re_proves_within_the_profiles_budget(monkeypatch):
 
 def test_a_payload_set_of_one_point_is_certified():
     """R = 0 (and a flat ellipsoid): the farthest point's step divides by the ellipsoid's reach, 0 here (it crashed)."""
-    for pset in (PayloadSet.ball(1, 2, (Fraction(1, 10), 0, 0), 0), PayloadSet(1, 2, (0, 0, 0), (Fraction(1, 10), 0, 0))):
+    flat = PayloadSet(1, 2, (0, 0, 0), (Fraction(1, 10), 0, 0))
+    for pset in (PayloadSet.ball(1, 2, (Fraction(1, 10), 0, 0), 0), flat):
         found = envelope(ARM.chain, ARM.trajectory.base, pset, rate=RATE, samples=200, refine_s=0.2)
         high = found["upper"]["observed"]
         assert np.isfinite(high["lower"]) and high["lower"] <= high["upper"]
