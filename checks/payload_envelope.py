@@ -3,11 +3,11 @@
 :func:`envelope_result` certifies alpha1, alpha2 and chi over every consistent payload of a set (a ball or an
 ellipsoid) at a body (:mod:`inertiaproof.bounds.payload`) and attacks them: Hypothesis draws payloads of the set
 (point masses, spheres and boxes inside it: :mod:`inertiaproof.counterexamples.payloads`) and configurations, and
-none may go beyond a certified constant; a payload beyond the set (heavier) is shown to go beyond alpha2, so the set matters. VIOLATED
-where a payload of the set goes beyond a certified constant or a bracket's attained side beyond its certified one.
-Without ``--scene``, in deep the built-in Panda and UR5 carry 0..5 kg within 0.1 m of the flange (the last body's
-frame origin; in ci the planar 2R 0..2 kg), taken up in 1 s (smootherstep); with one, the ball of 0.1 m around its
-heaviest payload's centre of mass (or 5 kg at the last body's origin).
+none may go beyond a certified constant; a payload beyond the set (heavier) is shown to go beyond alpha2, so the set
+matters. VIOLATED where a payload of the set goes beyond a certified constant or a bracket's attained side beyond
+its certified one. Without ``--scene``, in deep the built-in Panda and UR5 carry 0..5 kg within 0.1 m of the
+flange (the last body's frame origin; in ci the planar 2R 0..2 kg), taken up in 1 s (smootherstep); with one, the
+ball of 0.1 m around its heaviest payload's centre of mass (or 5 kg at the last body's origin).
 """
 
 from __future__ import annotations
@@ -139,7 +139,8 @@ def envelope_result(name, chain, theta, pset, *, ramp_s, profile, examples, poin
                    f"[{high['observed']['lower']:.4g}, {high['observed']['upper']:.4g}]), chi {bounds[2]:.4g}; "
                    f"{seen['examples']} Hypothesis payloads, none beyond")
     evidence = {
-        "payload_set": found["payload"], "ramp_s": quantity(ramp_s, "exact", "the ramp's duration (s)"), "rate": quantity(float(rate), "exact", "sup |s'| (1/s)"),
+        "payload_set": found["payload"], "ramp_s": quantity(ramp_s, "exact", "the ramp's duration (s)"),
+        "rate": quantity(float(rate), "exact", "sup |s'| (1/s)"),
         "constants": _constants(found),
         "brackets": found["brackets"],
         "worst_payload": worst,
@@ -147,7 +148,7 @@ def envelope_result(name, chain, theta, pset, *, ramp_s, profile, examples, poin
                    "smallest_margin": quantity(seen["smallest"], "sampled", "smallest relative margin to a certified "
                                                                             "constant over the examples"),
                    "worst": seen["worst"], "violation": seen["violation"]},
-        "beyond_the_set": beyond or "no heavier payload at the worst point goes beyond alpha2",
+        "beyond_the_set": _labelled(beyond) if beyond else "no heavier payload at the worst point goes beyond alpha2",
         "curve": _curve(found, pset),
         "curve_certified": [{"mass": row["mass"],
                              "alpha2": quantity(row["alpha2"]["certified"], "upper_bound", "sup lambda_max(M) over the "
@@ -170,6 +171,15 @@ def envelope_result(name, chain, theta, pset, *, ramp_s, profile, examples, poin
             "name": name, "chain": chain.to_data(), "theta": np.asarray(theta).tolist(), "payload_set": pset.to_json(),
             "rate": str(rate), "bounds": list(bounds), **violation}}
     return Result(ID, verdict, summary, evidence, counterexample)
+
+
+def _labelled(beyond):
+    """:func:`_beyond`'s payload, its numbers saying what they are."""
+    return {"mass": quantity(beyond["mass"], "exact", "a point mass heavier than the set's (kg), at the worst point"),
+            "com": beyond["com"],
+            "lambda_max": quantity(beyond["lambda_max"], "value", "lambda_max(M) it reaches at the worst q"),
+            "alpha2": quantity(beyond["alpha2"], "value", "the set's certified alpha2 it goes beyond (its certificate: "
+                                                          "constants.alpha2.certified)")}
 
 
 def _constants(found):
@@ -208,15 +218,16 @@ def _theorem5(t5, speed):
 
 
 def _curve(found, pset):
-    rows = [{"mass": 0.0, "alpha1": found["lower"]["certified"]["value"], "alpha2_attained": None,
-             "alpha2_certified": None, "chi_certified": 0.0}]
-    for row in found["curve"] + [{"mass": float(pset.mass), "alpha2": {"attained": found["upper"]["observed"]["lower"],
-                                                                       "certified": found["upper"]["certified"]["value"]},
-                                  "chi": found["chi"]}]:
-        rows.append({"mass": row["mass"], "alpha1": found["lower"]["certified"]["value"],
-                     "alpha2_attained": row["alpha2"]["attained"], "alpha2_certified": row["alpha2"]["certified"],
-                     "chi_certified": row["chi"]["certified"]["value"]})
-    return rows
+    """Rows (mass, alpha1, alpha2 attained and certified, chi certified) from no payload to the set's full one."""
+    alpha1 = found["lower"]["certified"]["value"]
+    high = found["upper"]
+    full = {"mass": float(pset.mass), "chi": found["chi"],
+            "alpha2": {"attained": high["observed"]["lower"], "certified": high["certified"]["value"]}}
+    empty = {"mass": 0.0, "alpha1": alpha1, "alpha2_attained": None, "alpha2_certified": None, "chi_certified": 0.0}
+    return [empty] + [
+        {"mass": row["mass"], "alpha1": alpha1, "alpha2_attained": row["alpha2"]["attained"],
+         "alpha2_certified": row["alpha2"]["certified"], "chi_certified": row["chi"]["certified"]["value"]}
+        for row in found["curve"] + [full]]
 
 
 def _series(found, pset):

@@ -162,6 +162,7 @@ def test_envelope_command_on_a_scene(tmp_path, capsys):
     (["--link", "2", "--mass", "0"], "--mass: must be > 0"),
     (["--link", "2", "--mass", "1", "--ramp", "0"], "--ramp: must be > 0"),
     (["--link", "2", "--mass", "one"], "--mass: 'one' is not a number"),
+    (["--link", "2", "--mass", "1e999999999"], "--mass: '1e999999999' is not a number"),  # no 10^(10^9) in memory
 ])
 def test_envelope_bad_input_is_one_line(args, words, capsys):
     assert cli_main(["envelope", "scenes/planar_2r_payload.toml", *args]) == 2

@@ -23,12 +23,12 @@ import csv
 import html
 import json
 import sys
-from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
 
 from inertiaproof.errors import InputError
+from inertiaproof.model.exact import written_fraction
 from inertiaproof.suite.profiles import PROFILES
 
 from .status import exit_status
@@ -39,11 +39,11 @@ CURVE_FIELDS = ("mass", "alpha1", "alpha2_attained", "alpha2_certified", "chi_ce
 
 
 def _decimal(text, name, least=None):
-    """The exact number a decimal ``text`` writes; ``least``: ">= 0" or "> 0"."""
-    try:
-        value = Fraction(str(text))
-    except (ValueError, ZeroDivisionError):
-        raise InputError(f"{name}: {text!r} is not a number") from None
+    """The exact number a decimal ``text`` writes (a plain decimal of moderate size: "1e999999999" would not fit in
+    memory); ``least``: ">= 0" or "> 0"."""
+    value = written_fraction(str(text))
+    if value is None:
+        raise InputError(f"{name}: {text!r} is not a number (a plain decimal: 3, 2.5, 1e-3)")
     if (least == ">= 0" and value < 0) or (least == "> 0" and value <= 0):
         raise InputError(f"{name}: must be {least}, got {text}")
     return value
@@ -151,8 +151,8 @@ def _print(result, verified):
     print(f"worst payload: a point mass of {worst['mass']:g} kg at {np.round(worst['com'], 5).tolist()} (body frame), "
           f"q = {np.round(worst['q'], 4).tolist()}")
     print("curve (kg: alpha2 certified, chi certified): " + "; ".join(
-        f"{r['mass']:g}: {r['alpha2_certified'] if r['alpha2_certified'] is not None else '-'}, {r['chi_certified']:.6g}"
-        for r in ev["curve"]))
+        f"{r['mass']:g}: {'-' if r['alpha2_certified'] is None else format(r['alpha2_certified'], '.6g')}, "
+        f"{r['chi_certified']:.6g}" for r in ev["curve"]))
     if "theorem5" in ev:
         t5 = ev["theorem5"]
         print(f"Theorem 5 (particles at <= {t5['speed']['value']:g} m/s): Psi* <= {t5['psi_star']['value']:.6g}, "
@@ -160,9 +160,16 @@ def _print(result, verified):
               "bounds of sup sigma_max(Y_p), not re-proved)")
     attack = ev["attack"]
     print(f"attack: {attack['examples']['value']} Hypothesis payloads of the set, smallest margin "
-          f"{attack['smallest_margin']['value']:.3g}; beyond the set: {ev['beyond_the_set']}")
+          f"{attack['smallest_margin']['value']:.3g}; beyond the set: {_beyond_text(ev['beyond_the_set'])}")
     if verified:
         print(f"certificates: {verified}")
+
+
+def _beyond_text(beyond):
+    if isinstance(beyond, str):
+        return beyond
+    return (f"a point mass of {beyond['mass']['value']:g} kg reaches lambda_max {beyond['lambda_max']['value']:.6g} > "
+            f"alpha2 {beyond['alpha2']['value']:.6g}")
 
 
 def _write(out, result):
@@ -178,8 +185,8 @@ def _write(out, result):
     (key, spec), = result.evidence["figures"].items()
     svgs = plots.render([Figure(key, 1, "series", spec["series"], key)], out / "envelope.pdf")
     rows = "".join(f"<tr><td>{html.escape(n)}</td><td>{c['certified']['value']:.6g}</td><td>{c['paper']['value']:.6g}"
-                   f"</td><td>[{c['true_extreme']['lower']['value']:.6g}, {c['true_extreme']['upper']['value']:.6g}]</td></tr>"
-                   for n, c in result.evidence["constants"].items())
+                   f"</td><td>[{c['true_extreme']['lower']['value']:.6g}, {c['true_extreme']['upper']['value']:.6g}]"
+                   "</td></tr>" for n, c in result.evidence["constants"].items())
     (out / "envelope.html").write_text(
         f"<!doctype html><meta charset=utf-8><title>payload envelope</title><h1>Payload envelope</h1>"
         f"<p>{html.escape(result.verdict.value)}: {html.escape(result.summary)}</p><table border=1><tr><th>constant"
