@@ -25,13 +25,23 @@ from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau, solve_ivp
 from inertiaproof.dynamics import energy, motion, terms
 
 __all__ = [
-    "accelerations", "balance_error", "CLOCK", "conditioning", "fastest_rate", "MAX_CONDITION", "METHODS", "Run",
-    "simulate", "System",
+    "accelerations", "balance_error", "CLOCK", "conditioning", "EXPLICIT", "fastest_rate", "least_evaluations",
+    "MAX_CONDITION", "METHODS", "Run", "simulate", "System",
 ]
 
 METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
 _SOLVERS = {"RK45": RK45, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 CLOCK = "clock"  # status of a run stopped by the wall-clock safety net: machine-dependent, no evidence either way
+EXPLICIT = {"RK45": (3.3, 6), "DOP853": (6.0, 12)}  # real stability interval (h |lambda|), right-hand sides per step
+
+
+def least_evaluations(method, rate, horizon):
+    """Right-hand sides an explicit method needs at least to stay stable on a mode of ``rate`` rad/s over
+    ``horizon``: steps h <= (stability interval) / rate, each of EXPLICIT's evaluations; 0 for implicit methods."""
+    if method not in EXPLICIT:
+        return 0.0
+    interval, per_step = EXPLICIT[method]
+    return rate * horizon / interval * per_step
 
 
 def fastest_rate(chain, trajectory, control, times):

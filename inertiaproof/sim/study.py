@@ -47,7 +47,7 @@ FAR_ABOVE = 1e3  # a level residual beyond this many round-off estimates in ever
 REPEAT_BELOW = 5.0  # seconds: shorter runs are repeated for a median time; longer ones average their own noise
 LOST_ENERGY = 1e-2  # a run that loses or gains more than this share of the energy in play is wrong at any rtol
 STIFF = 1e4  # fastest closed-loop rate x horizon above which the reference run uses an implicit method
-EXPLICIT = {"RK45": (3.3, 6), "DOP853": (6.0, 12)}  # real stability interval, right-hand sides per step
+EXPLICIT, least_evaluations = simulate.EXPLICIT, simulate.least_evaluations
 IMPLICIT = ("Radau", "BDF", "LSODA")  # LSODA switches to BDF when it detects stiffness
 PREDICTED_BEYOND = 10.0  # an explicit run is not started when it would need this many times its budget
 
@@ -249,15 +249,6 @@ def study(scene, settings=StudySettings(), forces=motion.generalized_forces, pro
             progress(f"errors against the tightest finished run instead: {out.substitute.method} "
                      f"rtol {out.substitute.rtol:g}")
     return out
-
-
-def least_evaluations(method, rate, horizon):
-    """Right-hand sides an explicit method needs at least to stay stable on a mode of ``rate`` rad/s over
-    ``horizon``: steps h <= (stability interval) / rate, each of EXPLICIT's evaluations; 0 for implicit methods."""
-    if method not in EXPLICIT:
-        return 0.0
-    interval, per_step = EXPLICIT[method]
-    return rate * horizon / interval * per_step
 
 
 def beyond_budget(method, rtol, rate, horizon, settings):

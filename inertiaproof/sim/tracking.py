@@ -35,13 +35,12 @@ from inertiaproof.dynamics import motion, regressors, terms
 
 from .adaptive import make_law
 from .control import controller, reference_motion
-from .simulate import CLOCK, MAX_CONDITION
+from .simulate import CLOCK, MAX_CONDITION, least_evaluations
 
 __all__ = ["CLOCK", "choose_method", "IMPLICIT", "IMPLICIT_DEFAULT", "NOT_STARTED", "PLANTS", "Batch", "Gains",
-           "Reference", "RK45_STABILITY", "Run", "RunSpec", "scene_specs", "simulate", "SOLVERS", "spent"]
+           "Reference", "Run", "RunSpec", "scene_specs", "simulate", "SOLVERS", "spent"]
 
 PLANTS = ("gre", "pagilla", "classical")
-RK45_STABILITY = 3.3  # RK45 (Dormand-Prince) is stable on the negative real axis for h |lambda| <= 3.306
 NOT_STARTED = ("ill-conditioned", "no start")  # statuses of a batch that simulate() does not integrate
 SOLVERS = {"RK45": RK45, "BDF": BDF, "Radau": Radau}
 IMPLICIT = ("BDF", "Radau")
@@ -190,7 +189,8 @@ class Batch:
         In s the closed loop reads M(q, Theta) sdot = -K_D s + sum_l R_l (Phi_hat_l - Phi_l) - C s - X (module
         docstring), with s = qd - qd_d + Lambda e, qdd = sdot + qdd_d - Lambda (qd - qd_d) and zdot = rate(z, R^T s):
 
-            d qdd / dq = -M^-1 K_D Lambda,   d qdd / dqd = -Lambda - M^-1 K_D,   d qdd / dz_l = M^-1 R_l dPhi_hat_l/dz_l,
+            d qdd / dq = -M^-1 K_D Lambda,   d qdd / dqd = -Lambda - M^-1 K_D,
+            d qdd / dz_l = M^-1 R_l dPhi_hat_l/dz_l,
             d zdot_l / d(q, qd) = (d rate / dg) R_l^T (Lambda, I),   d zdot_l / dz_l = d rate / dz
 
         (the law's own linearization). Left out: the derivatives of M, C, G and R in q and qd, which scale with the
@@ -316,9 +316,10 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     """Integrate the runs together over [t0, t0 + horizon] (t0 of the first run's trajectory); returns (runs, batch).
 
     ``method`` "auto" takes RK45 unless the batch is stiff: the spectral radius rho of its Jacobian at the start
-    (:meth:`Batch.stiffness`, damping and adaptation) keeps RK45 to steps h <= RK45_STABILITY / rho, about
-    6 horizon rho / RK45_STABILITY evaluations; more than ``max_evaluations`` and the batch is integrated with the
-    implicit method ``implicit`` (BDF or Radau) and the Jacobian of :meth:`Batch.jacobian` (block diagonal).
+    (:meth:`Batch.stiffness`, damping and adaptation) keeps RK45 to steps h <= 3.3 / rho, about 6 horizon rho / 3.3
+    evaluations (:func:`inertiaproof.sim.simulate.least_evaluations`); more than ``max_evaluations`` and the batch is
+    integrated with the implicit method ``implicit`` (BDF or Radau) and the Jacobian of :meth:`Batch.jacobian`
+    (block diagonal).
     "RK45", "BDF" or "Radau" force a method.
 
     The decisive budget is counted, the same on every machine: ``max_evaluations`` right-hand sides of the batch,
@@ -378,7 +379,7 @@ def choose_method(batch, horizon, max_evaluations, method="auto", implicit=IMPLI
         raise ValueError(f"implicit must be one of {IMPLICIT}, not {implicit!r}")
     if len(batch.specs) * batch.size ** 2 * 8 > MAX_JACOBIAN_BYTES:  # the Jacobian would not fit: explicit
         return "RK45"
-    need = 6 * horizon * float(batch.stiffness(horizon).max()) / RK45_STABILITY
+    need = least_evaluations("RK45", float(batch.stiffness(horizon).max()), horizon)
     return implicit if not need <= max_evaluations else "RK45"
 
 
@@ -397,7 +398,8 @@ def _integrate(solver, batch, t_eval, max_evaluations, deadline):
                                   f"(budget {max_evaluations}; {type(solver).__name__})"), ys
             if time.perf_counter() > deadline:
                 return CLOCK, (f"stopped at t = {solver.t:.6g} by the wall-clock safety net after "
-                               f"{spent(solver, batch)} counted evaluations (a machine-dependent stop: no evidence)"), ys
+                               f"{spent(solver, batch)} counted evaluations (a machine-dependent stop: no "
+                               "evidence)"), ys
             try:
                 message = solver.step()
             except (np.linalg.LinAlgError, ValueError, FloatingPointError, RuntimeError) as exc:
