@@ -3,7 +3,8 @@
     python bench/certificate_coverage.py OUT
 
 Walks OUT/results.json for quantities of the certified kinds (lower_bound, upper_bound, certified_constant,
-paper_constant) and prints how many cite a certificate, then every one that does not (check: kind: path).
+paper_constant) and prints how many cite a certificate, then every one that does not (check: kind: path). An
+infinite side (no certified bound: a lower side -inf, an upper side +inf) claims nothing and is not counted.
 """
 
 from __future__ import annotations
@@ -29,7 +30,8 @@ def quantities(node, path=()):
 
 def main(out):
     checks = json.loads((Path(out) / "results.json").read_text())["checks"]
-    found = [(r["id"], path, q) for r in checks for path, q in quantities(r["evidence"])]
+    found = [(r["id"], path, q) for r in checks for path, q in quantities(r["evidence"])
+             if q["value"] not in ("inf", "-inf", None)]
     bare = [(rid, path, q) for rid, path, q in found if "certificate" not in q]
     print(f"{len(found) - len(bare)} of {len(found)} certified numbers cite a certificate")
     for rid, path, q in bare:

@@ -18,7 +18,7 @@ def serial_urdf(n, *, length=0.1, mass=0.5, radius=0.02):
     """URDF text of an n-joint serial chain with consistent solid-cylinder links and limits +-2.8 rad."""
     ixx = mass * (3 * radius**2 + length**2) / 12
     izz = mass * radius**2 / 2
-    links = [f'  <link name="base"/>']
+    links = ['  <link name="base"/>']
     joints = []
     for k in range(n):
         links.append(

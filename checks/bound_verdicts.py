@@ -365,8 +365,9 @@ def sampled_bracket(value, chain, name, sense, ctx, scene, note):
     return Bracket(name, sense, float(vs[j]), None, qs[j], [[0.0, None, None]], 0, note)
 
 
-def time_and_configuration_bracket(value, ctx, scene, name, note, certified):
-    """sup over (q, t) of value(q, t): samples of pairs, then a local search over q at the worst time."""
+def time_and_configuration_bracket(value, ctx, scene, name, note, certified, certificate=None):
+    """sup over (q, t) of value(q, t): samples of pairs, then a local search over q at the worst time; the certified
+    side ``certified`` cites ``certificate``."""
     q, t = scene_samples(ctx, scene, name)
     vals = value(q, t)
     i = int(np.argmax(vals))
@@ -375,7 +376,8 @@ def time_and_configuration_bracket(value, ctx, scene, name, note, certified):
     qs, vs = local_search(lambda qq: value(qq, np.full(len(qq), t[i])), q[i:i + 1], lo, hi,
                           free_coordinates(chain), sign=-1.0)
     best, witness = (float(vs[0]), qs[0]) if vs[0] > vals[i] else (float(vals[i]), q[i])
-    return Bracket(name, "max", best, certified, witness, [[0.0, best, float(certified)]], 0, note), float(t[i])
+    cite = lambda side, *_: certificate if side == certified else None  # noqa: E731
+    return Bracket(name, "max", best, certified, witness, [[0.0, best, float(certified)]], 0, note, cite), float(t[i])
 
 
 def parameter_stack(trajectory, rate, count=64):

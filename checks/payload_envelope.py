@@ -257,11 +257,12 @@ def _cases(ctx, deep):
 
 @check(ID)
 def payload_envelope(ctx):
-    """In a run: the profile's Hypothesis examples per hunt, the ladder's default goal, no curve points in ci
-    (``inertiaproof envelope`` spends the envelope's budget: Profile.envelope_*)."""
+    """In a run: in ci the profile's Hypothesis examples per hunt, the ladder's default goal and no curve points;
+    in deep the envelope's budget (Profile.envelope_*: 100,000 payloads per robot), as ``inertiaproof envelope``."""
     deep = ctx.profile.refine_s >= DEEP_S
     results = [envelope_result(name, chain, theta, pset, ramp_s=RAMP_S, profile=ctx.profile,
-                               examples=ctx.profile.examples, points=ctx.profile.envelope_points if deep else 0,
+                               examples=ctx.profile.envelope_examples if deep else ctx.profile.examples,
+                               points=ctx.profile.envelope_points if deep else 0,
                                goal=ctx.profile.envelope_goal if deep else None, seed_value=ctx.seed,
                                progress=ctx.progress) for name, chain, theta, pset in _cases(ctx, deep)]
     verdict = combine(r.verdict for r in results)

@@ -152,7 +152,7 @@ def test_write_repaired_mjcf_loads_in_mujoco_and_passes_the_audit(tmp_path, caps
     out = tmp_path / "fixed.xml"
     assert cli.main(["audit", str(path), "--bounds", "none", "--write-repaired", str(out)]) == 1
     diff = capsys.readouterr().out
-    assert path.read_bytes() == before and f"-" in diff and f"+" in diff and kind in diff
+    assert path.read_bytes() == before and "-" in diff and "+" in diff and kind in diff
     mujoco.MjModel.from_xml_path(str(out))  # MuJoCo now loads it
     assert cli.main(["audit", str(out), "--bounds", "none"]) == 0
 

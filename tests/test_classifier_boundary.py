@@ -1,6 +1,5 @@
 """The classifier attacked at its boundary: the exact oracle, the families, and VIOLATED for a loosened classifier."""
 
-from fractions import Fraction
 
 import numpy as np
 import pytest

@@ -187,7 +187,7 @@ def refused_cases(tmp_path):
     secret = tmp_path / "secret.txt"
     secret.write_text(SECRET + "\n")
     laughs, lol = billion_laughs()
-    deep = "\n".join([f'<!ENTITY d0 "1">'] + [f'<!ENTITY d{i} "&d{i - 1};">' for i in range(1, MAX_DEPTH + 3)])
+    deep = "\n".join(['<!ENTITY d0 "1">'] + [f'<!ENTITY d{i} "&d{i - 1};">' for i in range(1, MAX_DEPTH + 3)])
     big = "9" * 50_000
     return {
         "billion laughs": (laughs, [('name="l1"', f'name="{lol}"')], "expand to more than"),

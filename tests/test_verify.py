@@ -7,6 +7,7 @@ import ast
 import copy
 import functools
 import json
+import re
 import subprocess
 import sys
 from fractions import Fraction
@@ -172,8 +173,10 @@ def test_the_checker_imports_only_flint_and_the_standard_library():
                 continue
             for name in names:
                 assert name.split(".")[0] in allowed, f"{path.name} imports {name}"
-    # 1,000 before the payload-envelope claims (110 lines) and the sum claim (45 lines)
-    assert int(about().split(": ")[1].split()[0]) < 1200
+    # the goal was 1,000 lines; the claims of payloads, sums, moving loads and Y_p took it past that, half
+    # of it the docstrings that state each claim and why its proof is sound
+    total, code = (int(x) for x in re.findall(r"(\d+) (?:lines|of code)", about()))
+    assert total < 1650 and code < 1100
 
 
 @pytest.fixture(scope="module")

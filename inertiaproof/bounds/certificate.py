@@ -19,8 +19,9 @@ from inertiaproof.model.exact import definiteness, integer_matrix
 from .domain import certification_obstacle, search_box
 
 __all__ = ["PayloadClaim", "SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "key_step_certificate",
-           "payload_f_certificate", "product_certificate", "pseudo_exact", "spatial_exact", "spatial_psd",
-           "spectrum_certificate", "sum_certificate", "ZERO_FLOOR"]
+           "moving_mass_certificate", "payload_f_certificate", "product_certificate", "pseudo_exact",
+           "skew_certificate", "SkewClaim", "spatial_exact", "spatial_psd", "spectrum_certificate", "sum_certificate",
+           "ZERO_FLOOR"]
 
 SCHEMA = "inertiaproof.certificate/1"
 STATEMENT = {"lambda_min": "lambda_min(M(q, Theta)) >= {bound}", "lambda_max": "lambda_max(M(q, Theta)) <= {bound}"}
@@ -246,11 +247,12 @@ BODY_CLAIMS = {  # inertiaproof.bounds.time.BODY_FUNCTIONS name: (matrix, quanti
 }
 
 
-def body_spectrum_certificate(stack, name, bound, provenance=""):
+def body_spectrum_certificate(stack, name, bound, provenance="", directions=None):
     """The certificate (kind ``body-spectrum``) of the certified side ``bound`` of the time extreme ``name`` (a key
     of :data:`BODY_CLAIMS`): for every body l and Phi_l in the convex hull of the rows of body l in ``stack`` (V, N,
-    10; the vertices of Theta or Thetadot), e.g. lambda_min(f(Phi_l)) >= bound. None when a row or the bound is not
-    finite (an unbounded scaling): the checker has no claim then."""
+    10; the vertices of Theta or Thetadot), e.g. lambda_min(f(Phi_l)) >= bound; with ``directions`` (N, 10; a lower
+    claim) plus any nonnegative multiple of body l's direction (an unbounded scaling). None when a row or the bound
+    is not finite: the checker has no claim then."""
     stack = np.asarray(stack, float)
     if not (np.all(np.isfinite(stack)) and np.isfinite(float(bound))):
         return None
@@ -259,15 +261,18 @@ def body_spectrum_certificate(stack, name, bound, provenance=""):
     return {"schema": SCHEMA,
             "claim": {"kind": "body-spectrum", "matrix": matrix, "quantity": quantity, "bound": exact(bound),
                       "statement": f"for every body l and Phi_l in the hull of its rows in the {len(sets)} parameter "
-                                   f"set(s): " + statement.format(bound=f"{float(bound):.10g}")},
+                                   f"set(s){'' if directions is None else ' plus its growth direction'}: "
+                                   + statement.format(bound=f"{float(bound):.10g}")},
             "parameters": [_rows(s) for s in sets],
+            **({} if directions is None else {"directions": _rows(directions)}),
             "provenance": provenance}
 
 
 def product_certificate(relation, bound, factor, ingredients, statement, provenance=""):
     """The certificate (kind ``product``) of "factor * prod_i x_i^p_i ``relation`` bound" (">=" or "<="), x_i the
     quantity the ingredient certificate i bounds (``ingredients``: (certificate, p_i) pairs, lower claims for ">=",
-    upper claims for "<="); ``factor`` a float or Fraction (written exactly) or ("sqrt", r) for sqrt(r).
+    upper claims for "<="; p_i an integer or "1/2"); ``factor`` a float or Fraction (written exactly) or ("sqrt", r)
+    for sqrt(r).
     ``statement`` may hold "{bound}". None when an ingredient has no certificate, the bound is not finite, a lower
     claim's bound is negative or an upper claim's bound is (the checker proves neither)."""
     if any(c is None for c, _ in ingredients) or not np.isfinite(float(bound)):
@@ -279,7 +284,7 @@ def product_certificate(relation, bound, factor, ingredients, statement, provena
     return {"schema": SCHEMA,
             "claim": {"kind": "product", "relation": relation, "bound": exact(bound), "factor": written,
                       "statement": statement.format(bound=f"{float(bound):.10g}")},
-            "ingredients": [{"power": int(p), "of": c} for c, p in ingredients],
+            "ingredients": [{"power": p if p == "1/2" else int(p), "of": c} for c, p in ingredients],
             "provenance": provenance}
 
 
@@ -299,6 +304,41 @@ def sum_certificate(relation, terms, statement):
                    "terms": terms}
 
 
+MOVING_CLAIMS = {  # time_extreme's name or "psi", "psi_dot": (the checker's quantity, statement)
+    "lmin_f": ("lambda_min_f", "min_l lambda_min(f(Phi_l(t))) >= {bound}"),
+    "lmax_f": ("lambda_max_f", "max_l lambda_max(f(Phi_l(t))) <= {bound}"),
+    "lmin_Z": ("lambda_min_Z", "min_l lambda_min(Z(Phi_l(t))) >= {bound}"),
+    "lmax_Z": ("lambda_max_Z", "max_l lambda_max(Z(Phi_l(t))) <= {bound}"),
+    "smax_fdot": ("sigma_max_fdot", "max_l sigma_max(f(Phidot_l(t))) <= {bound}"),
+    "smax_Zdot": ("sigma_max_Zdot", "max_l sigma_max(Z(Phidot_l(t))) <= {bound}"),
+    "psi": ("psi", "||Psi(t)|| <= {bound}"), "psi_dot": ("psi_dot", "||Psidot(t)|| <= {bound}"),
+}
+
+
+def moving_mass_certificate(trajectory, name, bound, provenance=""):
+    """The certificate (kind ``moving-mass``) of "for every t, ``name`` (a key of :data:`MOVING_CLAIMS`) is bounded
+    by ``bound``" on a trajectory whose loads all move (:class:`inertiaproof.dynamics.trajectory.MovingMass`); None
+    when the bound is not finite."""
+    if not np.isfinite(float(bound)):
+        return None
+    quantity, statement = MOVING_CLAIMS[name]
+
+    def path(p):
+        if p.shape == "line":
+            return {"shape": "line", "start": [exact(x) for x in p.start], "end": [exact(x) for x in p.end]}
+        return {"shape": "circle", "center": [exact(x) for x in p.center], "radius": exact(p.radius)}
+
+    loads = [{"body": load.body + 1, "mass": exact(load.mass), "inertia_com": _rows(load.inertia_com),
+              "path": path(load.path), "profile": {"shape": load.path.profile.shape,
+                                                   "duration": exact(load.path.profile.duration),
+                                                   "rate": exact(load.path.profile.rate)}}
+             for load in trajectory.loads]
+    return {"schema": SCHEMA,
+            "claim": {"kind": "moving-mass", "quantity": quantity, "bound": exact(bound),
+                      "statement": "for every t: " + statement.format(bound=f"{float(bound):.10g}")},
+            "parameters": [_rows(trajectory.base)], "loads": loads, "provenance": provenance}
+
+
 def key_step_certificate(choi, lower, upper):
     """The certificate (kind ``key-step``) of the key step of Theorems 2-4: L(F) = Z(f^-1(F)) is a positive map
     (``choi``: its 24x24 Choi matrix, rationals as strings) and lower I6 <= L(I4) <= upper I6."""
@@ -308,3 +348,42 @@ def key_step_certificate(choi, lower, upper):
                                    f"implies Z(Phi) <= {upper:g} s I6, and sigma_max(Z(Phi)) <= {upper:g} "
                                    "sigma_max(f(Phi))"},
             "choi": [list(row) for row in choi]}
+
+
+SKEW_STATEMENT = {"max_sigma": "sigma_max(Y_p(q)) <= {bound} for every row p of QJ",
+                  "rss_sigma": "(sum_p sigma_max(Y_p(q))^2)^(1/2) <= {bound}"}
+
+
+def skew_certificate(chain, quantity, bound, provenance="", witness=None, tree="."):
+    """The certificate (kind ``skew-partials``) of "for all q in the chain's search box, sigma_max(Y_p(q)) <= bound
+    for every row p of QJ" (``quantity`` "max_sigma") or "(sum_p sigma_max(Y_p(q))^2)^(1/2) <= bound" ("rss_sigma"),
+    Y_p = dK_p/dq - (dK_p/dq)^T (DefK, Theorem 5); ``tree`` the partition the prover's branch and bound proved on
+    (:func:`partition_tree`; None, written as null, where its boxes were no partition: the checker rejects it). None
+    where the checker has no claim for the chain (a coordinate map other than the identity, an unbounded slide) or
+    the bound is not finite."""
+    if certification_obstacle(chain) is not None or not np.isfinite(float(bound)):
+        return None
+    lo, hi = search_box(chain)
+    joints = [{"kind": j.kind, "axis": [exact(a) for a in j.axis], "before": _rows(j.before), "after": _rows(j.after),
+               "coordinate": j.coordinate.name} for j in chain.joints]
+    return {"schema": SCHEMA,
+            "claim": {"kind": "skew-partials", "quantity": quantity, "bound": exact(bound),
+                      "statement": "for all q in the box, with Y_p = dK_p/dq - (dK_p/dq)^T: "
+                                   + SKEW_STATEMENT[quantity].format(bound=f"{float(bound):.10g}")},
+            "chain": {"name": chain.name, "joints": joints},
+            "domain": [[exact(a), exact(b)] for a, b in zip(lo, hi)],
+            "tree": tree,
+            **({"witness": [exact(x) for x in np.clip(witness, lo, hi)]} if witness is not None else {}),
+            "provenance": provenance}
+
+
+@dataclass(frozen=True)
+class SkewClaim:
+    """bound -> the certificate (:func:`skew_certificate`) of a bracket's certified side of Theorem 5's sups
+    (``quantity`` "max_sigma" or "rss_sigma"); the bracket's ``proof`` is its partition's tree. Plain data."""
+
+    chain: object
+    quantity: str
+
+    def __call__(self, bound, note="", witness=None, proof=None):
+        return skew_certificate(self.chain, self.quantity, bound, note, witness, proof)

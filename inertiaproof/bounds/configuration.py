@@ -56,7 +56,7 @@ from .domain import (
 from .extremes import bracket_extreme
 from .fourier import PAIR_CELLS, SINGLE_CELLS, FourierFamily, certified_entry_sups, perron_of
 from .axial_form import axial_lower_form, form_lmin
-from .certificate import PivotProof, SpectrumClaim, partition_tree
+from .certificate import PivotProof, SkewClaim, SpectrumClaim, partition_tree
 from .interface import EVIDENCE, split_ladder
 from .lengths import _block_rows, _unit_bodies, column_bounds, lever_bounds
 from .pivot_search import DEEP_S, EXTRA, ladder_budget, ladder_goal, pivot_ladder
@@ -783,6 +783,8 @@ def skew_partial_sup(chain, *, samples, refine_s, rng, progress=None):
 
     Y_p has degree <= 1 per coordinate like QJ, so a first-order Bernstein bound
     applies: sigma(Y_p(q)) <= sigma(Y_p(c)) + S rho on a box, with S the sup itself.
+    Each certified side cites a ``skew-partials`` certificate (:class:`.certificate.SkewClaim`) carrying the
+    partition its branch and bound proved on.
     """
     def sigmas(q):
         return spectral(skew_partials(chain.body_jacobian_derivative(q)), "smax")  # (K, 6N)
@@ -801,7 +803,9 @@ def skew_partial_sup(chain, *, samples, refine_s, rng, progress=None):
     worst = bracket_extreme(lambda q: sigmas(q).max(1), max_bound if usable else None, lo, hi, sense="max",
                             quantity_name="max_p sup_q sigma_max(Y_p)", samples=samples, refine_s=refine_s / 2,
                             rng=rng, free=free, weights=factors, progress=progress, cost=_legacy_cost(free),
-                            note=obstacle or ("" if same else "joint limits inside a period: no certified side"))
+                            note=obstacle or ("" if same else "joint limits inside a period: no certified side"),
+                            partition=True)
+    worst.certify = SkewClaim(chain, "max_sigma") if usable else None
     s = worst.certified
 
     def rss_bound(c, r):
@@ -811,7 +815,9 @@ def skew_partial_sup(chain, *, samples, refine_s, rng, progress=None):
     rss = bracket_extreme(lambda q: np.sqrt((sigmas(q) ** 2).sum(1)),
                           rss_bound if usable and s is not None and np.isfinite(s) else None, lo, hi, sense="max",
                           quantity_name="sup_q (sum_p sigma_max(Y_p)^2)^(1/2)", samples=samples, refine_s=refine_s / 2,
-                          rng=rng, free=free, weights=factors, note=worst.note, cost=_legacy_cost(free))
+                          rng=rng, free=free, weights=factors, note=worst.note, cost=_legacy_cost(free),
+                          partition=True)
+    rss.certify = SkewClaim(chain, "rss_sigma") if usable else None
     return worst, rss
 
 

@@ -137,7 +137,8 @@ def local_search(value, q, lo, hi, free, *, sign, rounds=40, step=0.25):
 
 
 def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, refine_s, rng, free=None,
-                    progress=None, rtol=1e-6, batch=64, max_boxes=200_000, weights=None, note="", cost=1.0):
+                    progress=None, rtol=1e-6, batch=64, max_boxes=200_000, weights=None, note="", cost=1.0,
+                    partition=False):
     """Bracket inf (sense 'min') or sup ('max') of ``value`` over the box [lo, hi].
 
     ``value(q)`` maps configurations (K, n) to (K,). ``box_bound(centres, radii)``
@@ -149,6 +150,9 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
     ``2 batch`` boxes (under one round: one round of as many boxes as it pays for; under one box: none, and no
     certified side), a count (the same bracket for a seed on any machine), with a wall-clock guard at ``GUARD``
     times ``refine_s`` (a loaded machine ends with a wider, still certified bracket).
+    ``partition``: the bracket's ``proof`` is the prefix code (:mod:`inertiaproof.verify.tree`) of the halvings
+    made: its leaves, the boxes set aside as unable to beat the observed side and those left, tile the box and
+    every one's bound is within the certified side.
     """
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     n = lo.size
@@ -185,6 +189,8 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
     centres, radii = mid[None].copy(), np.where(free, 0.5 * (hi - lo), 0.0)[None]
     bounds = sign * box_bound(centres, radii)
     boxes = 1
+    ids, splits = np.zeros(1, int), []  # every box's number (the root's 0), and per round the halvings made:
+    # (parents, axes, the first child's number); a box set aside (it cannot beat the observed side) stays a leaf
     certified = sign * float(np.min(bounds))
     record(certified)
     last_report = start
@@ -196,7 +202,7 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
         rounds += 1
         # boxes that cannot beat the observed value are done
         keep = bounds < sign * best
-        centres, radii, bounds = centres[keep], radii[keep], bounds[keep]
+        centres, radii, bounds, ids = centres[keep], radii[keep], bounds[keep], ids[keep]
         if not len(bounds):
             certified = best
             break
@@ -211,6 +217,8 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
         shift[np.arange(len(r)), axis] = half[np.arange(len(r)), axis]
         child_c = np.concatenate([c - shift, c + shift])
         child_r = np.concatenate([half, half])
+        splits.append((ids[take], axis, boxes))  # children numbered from boxes: the lower halves first
+        ids = np.concatenate([ids[rest], boxes + np.arange(len(child_c))])
         child_v = value(child_c)
         k = int(np.argmin(sign * child_v))
         if sign * child_v[k] < sign * best:
@@ -232,7 +240,27 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
     if len(bounds) == 0:
         certified = best
     record(certified)
-    return Bracket(quantity_name, sense, best, certified, best_q, _thin(conv), boxes, note)
+    proof = _prefix_code(splits) if partition else None
+    return Bracket(quantity_name, sense, best, certified, best_q, _thin(conv), boxes, note, proof=proof)
+
+
+def _prefix_code(splits):
+    """The prefix code of the halvings ``splits`` (per round: parents, axes, the first child's number) from the root
+    (box 0): an axis k for a box halved along coordinate k, then its lower and upper halves; "." for a leaf."""
+    cut = {}
+    for parents, axes, first in splits:
+        for t, (parent, axis) in enumerate(zip(parents.tolist(), axes.tolist())):
+            cut[parent] = (axis, first + t, first + len(parents) + t)
+    tokens, stack = [], [0]
+    while stack:
+        box = stack.pop()
+        if box in cut:
+            axis, lower, upper = cut[box]
+            tokens.append(str(axis))
+            stack += [upper, lower]
+        else:
+            tokens.append(".")
+    return " ".join(tokens)
 
 
 def _finite(x):

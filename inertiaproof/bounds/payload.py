@@ -281,8 +281,8 @@ def psi_square(payloads, speed):
 
 def _theorem5(chain, payloads, speed, kw):
     """Theorem 5 (BoundedEffectOfLumpedVel) for the moving payload: the paper's sqrt(6N) Psi* max_p sup_q
-    sigma_max(Y_p) and Psi* sup_q (sum_p sigma_max(Y_p)^2)^(1/2); the sups are the prover's (Bernstein), which no
-    certificate kind covers yet."""
+    sigma_max(Y_p) and Psi* sup_q (sum_p sigma_max(Y_p)^2)^(1/2); the sups are the prover's (Bernstein), their
+    brackets' certified sides citing ``skew-partials`` certificates."""
     worst, rss = skew_partial_sup(chain, **kw)
     psi = math.sqrt(psi_square(payloads, speed)) * (1 + 4 * np.finfo(float).eps)
     return {"psi_star": psi, "paper": formulas.lumped_velocity(psi, worst.upper, 6 * chain.n),

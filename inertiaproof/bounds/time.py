@@ -15,7 +15,7 @@ import numpy as np
 from inertiaproof.dynamics.trajectory import MovingMass, Payload, Scaling
 from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
 
-from .certificate import body_spectrum_certificate
+from .certificate import body_spectrum_certificate, moving_mass_certificate
 from .spectral import EPS, ROUNDING, spectral
 
 __all__ = [
@@ -157,15 +157,33 @@ def time_extreme(trajectory, name, *, samples=2001, horizon=None):
             certified = float(cvals.min())
             how = ("a scaling grows without bound on the span; growth of a consistent body only raises lambda_min"
                    + rounding)
+            directions = _growth_directions(trajectory)
+            if directions is not None:
+                certificate = body_spectrum_certificate(stack[finite], name, certified, how, directions)
         else:
             certified, how = np.inf, "a profile grows without bound on the span: the supremum is infinite"
     else:
         certified, how = _moving_mass_bound(trajectory, name), "positivity of the loads and their rate bounds"
+        certificate = _moving_certificate(trajectory, name, certified, how)
     found = {"observed": observed, "certified": certified, "witness_time": float(t[ti]), "body": int(body), "how": how,
              "sense": sense}
     if certificate is not None:
         found["certificate"] = certificate
     return found
+
+
+def _growth_directions(trajectory):
+    """(N, 10): the row each body grows along without bound (its base row under a scaling, the payload's Phi),
+    zero for bounded bodies; None where a body has two unbounded loads (a cone, not a ray)."""
+    directions, seen = np.zeros_like(trajectory.base, dtype=float), set()
+    for load in trajectory.loads:
+        if np.isfinite(profile_range(load.profile, trajectory.span)[1]):
+            continue
+        if load.body in seen:
+            return None
+        seen.add(load.body)
+        directions[load.body] = trajectory.base[load.body] if isinstance(load, Scaling) else load.phi
+    return directions
 
 
 def vertex_extreme(stack, name, how=""):
@@ -196,10 +214,10 @@ def _moving_mass_bound(trajectory, name):
         factor = 2.0 if build is spatial_inertia else 1.0  # ||Z(F)|| <= 2 ||F|| for F >= 0 or |F| bounded (key step)
         extra[load.body] += factor * (terms["f_rate"] if rate else terms["f_norm"])
     if rate:
-        return float(extra.max())
+        return _up(extra.max())
     if kind == "lmin":
         return float(base.min())  # adding a consistent body only adds a PSD term
-    return float((base + extra).max())
+    return _up((base + extra).max())
 
 
 def lumped_velocity_bounds(trajectory, *, samples=2001):
@@ -207,13 +225,27 @@ def lumped_velocity_bounds(trajectory, *, samples=2001):
     t = trajectory.times(samples)
     psi, psi_dot = trajectory.psi(t)
     n_psi, n_dot = np.linalg.norm(psi, axis=-1), np.linalg.norm(psi_dot, axis=-1)
-    cert_psi = cert_dot = 0.0
-    for load in trajectory.loads:
-        if isinstance(load, MovingMass):
-            terms = _moving_mass_terms(load)
-            cert_psi += terms["psi"]
-            cert_dot += terms["psi_dot"]
-    return {"psi": {"observed": float(n_psi.max()), "certified": cert_psi, "witness_time": float(t[np.argmax(n_psi)])},
-            "psi_dot": {"observed": float(n_dot.max()), "certified": cert_dot, "witness_time": float(t[np.argmax(n_dot)])}}
+    found = {}
+    for name, norms in (("psi", n_psi), ("psi_dot", n_dot)):
+        certified = _up(sum(_moving_mass_terms(load)[name] for load in trajectory.loads
+                            if isinstance(load, MovingMass)))
+        found[name] = {"observed": float(norms.max()), "certified": certified,
+                       "witness_time": float(t[np.argmax(norms)])}
+        certificate = _moving_certificate(trajectory, name, certified, "mass, path length and the profile's peaks")
+        if certificate is not None:
+            found[name]["certificate"] = certificate
+    return found
+
+
+def _up(x):
+    """x moved up by the rounding allowance ROUNDING eps |x| of its few float steps."""
+    return float(x + ROUNDING * EPS * abs(x))
+
+
+def _moving_certificate(trajectory, name, bound, how):
+    """The ``moving-mass`` certificate of a bound over time, where every load moves (None otherwise)."""
+    if trajectory.loads and all(isinstance(load, MovingMass) for load in trajectory.loads):
+        return moving_mass_certificate(trajectory, name, bound, how)
+    return None
 
 

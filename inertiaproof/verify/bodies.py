@@ -8,7 +8,10 @@ It says: for every body l and every Phi in the convex hull of the rows of body l
 - ``sigma_max``: max |eigenvalue of F| <= bound, proved as bound I - F >= 0 and bound I + F >= 0.
 
 F is linear in Phi, so each condition holds on the hull when it holds at every row (the semidefinite cone is
-convex). Every row is decided in exact rational arithmetic (:func:`.exact.semidefinite`): no rounding, no boxes.
+convex). Optional ``directions`` (``lambda_min`` only; one row per body): the claim holds on the hull plus any
+nonnegative multiple of body l's direction D_l (a scaling that grows without bound) when also f(D_l) >= 0, as adding
+a semidefinite term only raises lambda_min. Every row is decided in exact rational arithmetic
+(:func:`.exact.semidefinite`): no rounding, no boxes.
 """
 
 from __future__ import annotations
@@ -79,6 +82,14 @@ def prove(cert, budget):
     """The :class:`Outcome` of the claim: every (parameter set, body) decided exactly (``budget`` is not needed)."""
     build, matrix, quantity, bound, sets = _parse(cert)
     tested = 0
+    if "directions" in cert:
+        if quantity != "lambda_min":
+            raise BadCertificate("directions: only for a lambda_min claim")
+        for l, row in enumerate(parameter_sets([cert["directions"]], len(sets[0]))[0]):
+            tested += 1
+            if not semidefinite(build(row)):
+                return Outcome("refuted", f"direction of body {l + 1}: {matrix}(D) is not positive semidefinite "
+                               "(exact rational arithmetic)", tested, {"direction": l + 1, "matrix": matrix})
     for v, body_rows in enumerate(sets):
         for l, row in enumerate(body_rows):
             f = build(row)

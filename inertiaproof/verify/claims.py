@@ -9,14 +9,15 @@ from __future__ import annotations
 import hashlib
 import json
 
-from . import bodies, key_step, payload, product, spectrum
+from . import bodies, key_step, moving, payload, product, skew, spectrum
 from .exact import BadCertificate
 
 __all__ = ["KINDS", "SCHEMA", "prove"]
 
 SCHEMA = "inertiaproof.certificate/1"
 KINDS = {"mass-matrix-spectrum": spectrum.prove, "body-spectrum": bodies.prove, "key-step": key_step.prove,
-         "payload-envelope": payload.prove,
+         "payload-envelope": payload.prove, "moving-mass": moving.prove,
+         "skew-partials": skew.prove,
          "product": lambda cert, budget: product.prove(cert, budget, prove),
          "sum": lambda cert, budget: product.prove_sum(cert, budget, prove)}  # its ingredients re-proved by prove
 PROVED = {}  # outcomes by the certificate's SHA-256 and the budget: a certificate a product embeds, and that a run

@@ -2,11 +2,12 @@
 
 Ingredient i: an embedded certificate (``of``, re-proved by :func:`.claims.prove`, passed in; products nest
 at most ``DEPTH`` deep) whose claim bounds its quantity x_i (an extreme over its domain) by b_i, and a power p_i
-(an integer, 1..16);
+(an integer, 1..16, or a half "k/2" of a nonnegative x_i: sup_q sigma_max(QJ) from its claim on (QJ)^T QJ);
 the factor f >= 0 is a rational or {"sqrt": r}. ``>=``: every claim x_i >= b_i (``lambda_min``, a ``>=``
 product) with b_i >= 0, so x_i^p_i >= b_i^p_i and f prod x_i^p_i >= f prod b_i^p_i. ``<=``: every claim x_i <=
 b_i (``lambda_max``, ``sigma_max``, a ``<=`` product); where x_i >= 0, x_i^p_i <= b_i^p_i. Nonnegative by kind:
-a body-spectrum ``sigma_max`` (a max |eigenvalue|), a mass-matrix-spectrum or payload-envelope ``lambda_max`` with a
+the norms (a body-spectrum ``sigma_max``, a max |eigenvalue|; a moving-mass rate or Psi; a skew-partials
+sigma_max), a mass-matrix-spectrum or payload-envelope ``lambda_max`` with a
 parameter set whose Z(Phi_l) are all positive semidefinite (decided exactly; then M >= 0: unit bodies Z = I for
 (QJ)^T QJ; a payload adds Z(Phi_p) >= 0), a payload-envelope ``lambda_max_f`` with a set whose f(Phi_l) all are.
 At most ONE other x_k (e.g. a body-spectrum ``lambda_max`` of f(Phi), possibly negative), of odd p_k: t -> t^p_k
@@ -14,8 +15,8 @@ is nondecreasing, so x_k^p_k <= max(x_k, 0)^p_k <= max(b_k, 0)^p_k, and, the fac
 nonnegative, f prod x_i^p_i <= f max(b_k, 0)^p_k prod_(i != k) b_i^p_i (two could both be negative, their product
 positive and unbounded). The claim holds when its ingredients' do and f prod c_i^p_i >= (<=) bound, c_i = b_i
 (clamped at 0 for ``<=``): with P = prod c_i^p_i >= 0 and f = sqrt(r), f P - bound has the sign of r P^2 -
-bound^2 where bound >= 0 (decided exactly). Where that fails the claim is refuted (the ingredients give no more);
-else an ingredient refuted refutes it, and one not decided leaves it not decided.
+bound^2 where bound >= 0 (P^2 = prod c_i^(2 p_i) decided exactly). Where that fails the claim is refuted (the
+ingredients give no more); else an ingredient refuted refutes it, and one not decided leaves it not decided.
 
 The ``sum`` claim: sum_i x_i ``relation`` bound from ``terms`` (certificates: upper claims for ``<=``, lower for
 ``>=``) bounding x_i by b_i: x_i <= b_i for all i gives sum x_i <= sum b_i whatever their signs, so it holds when
@@ -33,15 +34,18 @@ from .outcome import Outcome
 __all__ = ["prove", "prove_sum"]
 
 DEPTH = 4  # products nested in products
+NORMS = {("body-spectrum", "sigma_max"), ("moving-mass", "sigma_max_fdot"), ("moving-mass", "sigma_max_Zdot"),
+         ("moving-mass", "psi"), ("moving-mass", "psi_dot"), ("skew-partials", "max_sigma"),
+         ("skew-partials", "rss_sigma")}  # upper claims of norms: nonnegative quantities
 LOWER = {("mass-matrix-spectrum", "lambda_min"), ("body-spectrum", "lambda_min"), ("payload-envelope", "lambda_min"),
-         ("product", ">="), ("sum", ">=")}
-UPPER = {("mass-matrix-spectrum", "lambda_max"), ("body-spectrum", "lambda_max"), ("body-spectrum", "sigma_max"),
-         ("payload-envelope", "lambda_max"), ("payload-envelope", "lambda_max_f"), ("product", "<="),
-         ("sum", "<=")}
+         ("moving-mass", "lambda_min_f"), ("moving-mass", "lambda_min_Z"), ("product", ">="), ("sum", ">=")}
+UPPER = {("mass-matrix-spectrum", "lambda_max"), ("body-spectrum", "lambda_max"), ("payload-envelope", "lambda_max"),
+         ("payload-envelope", "lambda_max_f"), ("moving-mass", "lambda_max_f"), ("moving-mass", "lambda_max_Z"),
+         ("product", "<="), ("sum", "<=")} | NORMS
 
 
 def _nonnegative(sub, key):
-    if key == ("body-spectrum", "sigma_max"):
+    if key in NORMS:
         return True
     matrix = {("mass-matrix-spectrum", "lambda_max"): spatial_inertia, ("payload-envelope", "lambda_max"): spatial_inertia,
               ("payload-envelope", "lambda_max_f"): pseudo_inertia}.get(key)
@@ -72,8 +76,9 @@ def _parse(cert):
         where, (sub, power) = f"ingredients[{i}]", (item.get("of"), item.get("power")) if isinstance(item, dict) else (0, 0)
         if not isinstance(sub, dict) or not isinstance(sub.get("claim"), dict):
             raise BadCertificate(f"{where}.of: a certificate")
-        if type(power) is not int or not 1 <= power <= 16:
-            raise BadCertificate(f"{where}.power: an integer from 1 to 16")
+        twice = 2 * power if type(power) is int else {f"{k}/2": k for k in range(1, 32, 2)}.get(power, 0)
+        if not 1 <= twice <= 32:
+            raise BadCertificate(f"{where}.power: an integer from 1 to 16 or a half \"k/2\" (k odd, below 32)")
         key = _key(sub)
         if key not in (LOWER if relation == ">=" else UPPER):
             raise BadCertificate(f"{where}: a {'lower' if relation == '>=' else 'upper'} claim expected, not {key}")
@@ -82,12 +87,12 @@ def _parse(cert):
             raise BadCertificate(f"{where}: lower bound {b} < 0 says nothing of x^p (x >= b < 0 allows x^p below b^p)")
         if relation == "<=" and not _nonnegative(sub, key):
             loose += 1
-            if loose > 1 or power % 2 == 0:
+            if loose > 1 or twice % 4 != 2:
                 raise BadCertificate(f"{where}: a quantity that may be negative: only one such, of odd power")
             b = max(b, fmpq(0))
         elif b < 0:
             raise BadCertificate(f"{where}: upper bound {b} < 0 of a nonnegative quantity")
-        parsed.append((sub, power, b))
+        parsed.append((sub, twice, b))
     return relation, bound, r, parsed
 
 
@@ -97,12 +102,12 @@ def prove(cert, budget, prove_any, depth=0):
     if depth > DEPTH:
         raise BadCertificate(f"ingredients: products nested deeper than {DEPTH}")
     relation, bound, r, parsed = _parse(cert)
-    p = fmpq(1)
-    for _, power, b in parsed:
-        p *= b ** power
-    holds = (bound <= 0 or r * p * p >= bound**2) if relation == ">=" else (bound >= 0 and r * p * p <= bound**2)
+    square = fmpq(1)  # (prod b_i^p_i)^2, exact for half powers too
+    for _, twice, b in parsed:
+        square *= b ** twice
+    holds = (bound <= 0 or r * square >= bound**2) if relation == ">=" else (bound >= 0 and r * square <= bound**2)
     if not holds:
-        value = (arb(r).sqrt() * arb(p)).str(10, radius=False)
+        value = (arb(r * square).sqrt()).str(10, radius=False)
         return Outcome("refuted", f"the ingredients' bounds give factor * prod b_i^p_i = {value}, not {relation} "
                        f"{float(bound):.10g} (exact rational arithmetic)", 0, {"product": value})
     return _prove_parts(cert, [sub for sub, _, _ in parsed], "ingredient", budget, prove_any, depth,

@@ -1,0 +1,158 @@
+"""The ``skew-partials`` claim (Theorem 5): for every q in the box ``domain`` and every row p of QJ, with Y_p =
+dK_p/dq - (dK_p/dq)^T, K_p = (QJ)^T e_p (DefK): ``max_sigma`` sigma_max(Y_p(q)) <= bound; ``rss_sigma`` sum_p
+sigma_max(Y_p(q))^2 <= bound^2.
+
+Y_p from its own formula: column k of QJ_l (body l's rows) is c_k = X_l .. X_(k+1) s_k (s_k joint k's twist in body
+k's axes, X_m the twist map from body m-1 to m, a function of q_m alone), and dX_m/dq_m = -ad(s_m) X_m with Ad a Lie
+algebra automorphism give dc_k/dq_m = [c_k, c_m] for k < m <= l (0 otherwise), [a, b] = (w_a x v_b - w_b x v_a, w_a x
+w_b) for twists (v, w). So Y_p[k, j] is component p of [c_k, c_j] (k, j <= l; 0 beyond), its derivative in q_i that
+of [[c_k, c_i], c_j] (k < i) + [c_k, [c_j, c_i]] (j < i), i <= l.
+
+Y_p is skew, its singular values pair up: sigma_max(Y_p)^2 <= g_p = sum_(k<j) Y_p[k, j]^2, equal up to 3 x 3 (3
+joints). On a box (centre c, radii r) g_p(q) <= g_p(c) + sum_i r_i |dg_p/dq_i| over the box (mean value theorem; the
+derivative enclosed in ball arithmetic from the columns over the box: second order where g_p is flat, at its extremes).
+``max_sigma`` holds on a box where every such bound is <= bound^2 or, for Y_p beyond 3 x 3, bound I - [[0, Y], [Y^T,
+0]] is positive definite over Y_p's mean-value enclosure; ``rss_sigma`` where that of sum_p g_p is <= bound^2 (beyond
+3 joints possibly not decided, never wrong). The ``tree`` (:mod:`.tree`) is walked from its root; a leaf that does not
+hold is cut at the middle of the coordinate with the largest r_i |dg/dq_i|, within the budget of work
+(:data:`.kinematics.WORK`: a body's columns on a box or point, or an eigen-decomposition) spent beyond the tree. The
+``witness`` (first) or a box's centre refutes the claim where a lower bound of sigma_max(Y_p)^2 (g_p up to 3 x 3,
+else a Rayleigh quotient of Y_p^T Y_p), or of its sum over p, exceeds bound^2.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+
+from flint import arb, arb_mat
+
+from .exact import BadCertificate, rational
+from .kinematics import WORK, Chain, _eigen, _twist_map, definite
+from .outcome import Outcome
+from .tree import Node, halves, parse
+
+__all__ = ["prove"]
+
+ZERO = arb(0)
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def _bracket(a, b):
+    return [x - y for x, y in zip(_cross(a[3:], b[:3]), _cross(b[3:], a[:3]))] + _cross(a[3:], b[3:])
+
+
+def _rows(chain, box, ball):
+    """Per row p (body l, component): (l + 1, Y_p's entries {(k, j): ball} for k < j, their derivatives in q_0..q_l)
+    at the centre of ``box`` (a list of (centre, radius); ``ball`` False: no derivatives) or over it."""
+    xs = [arb(c) + (arb(0, arb(r).abs_upper()) if ball else 0) for c, r in box]
+    out, cols = [], []
+    for l, joint in enumerate(chain.joints):
+        WORK[0] += 1
+        if l:
+            x = joint.after_map * _twist_map(joint.motion(xs[l])) * joint.before_map
+            cols = [[sum((x[i, m] * c[m] for m in range(6)), ZERO) for i in range(6)] for c in cols]
+        cols.append([joint.subspace[i, 0] for i in range(6)])
+        d = {(k, j): _bracket(cols[k], cols[j]) for j in range(l + 1) for k in range(j)}
+        dd = [{(k, j): [a + b for a, b in zip(_bracket(d[k, i], cols[j]) if k < i else [ZERO] * 6,
+                                              _bracket(cols[k], d[j, i]) if j < i else [ZERO] * 6)] for k, j in d}
+              for i in range(l + 1) if ball]
+        out += [(l + 1, {kj: v[p] for kj, v in d.items()}, [{kj: v[p] for kj, v in e.items()} for e in dd])
+                for p in range(6)]
+    return out
+
+
+def _full(y, m):
+    return arb_mat([[y.get((k, j), -y[j, k] if j < k else 0) for j in range(m)] for k in range(m)])
+
+
+def _lower(y, m):
+    """A ball whose lower end bounds sigma_max(Y)^2 from below, Y the point enclosure ``y``."""
+    if m <= 3:
+        return sum((v * v for v in y.values()), ZERO)
+    a = _full(y, m).transpose() * _full(y, m)
+    values, u = _eigen(a)
+    v = arb_mat([[u[i, values.index(max(values))]] for i in range(m)])
+    return (v.transpose() * a * v)[0, 0] / (v.transpose() * v)[0, 0]
+
+
+def _test(chain, box, bound, rss):
+    """(whether the claim holds on the box, the weights r_i |dg/dq_i| of its coordinates: where to cut, whether it
+    fails at the centre by the g_p up to 3 x 3 there, which equal sigma_max(Y_p)^2)."""
+    delta, n = [arb(0, arb(r).abs_upper()) for _, r in box], len(box)
+    spread = lambda ds: sum((d * t for d, t in zip(ds, delta)), ZERO)
+    weigh = lambda ds: [float(r) * float(abs(d).abs_upper()) for (_, r), d in zip(box, ds + [ZERO] * n)]
+    total, slopes, exact = ZERO, [ZERO] * n, ZERO
+    for (m, yc, _), (_, yb, dy) in zip(_rows(chain, box, False), _rows(chain, box, True)):
+        g = sum((v * v for v in yc.values()), ZERO)
+        dg = [sum((2 * yb[kj] * e[kj] for kj in yb), ZERO) for e in dy]
+        if not rss and not g + spread(dg) <= bound**2:
+            y = _full({kj: v + spread([e[kj] for e in dy]) for kj, v in yc.items()}, m)
+            if m <= 3 or not definite(arb_mat([[(bound if i == j else 0) - (
+                    y[i, j - m] if j >= m > i else y[j, i - m] if i >= m > j else 0) for j in range(2 * m)]
+                    for i in range(2 * m)])):
+                return False, weigh(dg), m <= 3 and g > bound**2
+        total, slopes = total + g, [s + t for s, t in zip(slopes, dg + [ZERO] * n)]
+        exact += g if m <= 3 else 0
+    return not rss or total + spread(slopes) <= bound**2, weigh(slopes), rss and exact > bound**2
+
+
+def _refuted(chain, point, bound, rss, why):
+    lows = [_lower(y, m) for m, y, _ in _rows(chain, [(x, 0) for x in point], False)]
+    bad = [(None, sum(lows, ZERO))] if rss else [(p, v) for p, v in enumerate(lows) if v > bound**2]
+    if bad and bad[0][1] > bound**2:
+        what = "sum_p sigma_max(Y_p)^2" if rss else f"sigma_max(Y_p)^2 of row p = {bad[0][0] + 1}"
+        return Outcome("refuted", f"{why}: {what} >= {bad[0][1].lower().str(10, radius=False)} > bound^2", 0,
+                       {"q": [str(x) for x in point]})
+    return None
+
+
+def prove(cert, budget):
+    """The :class:`Outcome` of the certificate's claim, spending at most ``budget`` units of work beyond its tree."""
+    claim, chain, domain, witness = cert["claim"], Chain(cert.get("chain")), cert.get("domain"), cert.get("witness")
+    if claim.get("quantity") not in ("max_sigma", "rss_sigma"):
+        raise BadCertificate("claim.quantity: 'max_sigma' or 'rss_sigma'")
+    rss, bound = claim["quantity"] == "rss_sigma", arb(rational(claim.get("bound"), "claim.bound"))
+    if cert.get("bodies", chain.n) != chain.n:
+        raise BadCertificate(f"bodies: one body per joint ({chain.n})")
+    if not (isinstance(domain, list) and len(domain) == chain.n and all(isinstance(e, list) and len(e) == 2
+                                                                       for e in domain)):
+        raise BadCertificate(f"domain: one [lo, hi] per joint ({chain.n})")
+    domain = [tuple(rational(x, f"domain[{k}]") for x in e) for k, e in enumerate(domain)]
+    if witness is not None and not isinstance(witness, list):
+        raise BadCertificate("witness: a list of coordinates")
+    witness = witness and [rational(x, f"witness[{k}]") for k, x in enumerate(witness)]
+    if any(lo > hi for lo, hi in domain) or witness is not None and not (len(witness) == chain.n and all(
+            lo <= x <= hi for x, (lo, hi) in zip(witness, domain))):
+        raise BadCertificate("domain: lo > hi, or witness: not one coordinate per joint in the domain")
+    root = parse(cert.get("tree"), domain)
+    if bound < 0:  # the claim is of bound^2 then, which the boxes would prove: refuted, as sigma_max >= 0
+        return Outcome("refuted", "the bound is negative, every sigma_max(Y_p(q)) is >= 0", 0, {})
+    found = witness and _refuted(chain, witness, bound, rss, "at the witness q")
+    if found:
+        return found
+    queue, boxes, cuts, spent = deque([root]), 0, 0, 0
+    where = lambda box: [[str(lo), str(hi)] for lo, hi in box]
+    while queue:
+        node, before = queue.popleft(), WORK[0]
+        centred = [((lo + hi) / 2, (hi - lo) / 2) for lo, hi in node.box]
+        holds, weights, broken = _test(chain, centred, bound, rss)
+        boxes += 1
+        found = None if holds or node.children is not None and not broken else _refuted(
+            chain, [c for c, _ in centred], bound, rss, "at the centre q of a box")
+        spent += WORK[0] - before if node.cut else 0
+        if found:
+            found.boxes, found.where["box"] = boxes, where(node.box)
+            return found
+        if not holds and node.children is not None:
+            queue.extend(node.children)
+        elif not holds:
+            cut = max(range(chain.n), key=lambda k: weights[k])
+            if not weights[cut] > 0 or spent >= budget:
+                why = f"the budget of {budget} units of work ran out" if weights[cut] > 0 else "not decided at a point"
+                return Outcome("not decided", why, boxes, {"box": where(node.box)})
+            cuts += 1
+            queue.extend(Node(half, cut=True) for half in halves(node.box, cut))
+    return Outcome("re-proved", f"the tree from the root and {cuts} cut(s) more: {boxes} boxes tested", boxes)

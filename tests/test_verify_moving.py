@@ -1,0 +1,95 @@
+"""The ``moving-mass`` claim (verify/moving.py), half powers of a product, and the growth directions of a
+``body-spectrum`` claim: what the prover writes is re-proved, what is false or malformed is not."""
+
+from __future__ import annotations
+
+import copy
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from inertiaproof.bounds.certificate import product_certificate
+from inertiaproof.bounds.time import BODY_FUNCTIONS, lumped_velocity_bounds, time_extreme
+from inertiaproof.checks.other_components import acc_result
+from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Path, Profile, Scaling
+from inertiaproof.model.inertia import from_urdf
+from inertiaproof.scene import robots
+from inertiaproof.suite.context import Context
+from inertiaproof.suite.outputs import Outputs
+from inertiaproof.suite.profiles import Profile as RunProfile
+from inertiaproof.verify.cli import check
+
+TROLLEY = robots.trolley_2r(loop=True, mass=2.0).trajectory  # a circle, smootherstep
+ROD = from_urdf(np.array([1.5]), np.array([[0.3, 0.0, 0.0]]), np.diag([1e-3, 0.05, 0.05])[None])[0]
+LINE = ParameterTrajectory(np.stack([ROD, ROD]), (
+    MovingMass(1, 0.7, np.diag([1e-3, 2e-3, 2e-3]), Path("line", Profile("cosine", 0.5, 2.0), (0.1, 0.0, 0.0),
+                                                          (0.8, 0.1, 0.0))),), (0.0, 4.0))
+
+
+def _found(trajectory):
+    found = {name: time_extreme(trajectory, name) for name in BODY_FUNCTIONS}
+    found.update(lumped_velocity_bounds(trajectory))
+    return found
+
+
+@pytest.mark.parametrize("trajectory", [TROLLEY, LINE], ids=["circle", "line"])
+def test_every_bound_over_time_of_moving_loads_is_reproved_and_a_lower_one_refuted(trajectory):
+    for name, found in _found(trajectory).items():
+        cert = found["certificate"]
+        assert Fraction(cert["claim"]["bound"]) == Fraction(found["certified"])
+        assert check(cert)["status"] == "re-proved", (name, check(cert))
+        tampered = copy.deepcopy(cert)  # beyond the value attained on the time grid: false
+        lower = found["sense"] == "min" if "sense" in found else False
+        tampered["claim"]["bound"] = str(Fraction(found["observed"]) * (Fraction(101, 100) if lower
+                                                                         else Fraction(99, 100)))
+        assert check(tampered)["status"] == "refuted", name
+
+
+@pytest.mark.parametrize("field, value, why", [
+    ("mass", "-1", "not a consistent rigid body"),
+    ("inertia_com", [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "3"]], "not a consistent rigid body"),
+    ("path", {"shape": "spiral"}, "path.shape"),
+    ("profile", {"shape": "exp", "rate": "1/2"}, "no bounded rate"),
+])
+def test_a_malformed_or_inconsistent_load_is_a_bad_certificate(field, value, why):
+    cert = copy.deepcopy(_found(TROLLEY)["psi"]["certificate"])
+    cert["loads"][0][field] = value
+    out = check(cert)
+    assert out["status"] == "bad certificate" and why in out["why"], out
+
+
+def test_a_linear_ramp_has_no_bound_of_psidot():
+    cert = copy.deepcopy(_found(LINE)["psi"]["certificate"])
+    cert["claim"]["quantity"] = "psi_dot"
+    cert["loads"][0]["profile"] = {"shape": "linear", "duration": "2", "rate": "0"}
+    out = check(cert)
+    assert out["status"] == "bad certificate" and "jumps" in out["why"], out
+
+
+def test_eq_acc_constant_is_a_reproved_product_with_a_half_power():
+    profile = RunProfile("test", examples=30, samples=300, refine_s=0.1, symbolic_max_n=2, derandomize=True)
+    result = acc_result(Context(profile, seed=0, outputs=Outputs()))
+    constants = result.evidence["scenes"]["trolley-loop-2r"]["constants"]
+    cert = constants["paper"]["certificate"]
+    assert [i["power"] for i in cert["ingredients"]] == [1, "1/2"]
+    assert check(cert)["status"] == "re-proved"
+    raised = copy.deepcopy(cert)  # dPsi* S^(1/2) below the product of the ingredients' bounds: refuted
+    raised["claim"]["bound"] = str(Fraction(cert["claim"]["bound"]) * Fraction(999, 1000))
+    assert check(raised)["status"] == "refuted"
+    # a lambda_max of f(Phi) may be negative: no square root of it
+    negative = check(product_certificate("<=", 10.0, 1, [(_found(TROLLEY)["lmax_f"]["certificate"], "1/2")], "x"))
+    assert negative["status"] == "bad certificate" and "may be negative" in negative["why"], negative
+
+
+def test_a_scaling_without_bound_is_certified_along_its_growth_direction():
+    sphere = ParameterTrajectory(ROD[None], (Scaling(0, Profile("exp", 0.0, 1.0, 0.5)),), (0.0, np.inf))
+    found = time_extreme(sphere, "lmin_f")
+    cert = found["certificate"]
+    assert "directions" in cert and check(cert)["status"] == "re-proved"
+    bad = copy.deepcopy(cert)
+    bad["directions"][0][0] = "-1"  # a direction of negative mass lowers lambda_min without bound
+    assert check(bad)["status"] == "refuted"
+    upper = copy.deepcopy(cert)
+    upper["claim"]["quantity"] = "lambda_max"
+    assert check(upper)["status"] == "bad certificate"
