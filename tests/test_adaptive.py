@@ -227,3 +227,18 @@ def test_a_natural_law_that_cannot_start_is_not_started_with_the_reason():
     (run,), _ = tracking.simulate(recipe.chain(), [spec], 0.2, samples=5)
     assert run.status == "no start" and run.status in tracking.NOT_STARTED and "Theorem 1" in run.note
     assert len(run.t) == 1 and not run.finished
+
+
+def test_a_natural_run_that_steps_over_its_barrier_is_no_evidence():
+    """The hunt's micro 2R arm under a 1.26 kg payload ramp (400,000 times its mass) with the natural law at gain
+    1.9e9: RK45 steps U_l = f(Phi_hat_l)^-1 across singular near t = 0.42 s. Along the exact solution D <= V stays
+    finite (V grows with Thetadot but not in finite time to infinity), so U_l cannot get there: the run ends
+    ``barrier``, not finished, and its negative lambda_min(f(Phi_hat)) counts against nothing."""
+    recipe = Recipe(str(SCENES / "micro_2r.toml"), "natural", horizon=0.45, lam=1.0, kd=10.0, gamma=1.911261604766e9,
+                    estimate=(0.33123872811590027, 1.331969887534906), amplitude=0.10020079435972962,
+                    frequency=0.53656203763729, home=(-1.5158949178379812, -2.128690499988834),
+                    payload=(1.2559913068121233, 0.10443550188062459, 1.0))
+    (run,), _ = tracking.simulate(recipe.chain(), [recipe.spec()], 0.45, samples=46, rtol=1e-6)
+    assert run.status == tracking.BARRIER and not run.finished and "stepped over" in run.note
+    assert np.linalg.eigvalsh(pseudo_inertia(estimates.estimates(run)))[..., 0].min() < 0  # what it would have shown
+    assert not adaptive.SlotineLi(1.0).outside(np.zeros((3, 2, 10))).any()  # a Euclidean law has no barrier

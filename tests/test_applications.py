@@ -203,6 +203,6 @@ def test_an_unfinished_natural_run_is_no_evidence_against_the_law():
     data = {"resolution": 1e-12, "laws": {"natural": {"status": "ok", "min_lambda_min_f_hat": -1.0,
                                                       "max_lambda_max_f_hat": 1.0, "margin": -1.0}}}
     assert app._natural_fails(data)
-    for status in ("clock", "budget", "step collapse"):
+    for status in ("clock", "budget", "step collapse", "barrier"):
         data["laws"]["natural"]["status"] = status
         assert not app._natural_fails(data)

@@ -307,10 +307,10 @@ def test_sweep_of_example_robot_data():
     assert {"power_of_ten", "products_sign", "parallel_axis", "all_entries_equal", "point_mass",
             "negligible_inertia", "massless_with_inertia"} <= signs
     for f in ok.values():
-        for link in f["links"].values():
-            assert link["verdict"] in LABELS
-            if link["verdict"] != "consistent" and not link["massless_frame"] and link["inertial"]["mass"] > 0:
-                assert link["repair"] is not None
+        for entry in f["links"].values():
+            assert entry["verdict"] in LABELS
+            if entry["verdict"] != "consistent" and not entry["massless_frame"] and entry["inertial"]["mass"] > 0:
+                assert entry["repair"] is not None
         assert all((c["bounds"] is not None) == f["serial_arm"] for c in f["chains"].values())
     assert sum(f["serial_arm"] for f in ok.values()) >= 20
     print(f"\nsweep of {len(files)} URDFs: {seconds:.2f} s")

@@ -252,11 +252,11 @@ def _check_collection(files):
         if f["status"] != "ok":
             assert "MuJoCo" in f["error"] and ("cannot read it" in f["error"] or "cannot compile it" in f["error"])
             continue
-        for name, link in f["links"].items():
-            assert link["verdict"] in ("consistent", "degenerate", "inconsistent")
-            if link["source"] == "geoms" and not link["massless_frame"]:  # sums of solids: consistent
-                assert link["verdict"] == "consistent", (path, name, link["reason"])
-                assert link["engines"]["mujoco"]["action"] == "loads"
+        for name, entry in f["links"].items():
+            assert entry["verdict"] in ("consistent", "degenerate", "inconsistent")
+            if entry["source"] == "geoms" and not entry["massless_frame"]:  # sums of solids: consistent
+                assert entry["verdict"] == "consistent", (path, name, entry["reason"])
+                assert entry["engines"]["mujoco"]["action"] == "loads"
         assert f["consistent"], (path, f["not_consistent"])
     return sum(f["status"] == "ok" for f in files.values())
 

@@ -293,3 +293,17 @@ def test_cx_sphere_with_a_wrong_radius_is_violated():
 
     assert cx_sphere_result(ctx()).verdict == Verdict.HOLDS
     assert cx_sphere_result(ctx(), claimed_radius=0.1 * (1 + 1e-6)).verdict == Verdict.VIOLATED
+
+
+def test_a_sup_side_of_six_joints_comes_with_a_partition_the_checker_walks():
+    """UR5's sup lambda_max(M): the Fourier side has no partition, and from the root box the checker does not decide
+    it within ci's 5,000 units; the ladder's side (as sharp here) comes with one and is re-proved within them."""
+    from inertiaproof.bounds.configuration import mass_sup
+    from inertiaproof.bounds.constants import bracket_certificate
+    from inertiaproof.verify.cli import check
+
+    scene = robots.ur5()
+    b = mass_sup(scene.chain, scene.trajectory.base[None], samples=300, refine_s=0.5, rng=np.random.default_rng(0))
+    cert = bracket_certificate(b)
+    assert b.proof is not None and cert["tree"] != "." and b.upper <= 1.05 * b.lower
+    assert check(cert, 5000)["status"] == "re-proved"

@@ -5,7 +5,7 @@ keys) the gains; its loads change the parameters as the scene says. DIR/adapt.js
 DIR/series.csv hold, per sample time: the tracking error, the parameter error, lambda_min and lambda_max of each
 f(Phi_hat_l) and of M(q, Theta_hat) at the run's configuration and over sampled configurations. ``--report``
 also writes DIR/adapt.html (and .tex, .pdf) with the plots. Exit status 0 when the run reached its horizon, 1 when
-it stopped early (budget, non-finite state, step collapse).
+it stopped early (budget, non-finite state, step collapse, a barrier stepped over).
 """
 
 from __future__ import annotations

@@ -75,6 +75,11 @@ class AdaptiveLaw:
         """dD/dTheta (..., N, 10)."""
         raise NotImplementedError
 
+    def outside(self, z):
+        """Where (..., N) the state has left the law's domain, across a barrier D is infinite on: a law whose
+        solution cannot get there (D <= V stays finite), so an integrator that did stepped over it (default: none)."""
+        return np.zeros(np.shape(z)[:-1], bool)
+
     def linearization(self, z, g):
         """(d estimate/dz, d rate/dz, d rate/dg) at (z, g), per body (..., N, 10, 10) with [..., i, k] = d out_i /
         d in_k, for the Newton matrix of an implicit integrator (inertiaproof.sim.tracking), where an approximation
@@ -160,6 +165,10 @@ class NaturalAdaptation(AdaptiveLaw):
 
     def divergence_gradient(self, z, theta):
         return adjoint(self.mirror(z) - np.linalg.inv(f_map(theta))) / self.gain
+
+    def outside(self, z):
+        """Where (..., N) U_l is not positive definite: f(Phi_hat_l) = U_l^-1 passed through infinity, where D is."""
+        return np.linalg.eigvalsh(self.mirror(z))[..., 0] <= 0
 
     def linearization(self, z, g):
         """Closed forms: d f^-1(U^-1) = -f^-1(U^-1 f(dz) U^-1) (finite differences lose it when U is as

@@ -37,11 +37,12 @@ from .adaptive import make_law
 from .control import controller, reference_motion
 from .simulate import CLOCK, MAX_CONDITION, least_evaluations
 
-__all__ = ["CLOCK", "choose_method", "IMPLICIT", "IMPLICIT_DEFAULT", "NOT_STARTED", "PLANTS", "Batch", "Gains",
-           "Reference", "Run", "RunSpec", "scene_specs", "simulate", "SOLVERS", "spent"]
+__all__ = ["BARRIER", "CLOCK", "choose_method", "IMPLICIT", "IMPLICIT_DEFAULT", "NOT_STARTED", "PLANTS", "Batch",
+           "Gains", "Reference", "Run", "RunSpec", "scene_specs", "simulate", "SOLVERS", "spent"]
 
 PLANTS = ("gre", "pagilla", "classical")
 NOT_STARTED = ("ill-conditioned", "no start")  # statuses of a batch that simulate() does not integrate
+BARRIER = "barrier"  # a run whose law's state crossed a barrier (AdaptiveLaw.outside): integration error, not the law
 SOLVERS = {"RK45": RK45, "BDF": BDF, "Radau": Radau}
 IMPLICIT = ("BDF", "Radau")
 MAX_JACOBIAN_BYTES = 2 ** 28  # dense blocks of one batch's Jacobian beyond this: RK45 whatever the stiffness
@@ -295,7 +296,7 @@ class Run:
 
     spec: RunSpec
     index: int  # in its batch
-    status: str  # ok, budget, clock, error, nan, step collapse, or one of NOT_STARTED
+    status: str  # ok, budget, clock, error, nan, step collapse, barrier, or one of NOT_STARTED
     note: str
     seconds: float  # of the whole batch
     evaluations: int  # right-hand sides of the whole batch
@@ -327,7 +328,9 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     safety net only: a batch past it stops as ``clock`` (CLOCK), which depends on the machine, so callers take it
     as no evidence either way. A batch that stops early (``budget``, ``clock``, ``nan``, ``step collapse``,
     ``error``) keeps the samples it reached. The tolerance applies to the whole state (all runs): a run alone may
-    be resolved better.
+    be resolved better. A run whose law's state left the law's domain (:meth:`AdaptiveLaw.outside`: the natural
+    law's U_l turned indefinite, f(Phi_hat_l) through infinity) ends ``barrier``: its exact solution cannot (D <=
+    V(0) plus what Thetadot adds stays finite), so the integrator stepped over a pole, and the run is no evidence.
 
     A batch is not started (only its initial sample) when M(q0, Theta(t0)) of a run has a condition number above
     inertiaproof.sim.simulate.MAX_CONDITION (``ill-conditioned``: qdd would keep fewer than 6 digits, the criterion
@@ -363,8 +366,17 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
         v = batch.lyapunov(t, y)
     err = np.abs(v - v[0] - batch.split(y)[3]).max(0) / np.maximum(np.abs(v).max(0), np.finfo(float).tiny)
     per_run = y.reshape(len(t), len(specs), batch.size)
-    return [Run(spec, i, status, note, seconds, batch.evaluations, t, per_run[:, i], float(err[i]), chosen,
-                batch.jacobians) for i, spec in enumerate(specs)], batch
+    runs = [Run(spec, i, status, note, seconds, batch.evaluations, t, per_run[:, i], float(err[i]), chosen,
+                batch.jacobians) for i, spec in enumerate(specs)]
+    z = batch.split(y)[2]
+    for run in runs:
+        crossed = np.flatnonzero(run.spec.law.outside(z[:, run.index]).any(-1)) if run.finished else []
+        if len(crossed):
+            run.status, run.note = BARRIER, (
+                f"the {run.spec.law.name} law's state left its domain between t = {t[max(crossed[0] - 1, 0)]:.4g} and "
+                f"{t[crossed[0]]:.4g} s, across a barrier where its divergence D is infinite; D <= V stays finite "
+                "along the exact solution, so the integrator stepped over it: no evidence either way")
+    return runs, batch
 
 
 def choose_method(batch, horizon, max_evaluations, method="auto", implicit=IMPLICIT_DEFAULT):

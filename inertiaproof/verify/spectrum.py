@@ -156,7 +156,9 @@ def prove(cert, budget):
             if node.children is not None:
                 queue.extend(node.children)
                 continue
+            before = WORK[0]
             found = refuted([c for c, _ in centred], "at the centre q of a box")
+            spent[0] += WORK[0] - before  # a leaf that fails costs its centre's test too
             if found:
                 found.where["box"] = _where(node.box)
                 return found
