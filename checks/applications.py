@@ -125,8 +125,9 @@ def _resolution(n):
 def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     """Simulate recipes of one chain and horizon together. When the batch stops early (one stiff run holds up all),
     each run is simulated alone with its share of the budget, unless the batch was not started (ill-conditioned:
-    its runs share the chain); a run whose Lyapunov balance error exceeds BALANCE x rtol is simulated again at a
-    tenth of the tolerance, keeping the first residual as ``looser_balance_error`` (balance_verdict). Returns
+    its runs share the chain); a run whose Lyapunov balance error exceeds BALANCE x rtol, or that stepped over its
+    law's barrier, is simulated again at a tenth of the tolerance, keeping the first residual as
+    ``looser_balance_error`` (balance_verdict). Returns
     (runs, batches) in the recipes' order."""
     horizon = recipes[0].run_horizon()
     chain = recipes[0].chain()
@@ -137,7 +138,8 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
         share = dict(kw, max_evaluations=s.max_evaluations // len(runs), max_seconds=s.max_seconds / len(runs))
         for i, spec in enumerate([r.spec for r in runs]):
             (runs[i],), batches[i] = tracking.simulate(chain, [spec], horizon, rtol=s.rtol, **share)
-    again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol]
+    again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol
+             or r.status == tracking.BARRIER]  # the barrier too: the exact solution stays clear of it
     if again:
         finer, finer_batch = tracking.simulate(chain, [runs[i].spec for i in again], horizon, rtol=s.rtol / 10, **kw)
         for i, run in zip(again, finer):
@@ -167,7 +169,8 @@ def balance_verdict(run, rtol):
 
 
 def batch_finished(runs):
-    return all(r.finished for r in runs)
+    """Whether the batch reached its horizon (a run past its law's barrier did, alone it would again)."""
+    return all(r.finished or r.status == tracking.BARRIER for r in runs)
 
 
 def study(ctx, key, forces=motion.generalized_forces):

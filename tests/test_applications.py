@@ -195,8 +195,11 @@ def test_the_balance_verdict_follows_the_tolerance():
     assert app.balance_verdict(_run("ok", 0.099, 1.31), rtol)[0] == Verdict.HOLDS
     assert app.balance_verdict(_run("ok", 0.5, 0.6), rtol)[0] == Verdict.VIOLATED
     assert app.balance_verdict(_run("ok", 0.5), rtol)[0] == Verdict.VIOLATED  # never simulated finer: level
-    for status in ("clock", "budget", "nan"):
+    for status in ("clock", "budget", "nan", tracking.BARRIER):
         assert app.balance_verdict(_run(status, 0.5, 0.6), rtol)[0] == Verdict.INCONCLUSIVE
+    # a run past its law's barrier ends its batch (alone it would again): no split of the batch for it
+    assert app.batch_finished([_run("ok", 0.0), _run(tracking.BARRIER, 0.0)])
+    assert not app.batch_finished([_run("ok", 0.0), _run("clock", 0.0)])
 
 
 def test_an_unfinished_natural_run_is_no_evidence_against_the_law():
