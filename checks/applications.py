@@ -618,17 +618,19 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
                       "singular: the estimate blew up in finite time (a finished run; replay it)",
                       {"searched": searched, "run": _brief(data)},
                       counterexample={"kind": "adaptive-escape", "data": _replay_data(data, s)})
-    barrier = [d["laws"]["natural"]["note"] for d in seen.values()
-               if d.get("laws") and d["laws"]["natural"]["status"] == tracking.BARRIER]
+    natural = [d["laws"]["natural"] for d in seen.values() if d.get("laws")]
+    barrier = [law["note"] for law in natural if law["status"] == tracking.BARRIER]
     if not witnesses:
         worst = min((v["smallest_margin"]["value"] for v in scenes.values()), default=np.nan)
         return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE,
                       f"no Slotine-Li run with an indefinite M(q, Theta_hat) in {len(seen)} runs on "
                       f"{', '.join(hunts)} (smallest relative lambda_min {worst}); the natural law stayed consistent "
-                      f"in all {len(seen) - len(stiff) - len(barrier)} it finished"
+                      f"in all {sum(law['status'] == 'ok' for law in natural)} it finished"
                       + (f"; {len(barrier)} natural run(s) stepped over its barrier: {barrier[0]}" if barrier else "")
                       + (f"; {len(stiff)} of the runs not simulated (no margin): {stiff[0]}" if stiff else ""),
-                      {"searched": searched, "not_simulated": len(stiff), "barrier": len(barrier)})
+                      {"searched": searched,
+                       "not_simulated": quantity(len(stiff), "count", "runs not started (ill-conditioned, no start)"),
+                       "barrier": quantity(len(barrier), "count", "natural runs that stepped over their barrier")})
     found = {}
     for key, data in witnesses.items():
         path = ctx.save_counterexample(Result(

@@ -121,7 +121,8 @@ def acceleration_case(ctx, scene, k=1.0):
         "the paper's constant with certified ingredients: ||A^T x|| <= sigma_max(A) ||x|| is sharp over the "
         "directions of Psidot, so no smaller constant is certified", lhs.observed,
         f"sup over sampled (q, t) attained at t = {t_worst:.4g}: a lower estimate", certificate, certificate)
-    extra = {"ingredients": {"dPsi_star": {"observed": quantity(psi["observed"], "sampled", "sup_t ||Psidot|| on a grid"),
+    extra = {"ingredients": {"dPsi_star": {"observed": quantity(psi["observed"], "sampled",
+                                                                "sup_t ||Psidot|| on a grid"),
                                            "certified": quantity(psi["certified"], "upper_bound",
                                                                  "mass, path length and the profile's peaks",
                                                                  certificate=psi.get("certificate"))},

@@ -225,10 +225,9 @@ def lumped_velocity_bounds(trajectory, *, samples=2001):
     t = trajectory.times(samples)
     psi, psi_dot = trajectory.psi(t)
     n_psi, n_dot = np.linalg.norm(psi, axis=-1), np.linalg.norm(psi_dot, axis=-1)
-    found = {}
+    found, terms = {}, [_moving_mass_terms(load) for load in trajectory.loads if isinstance(load, MovingMass)]
     for name, norms in (("psi", n_psi), ("psi_dot", n_dot)):
-        certified = _up(sum(_moving_mass_terms(load)[name] for load in trajectory.loads
-                            if isinstance(load, MovingMass)))
+        certified = _up(sum(term[name] for term in terms))
         found[name] = {"observed": float(norms.max()), "certified": certified,
                        "witness_time": float(t[np.argmax(norms)])}
         certificate = _moving_certificate(trajectory, name, certified, "mass, path length and the profile's peaks")

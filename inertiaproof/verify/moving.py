@@ -102,24 +102,24 @@ def _loads(cert, bodies):
             raise BadCertificate(f"{where}.body: a body from 1 to {bodies}")
         m = rational(item.get("mass"), f"{where}.mass")
         inertia = rational_matrix(item.get("inertia_com"), (3, 3), f"{where}.inertia_com")
-        half = (inertia[0][0] + inertia[1][1] + inertia[2][2]) / 2
-        sigma = [[(half if i == j else 0) - inertia[i][j] for j in range(3)] for i in range(3)]
+        row = [m] + [fmpq(0)] * 3 + [inertia[i][j] for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))]
         if not m > 0 or any(inertia[i][j] != inertia[j][i] for i in range(3) for j in range(i)) \
-                or not semidefinite(sigma):
+                or not semidefinite(pseudo_inertia(row)):
             raise BadCertificate(f"{where}: not a consistent rigid body (m > 0, symmetric I_c, Sigma_c >= 0)")
         reach, d1, d2 = _path(item.get("path"), f"{where}.path")
         rate, acc = _profile(item.get("profile"), f"{where}.profile")
-        loads.append({"body": item["body"] - 1, "m": m, "inertia": inertia, "sigma": sigma, "reach": reach,
+        loads.append({"body": item["body"] - 1, "m": m, "row": row, "reach": reach,
                       "speed": d1 * rate, "acc": None if acc is None else d1 * acc + d2 * rate * rate})
     return loads
 
 
 def _extra(load, matrix):
-    """diag(Sigma_c, 0) (f) or diag(0, I_c) (Z) + m (1 + C^2) I: above the load's matrix at every time."""
-    size, block, at = (4, load["sigma"], 0) if matrix is pseudo_inertia else (6, load["inertia"], 3)
+    """diag(Sigma_c, 0) (f) or diag(0, I_c) (Z), the load's own matrix about its centre less its mass's share, plus
+    m (1 + C^2) I: above the load's matrix at every time."""
+    own, share = matrix(load["row"]), matrix([load["m"]] + [fmpq(0)] * 9)
     lift = load["m"] * (1 + load["reach"])
-    return [[(lift if i == j else 0) + (block[i - at][j - at] if at <= i < at + 3 and at <= j < at + 3 else 0)
-             for j in range(size)] for i in range(size)]
+    return [[a - b + (lift if i == j else 0) for j, (a, b) in enumerate(zip(r, t))]
+            for i, (r, t) in enumerate(zip(own, share))]
 
 
 def _rate(load, quantity):
