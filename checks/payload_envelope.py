@@ -109,11 +109,13 @@ def envelope_result(name, chain, theta, pset, *, ramp_s, profile, examples, poin
                     progress=None):
     """The Result of one envelope: the constants, the brackets, the curve against the mass (``points`` masses below
     the set's), and the attack (``examples`` Hypothesis payloads); ``goal`` the sup brackets' (None: the ladder's
-    default); ``speed``: the payload's particles move inside the set at most this fast (m/s; Theorem 5)."""
+    default; alpha2's ladder may test ``profile.envelope_boxes`` boxes); ``speed``: the payload's particles move
+    inside the set at most this fast (m/s; Theorem 5)."""
     rate = ramp_rate(ramp_s)
     masses = [pset.mass * Fraction(i, points + 1) for i in range(1, points + 1)]
-    found = envelope(chain, theta, pset, rate=rate, speed=speed, masses=masses, goal=goal, samples=profile.samples,
-                     refine_s=profile.refine_s, rng=np.random.default_rng(seed_value), progress=progress)
+    found = envelope(chain, theta, pset, rate=rate, speed=speed, masses=masses, goal=goal,
+                     boxes=profile.envelope_boxes or None, samples=profile.samples, refine_s=profile.refine_s,
+                     rng=np.random.default_rng(seed_value), progress=progress)
     low, high, chi = found["lower"], found["upper"], found["chi"]
     bounds = (low["certified"]["value"], high["certified"]["value"], chi["certified"]["value"],
               found["ingredients"]["zeta"][1])

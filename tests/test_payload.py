@@ -309,3 +309,26 @@ def test_a_payload_set_of_one_point_is_certified():
         high = found["upper"]["observed"]
         assert np.isfinite(high["lower"]) and high["lower"] <= high["upper"]
         assert verify(json.loads(json.dumps(found["upper"]["certified"]["certificate"])))["status"] == "re-proved"
+
+
+def test_alpha2s_ladder_takes_the_profiles_count_of_boxes_and_aims_at_the_attained_value(monkeypatch):
+    """The deep profile's envelope_boxes reach alpha2's ladder (its wall-clock guard in proportion) and its targets
+    are scaled to the worst payload's attained value, not the cover's higher sup: a rung of 1.05 then closes the
+    bracket within 1.05x (Panda, 5 kg within 0.1 m: 1.04997x)."""
+    from inertiaproof.bounds import configuration
+    from inertiaproof.bounds.pivot_search import ladder_budget
+
+    seen = []
+    monkeypatch.setattr(configuration, "fourier_perron_bound", lambda *a, **k: None)  # a bracket left for the ladder
+    monkeypatch.setattr(configuration, "_ladder", lambda chain, family, values, observed, witness, budget, stop, **k:
+                        (seen.append((observed, budget)), (np.inf, "", None))[1])
+    kw = dict(samples=200, refine_s=0.5, rng=np.random.default_rng(0), progress=None)
+    arm = robots.panda()
+    ball = PayloadSet.ball(arm.chain.n - 1, 5, (0, 0, 0), Fraction(1, 10))
+    b, _ = payload._sup_over_set(arm.chain, arm.trajectory.base, ball, "sup", kw, goal=1.04, boxes=10**6)
+    (observed, (boxes, guard_s)), = seen
+    worst = payload._worst(arm.chain, arm.trajectory.base, ball, 200, np.random.default_rng(0))[0]
+    assert observed == worst <= b.observed and boxes == 10**6
+    assert guard_s == pytest.approx(ladder_budget(0.5)[1] * boxes / ladder_budget(0.5)[0])
+    payload._sup_over_set(arm.chain, arm.trajectory.base, ball, "sup", kw, goal=1.05)
+    assert seen[-1][1] == ladder_budget(0.5) and PROFILES["deep"].envelope_boxes > ladder_budget(20.0)[0]

@@ -668,16 +668,20 @@ def mass_inf(chain, thetas, **kw):
     return result.widen(REPROVABLE)
 
 
-def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", goal=None, **kw):
+def mass_sup(chain, thetas, kind="lmax", name="sup lambda_max(M(q, Theta))", goal=None, boxes=None, attained=None,
+             **kw):
     """sup over q and the parameter sets of lambda_max (or sigma_max, kind='absmax') of M(q, Theta): the bracket of
     :func:`configuration_bracket`, whose certified side then adopts :func:`fourier_perron_bound` and
-    :func:`_tighten_by_ladder` where sharper (``goal``: the ladder's, default :func:`ladder_goal`)."""
+    :func:`_tighten_by_ladder` where sharper (``goal``: the ladder's, default :func:`ladder_goal`; ``boxes``: its
+    count of boxes where more than :func:`ladder_budget`'s; ``attained``: a value the true extreme is known to reach (at
+    most this sup), to which the ladder's targets are scaled in place of the bracket's observed one)."""
     result = configuration_bracket(chain, mass_family(chain, thetas), kind, quantity_name=name, thetas=thetas, **kw)
     _tighten_by_fourier(result, chain, thetas, kw.get("refine_s", 0.0), square=True)
     if kind == "absmax":  # sigma_max(M) = max(lambda_max(M), lambda_max(-M)): the stack and its negatives
         thetas = np.concatenate([np.asarray(thetas, float), -np.asarray(thetas, float)])
     result.certify = SpectrumClaim(chain, thetas, "lambda_max")
-    return _tighten_by_ladder(result, chain, thetas, kw.get("refine_s", 0.0), square=True, goal=goal).widen(REPROVABLE)
+    return _tighten_by_ladder(result, chain, thetas, kw.get("refine_s", 0.0), square=True, goal=goal, boxes=boxes,
+                              attained=attained).widen(REPROVABLE)
 
 
 UPPER_TRIGGER = 1.25  # a sup bracket wider than this (or than the ladder's goal) runs the upper ladder
@@ -686,7 +690,7 @@ ROOT_FREE = 3  # free coordinates up to which the checker proves a side without 
 # were not decided in 5,000 units; their ladder proves as sharp a side on a partition of 9,004 boxes in about 1 s)
 
 
-def _tighten_by_ladder(result, chain, thetas, refine_s, square, goal=None):
+def _tighten_by_ladder(result, chain, thetas, refine_s, square, goal=None, boxes=None, attained=None):
     """``result`` (a sup of lambda_max(M(q, Theta_v)) over q and the stack; of sigma_max(QJ) when ``square`` is
     False: M of unit bodies) with its certified side tightened by a ladder of targets gamma proved with the
     articulated-body pivots of gamma I - M (:func:`inertiaproof.bounds.pivot_search.pivot_ladder`, sign -1), where
@@ -695,7 +699,7 @@ def _tighten_by_ladder(result, chain, thetas, refine_s, square, goal=None):
     side has no partition on a chain of more than ``ROOT_FREE`` free joints (then a looser side proved on a
     partition replaces it). Parameter sets whose every body is <= 0 (Theorem 4's negated rates) are left out of the
     ladder: their M(q) <= 0 lies below any target (Panda's deep Thm4: 183 s -> 126 s, 1.15x -> 1.12x: the splits no
-    longer follow a set that cannot fail)."""
+    longer follow a set that cannot fail). ``boxes``, ``attained``: as :func:`mass_sup`'s."""
     goal = ladder_goal(refine_s) if goal is None else goal
     wide = result.upper > min(goal, UPPER_TRIGGER) * result.lower
     untreed = (result.proof is None and np.isfinite(result.upper)  # no partition for the checker to walk, and
@@ -703,14 +707,16 @@ def _tighten_by_ladder(result, chain, thetas, refine_s, square, goal=None):
     if not (_ladders_run(chain, refine_s) and (wide or untreed) and result.observed > 0):
         return result
     observed = result.observed if square else result.observed**2
+    if attained is not None:  # the targets observed * ratio, scaled to what the true extreme reaches
+        observed = attained
     if not wide:  # narrow already: the ladder aims at the side it has, to hand the checker a partition
         goal = (result.upper if square else result.upper**2) / observed
     thetas = np.asarray(thetas, float)
     thetas = np.unique(thetas.reshape(len(thetas), -1), axis=0).reshape((-1,) + thetas.shape[1:])  # the set once
-    key = (chain_key(chain), refine_s, goal, thetas.shape, thetas.tobytes(), observed,
+    key = (chain_key(chain), refine_s, goal, boxes, thetas.shape, thetas.tobytes(), observed,
            np.asarray(result.witness).tobytes())
     gamma, how, proof = content_memo(_PIVOT_CACHE, key, lambda: _pivot_sup(chain, thetas, refine_s, observed,
-                                                                           result.witness, goal))
+                                                                           result.witness, goal, boxes))
     if np.isfinite(gamma) and not square:
         gamma = _root_up(gamma)
     how = ("a ladder of targets gamma, each proved by branch and bound with the articulated-body pivots of gamma I - M "
@@ -721,7 +727,7 @@ def _tighten_by_ladder(result, chain, thetas, refine_s, square, goal=None):
     return result
 
 
-def _pivot_sup(chain, thetas, refine_s, observed, witness, goal):
+def _pivot_sup(chain, thetas, refine_s, observed, witness, goal, boxes=None):
     z = spatial_inertia(thetas)  # a set whose every Z_l <= 0 (Weyl) has M(q) <= 0: below any gamma > 0, left out
     thetas = thetas[~(spectral(z, "lmax") + ROUNDING * EPS * spectral(z, "absmax") <= 0).all(1)]  # (Thm4: -Thetadot)
     family = PivotFamily(chain, thetas)
@@ -729,7 +735,10 @@ def _pivot_sup(chain, thetas, refine_s, observed, witness, goal):
     def values(q):
         return mass_spectra(chain, thetas, q, "lmax")  # (K, V)
 
-    return _ladder(chain, family, values, observed, witness, ladder_budget(refine_s), observed * goal, sign=-1.0)
+    budget = ladder_budget(refine_s)
+    if boxes is not None and boxes > budget[0]:  # more boxes, and the wall-clock guard in proportion
+        budget = (boxes, budget[1] * boxes / budget[0])
+    return _ladder(chain, family, values, observed, witness, budget, observed * goal, sign=-1.0)
 
 
 def _root_up(x):

@@ -200,14 +200,15 @@ def _worst(chain, theta, payloads, samples, rng, extra=()):
     return float(values[k]), best[k], points[k], float(eps[k])
 
 
-def _sup_over_set(chain, theta, payloads, quantity, kw, goal=None):
+def _sup_over_set(chain, theta, payloads, quantity, kw, goal=None, boxes=None):
     """The bracket of sup over q and the payload set of lambda_max(M(q, theta + Phi_p)): attained by the worst point
-    mass found, certified as the sup with Phi_U (:func:`covering_parameters`) at its eps. A witness found by the
+    mass found, certified as the sup with Phi_U (:func:`covering_parameters`) at its eps, the ladder's targets scaled
+    to the attained value (``goal``, ``boxes``: the ladder's, :func:`.configuration.mass_sup`). A witness found by the
     certifying search is tried as a start too."""
     rng = kw["rng"]
     value, q, point, eps = _worst(chain, theta, payloads, kw["samples"], rng)
     covered = with_payload(theta, payloads, covering_parameters(payloads, eps))[None]
-    b = mass_sup(chain, covered, goal=goal, **kw)
+    b = mass_sup(chain, covered, goal=goal, boxes=boxes, attained=value, **kw)
     found = _worst(chain, theta, payloads, 0, rng, extra=[b.witness, q])
     if found[0] > value:
         value, q, point = found[:3]
@@ -239,17 +240,18 @@ def zeta_over_set(theta, payloads):
     return float(max(loaded, others)), certified, certificate
 
 
-def envelope(chain, theta, payloads, *, rate, speed=None, masses=(), goal=None, samples=2000, refine_s=0.5, rng=None,
-             progress=None):
+def envelope(chain, theta, payloads, *, rate, speed=None, masses=(), goal=None, boxes=None, samples=2000, refine_s=0.5,
+             rng=None, progress=None):
     """alpha1, alpha2 and chi (Theorems 2-4) over the payload set ``payloads`` for an arm of constant parameters
     ``theta`` (N, 10) whose payload is taken up at a peak rate ``rate`` (sup |s'|, 1/s): per constant the paper's
     value and the sharpest certified one with their certificates (as
     :func:`inertiaproof.bounds.constants.lower_constants` and ``upper_constants``), the bracket of the true extreme, and the worst payload found (a point mass: mass, CoM and
     inertia about the CoM, zero). ``masses`` (below the set's): the curve of alpha2 and chi against the payload's
     mass, one row per mass (alpha1 does not depend on it). ``goal``: the ratio to which the pivot ladders narrow the
-    sup brackets of the full payload (:func:`inertiaproof.bounds.configuration.mass_sup`); the curve's use the
-    default. ``speed`` (m/s, a Fraction): the payload's particles move inside the set at most this fast, which chi
-    includes, and Theorem 5's constants are added (``theorem5``)."""
+    sup brackets of the full payload (:func:`inertiaproof.bounds.configuration.mass_sup`), ``boxes`` the count of
+    boxes the ladder of alpha2's may test (None: the bracket budget's); the curve's use the defaults. ``speed`` (m/s,
+    a Fraction): the payload's particles move inside the set at most this fast, which chi includes, and Theorem 5's
+    constants are added (``theorem5``)."""
     rng = np.random.default_rng(0) if rng is None else rng
     theta = np.asarray(theta, float)
     kw = dict(samples=samples, refine_s=refine_s, rng=rng, progress=progress)
@@ -260,7 +262,7 @@ def envelope(chain, theta, payloads, *, rate, speed=None, masses=(), goal=None, 
     z_min, z_certificate = vertex_extreme(theta[None], "lmin_Z", "the bare arm's bodies (a payload only adds Z >= 0)")
     lower = lower_constants(xi, z_min, gamma, low, xi_certificate=xi_certificate, z_certificate=z_certificate)
 
-    high, worst = _sup_over_set(chain, theta, payloads, "sup over q and payloads of lambda_max(M)", kw, goal)
+    high, worst = _sup_over_set(chain, theta, payloads, "sup over q and payloads of lambda_max(M)", kw, goal, boxes)
     zeta_observed, zeta, zeta_certificate = zeta_over_set(theta, payloads)
     upper = upper_constants(zeta, np.inf, sigma, high, zeta_observed, zeta_certificate)
     return {"payload": payloads.to_json(), "rate": rate,

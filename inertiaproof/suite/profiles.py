@@ -33,6 +33,7 @@ class Profile:
         return self.audit_samples, self.audit_full_refine_s if bounds == "all" else self.audit_refine_s
 
     envelope_goal: float = 1.2  # the payload envelope's sup brackets: the pivot ladder goes on to this ratio
+    envelope_boxes: int = 0  # boxes the ladder of alpha2's sup over the payload set may test (0: the bracket budget's)
     envelope_examples: int = 1000  # Hypothesis payloads drawn from the set per envelope
     envelope_points: int = 2  # masses of the curve against the payload's mass, besides the full one
     verify_work: int = 5_000  # work the independent checker may spend per certificate beyond its tree: joints of
@@ -46,5 +47,5 @@ PROFILES = {
                     concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6,
                     moment_samples=2**22, bernstein_degree=8, audit_samples=20000, audit_refine_s=5.0, audit_full_refine_s=5.0,
                     check_s=1800.0, run_s=14400.0, memory_mb=6144, verify_work=400_000,
-                    envelope_goal=1.04, envelope_examples=100_000, envelope_points=2),
+                    envelope_goal=1.04, envelope_boxes=800_000, envelope_examples=100_000, envelope_points=2),
 }
