@@ -57,7 +57,8 @@ LEVEL = 0.3  # a residual that does not fall below LEVEL x itself when rtol fall
 class AppSettings:
     scenes: tuple  # (built-in scene, durations of its loads in the robustness study) without --scene
     hunts: tuple  # (built-in scene, Hypothesis examples) of the escape hunt without --scene
-    hunt_seconds: float  # the hunt stops simulating after this long (examples left are skipped)
+    hunt_seconds: float  # the hunt stops simulating after this long (examples left are skipped; ci 34 s, 3/4 of the
+    # 45 s a check had before its budget doubled to 90 s)
     hunt_horizon: float
     shrink: bool  # let Hypothesis shrink an escape to a simpler run
     ramps: tuple  # durations (s) of payload ramps of a --scene
@@ -68,16 +69,17 @@ class AppSettings:
     samples_per_second: float
     configurations: int  # sampled configurations for the extremes of M(q, Theta_hat) over q
     rtol: float
-    max_evaluations: int  # per batch of runs
-    max_seconds: float  # per batch of runs
+    work: float  # counted work (tracking.evaluation_cost units, about 1 ms each) of simulate_recipes: its batch, its
+    # runs alone and the finer re-run share it (BATCH of it, the rest, FINER of it more)
+    max_seconds: float  # wall-clock safety net of one simulate_recipes (every phase), no evidence when it strikes
 
 
 SETTINGS = {
     "ci": AppSettings(scenes=(("planar-2r-payload", (1.0, 0.1, 0.01)), ("trolley-2r", (1.0, 0.25))),
-                      hunts=(("planar-2r-payload", 3),), hunt_seconds=60.0, hunt_horizon=2.0, shrink=False,
+                      hunts=(("planar-2r-payload", 3),), hunt_seconds=34.0, hunt_horizon=2.0, shrink=False,
                       ramps=(1.0, 0.1, 0.01), traverses=(1.0, 0.25), start=0.2, settle=0.5,
                       laws=("slotine-li", "natural"), samples_per_second=50, configurations=128, rtol=3e-5,
-                      max_evaluations=20_000, max_seconds=30.0),
+                      work=32_000, max_seconds=90.0),
     "deep": AppSettings(scenes=(("planar-2r-payload", (10.0, 3.0, 1.0, 0.3, 0.1, 0.03, 0.01)),
                                 ("trolley-2r", (4.0, 2.0, 1.0, 0.5, 0.25, 0.1)),
                                 ("panda-payload-3kg", (1.0, 0.1, 0.01))),
@@ -85,7 +87,7 @@ SETTINGS = {
                         hunt_seconds=900.0, hunt_horizon=3.0, shrink=True,
                         ramps=(10.0, 3.0, 1.0, 0.3, 0.1, 0.03, 0.01), traverses=(4.0, 2.0, 1.0, 0.5, 0.25, 0.1),
                         start=0.5, settle=1.5, laws=("slotine-li", "natural"), samples_per_second=100,
-                        configurations=1024, rtol=1e-6, max_evaluations=400_000, max_seconds=1200.0),
+                        configurations=1024, rtol=1e-6, work=1_500_000, max_seconds=3600.0),
 }
 
 
@@ -122,30 +124,62 @@ def _resolution(n):
 
 # -- runs ---------------------------------------------------------------------------------------
 
+BATCH = 2 / 3  # of the work, a batch of several runs may spend this; if it stops early, its runs alone the rest (ci:
+# Panda's 12 runs finish as one batch in 5,375 counted BDF evaluations, 16,600 units; 12.6 s here)
+FINER = 1 / 2  # of the work, the runs simulated again at rtol / 10 may spend this more (ci: Panda's two natural-law
+# runs of the 10 ms ramp need more than 5,289 evaluations at rtol 3e-6)
+
+
 def simulate_recipes(recipes, s, forces=motion.generalized_forces):
-    """Simulate recipes of one chain and horizon together. When the batch stops early (one stiff run holds up all),
-    each run is simulated alone with its share of the budget, unless the batch was not started (ill-conditioned:
-    its runs share the chain); a run whose Lyapunov balance error exceeds BALANCE x rtol, or that stepped over its
-    law's barrier, is simulated again at a tenth of the tolerance, keeping the first residual as
-    ``looser_balance_error`` (balance_verdict). Returns
+    """Simulate recipes of one chain and horizon together, within ``s.work`` units of counted work
+    (:func:`inertiaproof.sim.tracking.evaluation_cost`) and one wall-clock safety net ``s.max_seconds`` for it all.
+    When the batch stops early (one stiff run holds up all: the step is the whole state's), each run is simulated
+    alone (:func:`_alone`), unless the batch was not started (ill-conditioned: its runs share the chain); a run
+    whose Lyapunov balance error exceeds BALANCE x rtol, or that stepped over its law's barrier, is simulated again
+    at a tenth of the tolerance, keeping the first residual as ``looser_balance_error`` (balance_verdict). Returns
     (runs, batches) in the recipes' order."""
-    horizon = recipes[0].run_horizon()
-    chain = recipes[0].chain()
-    kw = dict(samples=_samples(s, horizon), max_evaluations=s.max_evaluations, max_seconds=s.max_seconds, forces=forces)
-    runs, batch = tracking.simulate(chain, [r.spec() for r in recipes], horizon, rtol=s.rtol, **kw)
+    horizon, chain = recipes[0].run_horizon(), recipes[0].chain()
+    deadline = time.perf_counter() + s.max_seconds
+
+    def simulate(specs, work, rtol):
+        evaluations = max(int(work / tracking.evaluation_cost(chain.n, len(specs))), 1)
+        return tracking.simulate(chain, specs, horizon, rtol=rtol, samples=_samples(s, horizon), forces=forces,
+                                 max_evaluations=evaluations, max_seconds=max(deadline - time.perf_counter(), 0.0))
+
+    several = len(recipes) > 1
+    runs, batch = simulate([r.spec() for r in recipes], s.work * BATCH if several else s.work, s.rtol)
     batches = [batch] * len(runs)
-    if not batch_finished(runs) and len(runs) > 1 and runs[0].status not in tracking.NOT_STARTED:
-        share = dict(kw, max_evaluations=s.max_evaluations // len(runs), max_seconds=s.max_seconds / len(runs))
-        for i, spec in enumerate([r.spec for r in runs]):
-            (runs[i],), batches[i] = tracking.simulate(chain, [spec], horizon, rtol=s.rtol, **share)
+    if not batch_finished(runs) and several and runs[0].status not in tracking.NOT_STARTED:
+        _alone(runs, batches, s.work * (1 - BATCH), lambda spec, work: simulate([spec], work, s.rtol),
+               tracking.evaluation_cost(chain.n, 1))
     again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol
              or r.status == tracking.BARRIER]  # the barrier too: the exact solution stays clear of it
     if again:
-        finer, finer_batch = tracking.simulate(chain, [runs[i].spec for i in again], horizon, rtol=s.rtol / 10, **kw)
+        finer, finer_batch = simulate([runs[i].spec for i in again], s.work * FINER, s.rtol / 10)
         for i, run in zip(again, finer):
             run.looser_balance_error = runs[i].balance_error
             runs[i], batches[i] = run, finer_batch
     return runs, batches
+
+
+def _alone(runs, batches, work, simulate, cost):
+    """Each run simulated alone (in place), in order, with an equal share of the work left (a run that finishes
+    early leaves the rest of its share to those after it); then the runs the count stopped once more, in order and
+    afresh, each with all the work left, where that is more than it had. Counts only: the same runs finish on every
+    machine. ``cost``: the work of one evaluation of a run alone."""
+    had = {}
+
+    def alone(i, share):
+        nonlocal work
+        (runs[i],), batches[i] = simulate(runs[i].spec, share)
+        had[i] = share
+        work -= min(share, (runs[i].evaluations + runs[i].jacobians) * cost)
+
+    for k in range(len(runs)):
+        alone(k, work / (len(runs) - k))
+    for i in [i for i, r in enumerate(runs) if r.status == "budget"]:
+        if work > had[i]:
+            alone(i, work)
 
 
 def balance_verdict(run, rtol):
@@ -175,10 +209,9 @@ def batch_finished(runs):
 
 def study(ctx, key, forces=motion.generalized_forces):
     """The robustness study of a scene, once per run (shared): recipes, runs and their batches, load durations.
-    simulate_recipes spends up to 3 x max_seconds (the batch, the runs alone, a finer re-run), so max_seconds is
-    capped at a quarter of what the check's budget has left: the study ends inside it, with what it reached."""
+    Its wall-clock safety net is capped at 0.9 of what the check's budget has left: the study ends inside it."""
     s = settings_for(ctx)
-    s = dataclasses.replace(s, max_seconds=min(s.max_seconds, ctx.budget.remaining() / 4))
+    s = dataclasses.replace(s, max_seconds=min(s.max_seconds, 0.9 * ctx.budget.remaining()))
 
     def compute():
         moving = scene_of(key).trajectory.internal_motion
@@ -575,7 +608,7 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
     after the profile's hunt_seconds. ``twin`` gives the law compared with Slotine-Li (a test passes a wrong one)."""
     s = settings_for(ctx)
     # the hunt stops starting runs at hunt_seconds or at 3/4 of what the check's budget has left, whichever is first,
-    # and no run may outlast that (a run's batch, its retries and a finer re-run: a third each)
+    # and no run may outlast that
     deadline = time.perf_counter() + min(s.hunt_seconds, 0.75 * ctx.budget.remaining())
     phases = (Phase.explicit, Phase.reuse, Phase.generate, Phase.target) + ((Phase.shrink,) if s.shrink else ())
     seen, failures, scenes, witnesses, stiff = {}, [], {}, {}, []
@@ -588,7 +621,7 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
                 left = deadline - time.perf_counter()
                 if left <= 0:
                     return np.nan
-                capped = dataclasses.replace(s, max_seconds=min(s.max_seconds, left / 3))
+                capped = dataclasses.replace(s, max_seconds=min(s.max_seconds, left))
                 seen[recipe] = escape_margin(recipe, capped, q_samples, twin=twin)
                 if seen[recipe]["stiff"]:
                     stiff.append(seen[recipe]["stiff"])

@@ -209,3 +209,24 @@ def test_an_unfinished_natural_run_is_no_evidence_against_the_law():
     for status in ("clock", "budget", "step collapse", "barrier"):
         data["laws"]["natural"]["status"] = status
         assert not app._natural_fails(data)
+
+
+def test_runs_alone_share_the_counted_work_and_the_left_over_goes_to_those_the_count_stopped():
+    """A batch that stopped early splits into its runs alone: each with an equal share of the work left (what a run
+    does not use passes to those after it), then the runs the count stopped once more with what is left. Measured
+    on scenes/trolley_2r.toml (ci): runs alone need 410-2,606 evaluations, one more than 5,000; with 12,000 units at
+    1 a evaluation, the 2,606 one finishes on the second pass, and nothing is spent beyond the work."""
+    need = [422, 1058, 446, 2606, 428, 620, 542, 6000, 446, 728, 410, 578]
+    calls = []
+
+    def simulate(spec, work):
+        calls.append((spec, work))
+        done = spec <= int(work)
+        return [tracking.Run(spec, 0, "ok" if done else "budget", "", 0.0, spec if done else int(work))], None
+
+    runs = [tracking.Run(k, 0, "budget", "", 0.0, 0) for k in need]
+    app._alone(runs, [None] * len(runs), 12_000, simulate, 1.0)
+    assert [r.status for r in runs] == ["ok"] * 7 + ["budget"] + ["ok"] * 4
+    assert sum(min(w, s) for s, w in calls) <= 12_000 and len(calls) == len(need) + 2  # 2606 and 6000 again
+    first = dict(calls[:len(need)])
+    assert first[422] == 1000 and first[1058] > 1000  # the first run's unused share went to the rest
