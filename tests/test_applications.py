@@ -230,3 +230,27 @@ def test_runs_alone_share_the_counted_work_and_the_left_over_goes_to_those_the_c
     assert sum(min(w, s) for s, w in calls) <= 12_000 and len(calls) == len(need) + 2  # 2606 and 6000 again
     first = dict(calls[:len(need)])
     assert first[422] == 1000 and first[1058] > 1000  # the first run's unused share went to the rest
+
+
+def test_a_studys_runs_end_the_same_on_a_machine_three_times_slower(monkeypatch):
+    """simulate_recipes budgets in counted work: with the wall clock running three times as fast (a machine three
+    times slower, as under CPU hogs) the same runs finish, or stop at the count after the same evaluations (a work
+    of 600 units: the batch stops early and its runs go on alone), and none stops at the clock."""
+    import time as real_time
+    import types
+
+    from inertiaproof.sim.recipe import Recipe
+
+    recipes = [Recipe(KEY, law, "gre", horizon=0.9, timing=(0.2, d)) for d in (0.5, 0.01) for law in ("slotine-li",
+                                                                                                      "natural")]
+
+    def outcomes():
+        return {work: [(r.status, r.evaluations, r.jacobians) for r in app.simulate_recipes(
+            recipes, dataclasses.replace(app.SETTINGS["ci"], work=work))[0]] for work in (600, 900)}
+
+    idle = outcomes()
+    slow = types.SimpleNamespace(perf_counter=lambda: 3 * real_time.perf_counter())
+    monkeypatch.setattr(app, "time", slow)
+    monkeypatch.setattr(tracking, "time", slow)
+    assert outcomes() == idle
+    assert {r[0] for r in idle[600]} == {"budget"} and {r[0] for r in idle[900]} == {"ok"}, idle
