@@ -1,6 +1,7 @@
-"""How a run scales with workers (issue 16): measured on this machine for 1 and 2 workers, estimated beyond.
+"""How a run scales with workers (issues 16, 28): measured on this machine for 1 and 2 workers, estimated beyond.
 
     python bench/scaling.py [--profile deep] [--only ID ...] [--workers 1 2] [--timeout SECONDS]
+    python bench/scaling.py --runs 1=DIR 2=DIR [--note TEXT]     # runs made by hand (OUT folders)
 
 Runs ``inertiaproof run --profile P --workers W`` once per W, each with its own copy of the starting cache (the
 deep profile's example database replays what earlier runs saved, so both runs must start from the same one), and
@@ -9,11 +10,13 @@ writes ``bench/results/scaling.json`` and ``scaling.md``:
 - wall time and exit status per W, the machine's load average around each run (timings on a shared machine are
   inflated by the load);
 - whether results.json is identical apart from its timing fields (``inertiaproof.suite.timings``), and where not;
-- per kind of split work (``OUT/execution.json``): batches, tasks, seconds per task, bytes sent and returned, wall
-  time per W and the speed-up;
-- an estimate for 8, 32 and 128 workers from the measured task sizes: the unsplit part of the run stays serial;
-  a batch of tasks t_i on W workers takes max(max t_i, sum t_i / W) (its longest task bounds it), plus a
-  scheduler overhead of ~1 ms per task and the bytes it moves at ~100 MB/s (a network; local is faster).
+- per kind of split work (``OUT/execution.json``): batches, tasks, seconds per task, bytes returned;
+- an estimate for 1, 2, 8, 32 and 128 workers from the task graph of the run with the most workers (each check's
+  own computation, its runtime less its batches' wall time, and its batches' tasks; each batch names its check):
+  :func:`simulate` replays the run as the executor schedules it (lanes take the groups of checks largest first; a
+  check computes holding a token, then its batches' tasks each take a free token) plus a per-task overhead and
+  the bytes each task sends back at a cluster's bandwidth. The estimate for the measured worker counts is set
+  beside the measurement.
 
 Nothing is asserted; timings depend on the machine and its load.
 """
@@ -21,6 +24,7 @@ Nothing is asserted; timings depend on the machine and its load.
 from __future__ import annotations
 
 import argparse
+import heapq
 import json
 import os
 import shutil
@@ -28,14 +32,15 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections import deque
 from pathlib import Path
 
 from inertiaproof.suite.timings import without_timings
 
 HERE = Path(__file__).resolve().parent
-OVERHEAD_S = 1e-3  # scheduler overhead per task (Dask's documented order of magnitude)
+OVERHEAD_S = 5e-3  # overhead per task: a fork and its result's pickle here, a scheduler's round trip on Dask
 BANDWIDTH = 100e6  # bytes per second between client and workers on a cluster network
-ESTIMATE = (8, 32, 128)
+ESTIMATE = (1, 2, 8, 32, 128)
 
 
 def run_once(profile, workers, only, out, cache, timeout):
@@ -91,19 +96,86 @@ def kinds(batches):
     return out
 
 
-def estimate(run_wall, batches, bytes_by_kind, workers):
-    """Predicted wall time on ``workers`` from the one-worker batches (see the module's docstring)."""
-    split = sum(b.get("wall_s", 0.0) for b in batches)
-    serial = max(run_wall - split, 0.0)
-    total, per_kind = serial, {}
-    for b in batches:
-        t = b["task_s"] or [0.0]
-        moved = bytes_by_kind.get(b["kind"], 0.0) * b["tasks"]
-        cost = max(max(t), sum(t) / workers) + b["tasks"] * OVERHEAD_S + moved / BANDWIDTH
-        per_kind[b["kind"]] = per_kind.get(b["kind"], 0.0) + cost
-        total += cost
-    return {"workers": workers, "wall_s": total, "serial_s": serial, "split_s": per_kind,
-            "speed_up": run_wall / total if total else None}
+def task_graph(results, execution):
+    """The run's work per check, in the order of results.json: {check, group, own_s (its computation outside its
+    batches), batches: [[task seconds, ...], ...], bytes: [bytes per task of each batch]}; the groups as the
+    runner forms them (:func:`inertiaproof.suite.runner.affinity`)."""
+    from inertiaproof.suite.discovery import load_checks
+    from inertiaproof.suite.runner import affinity
+
+    specs = load_checks()
+    batches = {}
+    for b in execution["batches"]:
+        batches.setdefault(b.get("check"), []).append(b)
+    graph = []
+    for c in results["checks"]:
+        mine = [b for b in batches.get(c["check"], []) if b["task_s"]]
+        graph.append({"check": c["check"], "group": affinity(specs[c["check"]]), "needs_chain": "chain" in
+                      specs[c["check"]].needs, "own_s": max(c["runtime_s"] - sum(b["wall_s"] for b in mine), 0.0),
+                      "batches": [b["task_s"] for b in mine],
+                      "bytes": [(b.get("bytes_out") or 0) / max(len(b["task_s"]), 1) for b in mine]})
+    return graph
+
+
+def simulate(graph, workers, overhead_s=OVERHEAD_S, bandwidth=BANDWIDTH):
+    """The run's wall time on ``workers`` tokens: ``workers`` lanes take the groups of checks (largest first, as the
+    runner orders them); a check's own computation holds a token, then its batches run one after the other, each
+    task on the next free token (first come, first served) for its seconds plus ``overhead_s`` plus its bytes over
+    ``bandwidth``. Returns {wall_s, busy: token-seconds computing, critical_s: the longest group alone}."""
+    groups = {}
+    for c in graph:
+        groups.setdefault(c["group"], []).append(c)
+    order = deque(sorted(groups.values(), key=lambda g: (sum(c["needs_chain"] for c in g), len(g)), reverse=True))
+    free, waiting, events, now, busy = workers, deque(), [], 0.0, 0.0
+    seq = [0]
+
+    def at(t, what):
+        seq[0] += 1
+        heapq.heappush(events, (t, seq[0], what))
+
+    def request(what):  # what runs when a token is granted: (seconds, then)
+        nonlocal free
+        if free:
+            free -= 1
+            at(now + what[0], ("done", what))
+        else:
+            waiting.append(what)
+
+    def lane_next(lane):
+        if lane["checks"]:
+            check = lane["checks"].popleft()
+            request((check["own_s"], ("batches", lane, check, 0)))
+        elif order:
+            lane["checks"] = deque(order.popleft())
+            lane_next(lane)
+
+    def start_batch(lane, check, k):
+        if k == len(check["batches"]):
+            lane_next(lane)
+            return
+        tasks = check["batches"][k]
+        left = {"n": len(tasks)}
+        for t in tasks:
+            request((t + overhead_s + check["bytes"][k] / bandwidth, ("task", lane, check, k, left)))
+
+    for _ in range(workers):
+        lane_next({"checks": deque()})
+    while events:
+        now, _, (_, (seconds, then)) = heapq.heappop(events)
+        busy += seconds
+        free += 1
+        if waiting:
+            request(waiting.popleft())
+        if then[0] == "batches":
+            start_batch(*then[1:])
+        else:
+            _, lane, check, k, left = then
+            left["n"] -= 1
+            if left["n"] == 0:
+                start_batch(lane, check, k + 1)
+    critical = max(sum(c["own_s"] + sum(max(b) + overhead_s for b in c["batches"]) for c in g)
+                   for g in groups.values())
+    return {"workers": workers, "wall_s": now, "busy_s": busy, "critical_s": critical}
 
 
 def main(argv=None):
@@ -111,61 +183,58 @@ def main(argv=None):
     p.add_argument("--profile", default="deep")
     p.add_argument("--only", nargs="+", default=None)
     p.add_argument("--workers", nargs="+", type=int, default=[1, 2])
-    p.add_argument("--timeout", type=float, default=1800.0)
+    p.add_argument("--runs", nargs="+", metavar="W=DIR", help="runs made by hand: their OUT folders (W workers)")
+    p.add_argument("--timeout", type=float, default=7200.0)
     p.add_argument("--out", default=str(HERE / "results"))
-    p.add_argument("--note", default="", help="said in the results (e.g. why the profile was reduced)")
-    p.add_argument("--rewrite", action="store_true", help="only rewrite scaling.md from scaling.json")
+    p.add_argument("--note", default="", help="said in the results (how the runs were made)")
     args = p.parse_args(argv)
     results_dir = Path(args.out)
-    if args.rewrite:
-        _write(json.loads((results_dir / "scaling.json").read_text()), results_dir)
-        return 0
     results_dir.mkdir(parents=True, exist_ok=True)
-    base_cache = Path(os.environ.get("INERTIAPROOF_CACHE", Path.home() / ".cache" / "inertiaproof"))
-    work = Path(tempfile.mkdtemp(prefix="inertiaproof-scaling-"))
-    doc = {"schema": "inertiaproof.bench.scaling/1", "profile": args.profile, "only": args.only, "note": args.note,
+    doc = {"schema": "inertiaproof.bench.scaling/2", "profile": args.profile, "only": args.only, "note": args.note,
            "cpus": os.cpu_count(), "overhead_s_per_task": OVERHEAD_S, "bandwidth_bytes_per_s": BANDWIDTH, "runs": []}
-    docs = {}
-    for w in args.workers:
-        cache = work / f"cache-{w}"
-        if base_cache.is_dir():
-            shutil.copytree(base_cache, cache, ignore=shutil.ignore_patterns("hypothesis"))
-        out = work / f"out-{w}"
-        print(f"running {args.profile} with {w} worker(s) ...", flush=True)
-        r = run_once(args.profile, w, args.only, out, cache, args.timeout)
+    docs, executions = {}, {}
+    work = Path(tempfile.mkdtemp(prefix="inertiaproof-scaling-"))
+    base_cache = Path(os.environ.get("INERTIAPROOF_CACHE", Path.home() / ".cache" / "inertiaproof"))
+    made = [(int(w), Path(d)) for w, d in (r.split("=", 1) for r in args.runs)] if args.runs else None
+    for w, out in made or [(w, work / f"out-{w}") for w in args.workers]:
+        if made is None:
+            cache = work / f"cache-{w}"
+            if base_cache.is_dir():
+                shutil.copytree(base_cache, cache, ignore=shutil.ignore_patterns("hypothesis"))
+            print(f"running {args.profile} with {w} worker(s) ...", flush=True)
+            r = run_once(args.profile, w, args.only, out, cache, args.timeout)
+        else:
+            r = {"workers": w, "command": f"by hand: {out}", "exit_status": None, "load_before": None,
+                 "load_after": None}
         try:
             results = json.loads((out / "results.json").read_text())
             execution = json.loads((out / "execution.json").read_text())
         except (OSError, ValueError):
             results, execution = None, {"batches": []}
+        if made is not None and results is not None:
+            r["wall_s"] = results["runtime_s"]
         r["summary"] = results and results["summary"]
         r["check_s"] = results and {c["check"]: round(c["runtime_s"], 3) for c in results["checks"]}
         r["kinds"] = kinds(execution["batches"])
-        r["batches"] = execution["batches"]
-        docs[w] = results
+        docs[w], executions[w] = results, execution
         doc["runs"].append(r)
-        print(f"  {w} worker(s): {r['wall_s']:.1f} s, exit {r['exit_status']}", flush=True)
-        _write(doc, results_dir)
-    ones = next((r for r in doc["runs"] if r["workers"] == 1), None)
-    if ones is not None:
-        for r in doc["runs"]:
-            if r["workers"] == 1 or docs.get(r["workers"]) is None or docs.get(1) is None:
-                continue
-            a, b = without_timings(docs[1]), without_timings(docs[r["workers"]])
-            r["identical_to_one_worker"] = a == b
-            r["differences"] = differences(a, b)
-            r["speed_up"] = ones["wall_s"] / r["wall_s"]
-            r["speed_up_by_kind"] = {k: ones["kinds"][k]["wall_s"] / v["wall_s"] if v["wall_s"] else None
-                                     for k, v in r["kinds"].items() if k in ones["kinds"]}
-        moved = {}
-        for r in doc["runs"]:
-            for k, v in r["kinds"].items():
-                if v["bytes_in"] or v["bytes_out"]:
-                    moved[k] = (v["bytes_in"] + v["bytes_out"]) / max(v["tasks"], 1)
-        doc["bytes_per_task"] = moved
-        doc["estimate"] = [estimate(ones["wall_s"], ones["batches"], moved, w) for w in (2, *ESTIMATE)]
-    _write(doc, results_dir)
+        print(f"  {w} worker(s): {r.get('wall_s', 0):.1f} s, exit {r['exit_status']}", flush=True)
     shutil.rmtree(work, ignore_errors=True)
+    ones = next((r for r in doc["runs"] if r["workers"] == 1), None)
+    for r in doc["runs"]:
+        if ones is None or r is ones or docs.get(r["workers"]) is None or docs.get(1) is None:
+            continue
+        a, b = without_timings(docs[1]), without_timings(docs[r["workers"]])
+        r["identical_to_one_worker"] = a == b
+        r["differences"] = differences(a, b)
+        r["speed_up"] = ones["wall_s"] / r["wall_s"]
+    most = max((r for r in doc["runs"] if docs.get(r["workers"])), key=lambda r: r["workers"], default=None)
+    if most is not None:
+        graph = task_graph(docs[most["workers"]], executions[most["workers"]])
+        doc["graph_from_workers"] = most["workers"]
+        doc["graph"] = graph
+        doc["estimate"] = [simulate(graph, w) for w in ESTIMATE]
+    _write(doc, results_dir)
     return 0
 
 
@@ -175,75 +244,45 @@ def _write(doc, results_dir):
                                                                               if doc["only"] else ""), ""]
     if doc["note"]:
         lines += [doc["note"], ""]
-    lines += ["| workers | wall s | exit | load before/after | identical results.json | speed-up |", "|---|---|---|---|---|---|"]
+    lines += ["| workers | wall s | exit | identical results.json | speed-up |", "|---|---|---|---|---|"]
     for r in doc["runs"]:
-        lines.append(f"| {r['workers']} | {r['wall_s']:.1f} | {r['exit_status']} | {r['load_before'][0]:.1f} / "
-                     f"{r['load_after'][0]:.1f} | {r.get('identical_to_one_worker', '-')} | "
-                     f"{r.get('speed_up', 1.0) if r['workers'] == 1 else round(r.get('speed_up', 0.0), 2)} |")
-    lines += ["", "| kind | workers | batches | tasks | median task s | max task s | sum task s | wall s | "
-              "bytes in+out |", "|---|---|---|---|---|---|---|---|---|"]
+        lines.append(f"| {r['workers']} | {r['wall_s']:.1f} | {r['exit_status']} | "
+                     f"{r.get('identical_to_one_worker', '-')} | {r.get('speed_up', 1.0):.2f} |")
+    lines += ["", "| kind | workers | batches | tasks | median task s | max task s | sum task s | bytes out |",
+              "|---|---|---|---|---|---|---|---|"]
     for r in doc["runs"]:
         for k, v in r["kinds"].items():
             t = v["task_s"]
             lines.append(f"| {k} | {r['workers']} | {v['batches']} | {v['tasks']} | {t['median'] or 0:.3g} | "
-                         f"{t['max'] or 0:.3g} | {t['sum']:.1f} | {v['wall_s']:.1f} | {v['bytes_in'] + v['bytes_out']} |")
-    if doc.get("estimate"):
-        lines += ["", "Estimate from the one-worker task sizes (serial part + per batch max(longest task, sum/W) "
-                  f"+ {OVERHEAD_S * 1e3:g} ms per task + bytes at {BANDWIDTH / 1e6:g} MB/s):", "",
-                  "| workers | estimated wall s | serial s | speed-up |", "|---|---|---|---|"]
-        for e in doc["estimate"]:
-            lines.append(f"| {e['workers']} | {e['wall_s']:.1f} | {e['serial_s']:.1f} | {e['speed_up']:.2f} |")
+                         f"{t['max'] or 0:.3g} | {t['sum']:.1f} | {v['bytes_out']} |")
     lines += analysis(doc)
-    if doc.get("full_deep"):
-        f = doc["full_deep"]
-        lines += ["", "## Full deep profile (run by hand)", "", f["note"], "",
-                  "| workers | run time s | summary | exit |", "|---|---|---|---|"]
-        lines += [f"| {r['workers']} | {r['runtime_s']:.1f} | {r['summary']} | {r['exit_status']} |" for r in f["runs"]]
     (results_dir / "scaling.md").write_text("\n".join(lines) + "\n")
 
 
 def analysis(doc):
-    """The written estimate: what bounds the run time on 8, 32 and 128 workers."""
-    ones = next((r for r in doc["runs"] if r["workers"] == 1), None)
-    if ones is None or not doc.get("estimate"):
+    """The estimate and what bounds it."""
+    if not doc.get("estimate"):
         return []
-    tasks = sum(k["tasks"] for k in ones["kinds"].values())
-    task_sum = sum(k["task_s"]["sum"] for k in ones["kinds"].values())
-    batches = sum(k["batches"] for k in ones["kinds"].values())
-    longest = sum(max(b["task_s"] or [0.0]) for b in ones["batches"])
-    moved = sum(doc.get("bytes_per_task", {}).get(b["kind"], 0.0) * b["tasks"] for b in ones["batches"])
-    serial = doc["estimate"][0]["serial_s"]
-    by = {e["workers"]: e for e in doc["estimate"]}
-    measured = []
-    for r in doc["runs"]:
-        if r["workers"] == 1 or "speed_up_by_kind" not in r:
-            continue
-        for k, v in r["kinds"].items():
-            if k in ones["kinds"]:
-                measured.append(
-                    f"- Measured on {r['workers']} workers, {k}: wall {ones['kinds'][k]['wall_s']:.1f} s -> "
-                    f"{v['wall_s']:.1f} s (x{r['speed_up_by_kind'][k]:.2f}); the tasks' own seconds went from "
-                    f"{ones['kinds'][k]['task_s']['sum']:.1f} to {v['task_s']['sum']:.1f} s, so the workers did not "
-                    f"each have a free core (load average {r['load_before'][0]:.1f} before, {r['load_after'][0]:.1f} "
-                    f"after, on {doc['cpus']} cores). Whole run: x{r['speed_up']:.2f}.")
-    return ["", "## Measured", "", *measured, "", "## Estimate for larger clusters", "",
-            f"- Granularity: {tasks} tasks in {batches} batches, {task_sum:.1f} s of work on one worker, median task "
-            f"{sorted(t for b in ones['batches'] for t in b['task_s'])[tasks // 2]:.2f} s: the scheduler's ~1 ms per "
-            f"task adds {tasks * OVERHEAD_S:.2f} s in all, negligible.",
-            f"- Data moved: {moved / 1e6:.2f} MB in all (the pickled shard and its result, "
-            f"{moved / max(tasks, 1) / 1e3:.1f} kB per task): {moved / BANDWIDTH:.2f} s at 100 MB/s, negligible.",
-            f"- What bounds it: the part of the run that is not split, {serial:.0f} s of {ones['wall_s']:.0f} s "
-            f"({serial / ones['wall_s']:.0%}), runs in the client whatever the workers (brackets narrowed for a "
-            "wall-clock budget, the classifier's boundary rows, the symbolic derivations, the studies); and the "
-            f"batches run one after another (one check at a time), each at least as long as its longest shard: "
-            f"{longest:.1f} s summed over the batches.",
-            f"- So 8 workers: ~{by[8]['wall_s']:.0f} s ({by[8]['speed_up']:.2f}x), 32: ~{by[32]['wall_s']:.0f} s "
-            f"({by[32]['speed_up']:.2f}x), 128: ~{by[128]['wall_s']:.0f} s ({by[128]['speed_up']:.2f}x): beyond a "
-            "handful of workers the split work is done and the serial part is the run time (Amdahl).",
-            "- To scale further: split the remaining kinds (bracket boxes with step budgets instead of wall-clock "
-            "ones, so their shards stay deterministic; stability and adaptive runs; symbolic objects), run "
-            "independent checks concurrently, and cut hunts into more, smaller shards (`shard_examples`) so that "
-            "a batch's longest shard shrinks with the cluster."]
+    graph = doc["graph"]
+    own = sum(c["own_s"] for c in graph)
+    split = sum(sum(b) for c in graph for b in c["batches"])
+    one = next(e for e in doc["estimate"] if e["workers"] == 1)
+    measured = {r["workers"]: r["wall_s"] for r in doc["runs"]}
+    lines = ["", f"## Estimate (task graph of the {doc['graph_from_workers']}-worker run)", "",
+             f"Work: {own + split:.0f} s, of which {split:.0f} s in {sum(len(b) for c in graph for b in c['batches'])}"
+             f" split tasks and {own:.0f} s in the checks' own computations ({len(graph)} checks). Per task "
+             f"{OVERHEAD_S * 1e3:g} ms plus its bytes at {BANDWIDTH / 1e6:g} MB/s.", "",
+             "| workers | estimated wall s | measured wall s | speed-up (estimated) | longest group alone s |",
+             "|---|---|---|---|---|"]
+    for e in doc["estimate"]:
+        m = measured.get(e["workers"])
+        lines.append(f"| {e['workers']} | {e['wall_s']:.0f} | {'-' if m is None else f'{m:.0f}'} | "
+                     f"{one['wall_s'] / e['wall_s']:.2f} | {e['critical_s']:.0f} |")
+    longest = sorted(graph, key=lambda c: -c["own_s"])[:5]
+    lines += ["", "What stays serial: the checks' own computations that no task splits, longest first:", ""]
+    lines += [f"- {c['check']}: {c['own_s']:.0f} s own, {len(c['batches'])} batches "
+              f"({sum(len(b) for b in c['batches'])} tasks, {sum(sum(b) for b in c['batches']):.0f} s)" for c in longest]
+    return lines
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ ball of 0.1 m around its heaviest payload's centre of mass (or 5 kg at the last 
 
 from __future__ import annotations
 
+import functools
 from fractions import Fraction
 
 import numpy as np
@@ -29,6 +30,8 @@ from inertiaproof.model.inertia import point_mass, pseudo_inertia
 from inertiaproof.result import Result, Verdict, combine, quantity
 from inertiaproof.scene import robots
 from inertiaproof.dynamics.chain import Chain
+from inertiaproof.suite.execution import Executor
+from inertiaproof.suite.hunt import shard_seed, shard_sizes
 from inertiaproof.suite.registry import check, replayer
 
 __all__ = ["attack", "BUILT_IN", "envelope_result", "payload_envelope", "ramp_rate", "replay_payload", "TOLERANCE"]
@@ -42,6 +45,7 @@ BUILT_IN = {  # (scene, kg, m): deep runs the report's section; ci the planar 2R
 }
 RAMP_S = 1.0  # the built-in payloads are taken up in this many seconds
 TOLERANCE = 1e-9  # relative: what eigvalsh's rounding (8 n eps |lambda|) cannot reach
+ATTACK_SHARD = 2500  # payloads per task of the attack (deep's 100,000 per robot: 40 tasks of about 15 s)
 HEAVIER = (1.5, 2.0, 4.0, 8.0)  # masses (times the set's) tried for a payload beyond the set at the worst point
 
 
@@ -62,10 +66,33 @@ def _margins(chain, theta, pset, bounds, rate, phi, q):
                               np.full(len(q), (z - zeta) / z)])
 
 
-def attack(chain, theta, pset, bounds, rate, *, examples, seed_value, witnesses):
+def attack(chain, theta, pset, bounds, rate, *, examples, seed_value, witnesses, executor=None, label="attack"):
     """Hypothesis draws ``examples`` payloads of the set and a configuration each (tested with the
     ``witnesses`` (K, n) too): {examples, smallest_margin, worst, violation}; the first margin below -TOLERANCE
-    stops the hunt and is the violation (payload Phi, q)."""
+    stops the hunt and is the violation (payload Phi, q). The payloads are drawn in shards of ATTACK_SHARD, each
+    with its own seed (:func:`~inertiaproof.suite.hunt.shard_seed`; one shard keeps ``seed_value``), as tasks of
+    ``executor`` (default: this process), merged in shard order up to the first violating one: the answer does not
+    depend on the workers."""
+    sizes = shard_sizes(examples, ATTACK_SHARD)
+    seeds = [seed_value] if len(sizes) == 1 else [shard_seed(seed_value, label, i, len(sizes))
+                                                  for i in range(len(sizes))]
+    task = functools.partial(_attack_shard, chain, theta, pset, bounds, rate, witnesses)
+    shards = (executor or Executor()).map(task, list(zip(sizes, seeds)), kind="hunt", label=label,
+                                          stop=lambda i, shard: shard["violation"] is not None)
+    seen = {"examples": 0, "smallest": np.inf, "worst": None, "violation": None}
+    for shard in shards:
+        seen["examples"] += shard["examples"]
+        if shard["smallest"] < seen["smallest"]:
+            seen.update(smallest=shard["smallest"], worst=shard["worst"])
+        if shard["violation"] is not None:
+            seen["violation"] = shard["violation"]
+            break
+    return seen
+
+
+def _attack_shard(chain, theta, pset, bounds, rate, witnesses, shard):
+    """One shard of :func:`attack`: (examples, seed) -> its {examples, smallest, worst, violation}."""
+    examples, seed_value = shard
     lo, hi = search_box(chain)
     m, c, axes = pset.floats
     seen = {"examples": 0, "smallest": np.inf, "worst": None, "violation": None}
@@ -106,11 +133,11 @@ def _beyond(chain, theta, pset, alpha2, point, q):
 
 
 def envelope_result(name, chain, theta, pset, *, ramp_s, profile, examples, points, goal, speed=None, seed_value=0,
-                    progress=None):
+                    progress=None, executor=None):
     """The Result of one envelope: the constants, the brackets, the curve against the mass (``points`` masses below
     the set's), and the attack (``examples`` Hypothesis payloads); ``goal`` the sup brackets' (None: the ladder's
     default; alpha2's ladder may test ``profile.envelope_boxes`` boxes); ``speed``: the payload's particles move
-    inside the set at most this fast (m/s; Theorem 5)."""
+    inside the set at most this fast (m/s; Theorem 5); the attack's shards are tasks of ``executor``."""
     rate = ramp_rate(ramp_s)
     masses = [pset.mass * Fraction(i, points + 1) for i in range(1, points + 1)]
     found = envelope(chain, theta, pset, rate=rate, speed=speed, masses=masses, goal=goal,
@@ -121,7 +148,7 @@ def envelope_result(name, chain, theta, pset, *, ramp_s, profile, examples, poin
               found["ingredients"]["zeta"][1])
     witnesses = np.array([low["observed"]["witness"], high["observed"]["witness"], chi["observed"]["witness"]])
     seen = attack(chain, theta, pset, bounds, rate, examples=examples, seed_value=seed_value,
-                  witnesses=witnesses)
+                  witnesses=witnesses, executor=executor, label=f"{name} payload attack")
     worst = found["worst_payload"]
     beyond = _beyond(chain, theta, pset, bounds[1], worst["com"], np.asarray(worst["q"]))
     inverted = [k for k, b in (("inf lambda_min(M)", low["observed"]), ("sup lambda_max(M)", high["observed"]),
@@ -266,7 +293,8 @@ def payload_envelope(ctx):
                                examples=ctx.profile.envelope_examples if deep else ctx.profile.examples,
                                points=ctx.profile.envelope_points if deep else 0,
                                goal=ctx.profile.envelope_goal if deep else None, seed_value=ctx.seed,
-                               progress=ctx.progress) for name, chain, theta, pset in _cases(ctx, deep)]
+                               progress=ctx.progress, executor=ctx.executor)
+               for name, chain, theta, pset in _cases(ctx, deep)]
     verdict = combine(r.verdict for r in results)
     first = next((r for r in results if r.verdict == verdict), results[0])
     return Result(ID, verdict, "; ".join(r.summary for r in results),

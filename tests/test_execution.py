@@ -1,5 +1,6 @@
-"""The execution layer (issue 16): hunts split into seeded shards give the same answers on 1 or 2 Dask workers,
-survive a killed worker, and `--workers 2` without Dask is a one-line exit-2 error."""
+"""The execution layer (issues 16, 28): hunts split into seeded shards give the same answers on 1 worker, 2 forked
+ones or 2 Dask workers, survive a killed Dask worker, never compute on more processes than workers, and
+`--scheduler` without Dask is a one-line exit-2 error."""
 
 import dataclasses
 import os
@@ -15,8 +16,8 @@ from hypothesis import strategies as st
 from inertiaproof import cli
 from inertiaproof.suite import runner
 from inertiaproof.suite.context import Context
-from inertiaproof.suite.execution import INSTALL_HINT, Executor, executor_for
-from inertiaproof.suite.hunt import hunt, is_pure, portable, shard_seed, shard_sizes
+from inertiaproof.suite.execution import INSTALL_HINT, DaskExecutor, Executor, ForkExecutor, executor_for
+from inertiaproof.suite.hunt import hunt, hunt_settings, is_pure, portable, shard_seed, shard_sizes
 from inertiaproof.suite.outputs import Outputs
 from inertiaproof.suite.profiles import PROFILES
 from inertiaproof.suite.timings import without_timings
@@ -40,13 +41,16 @@ def test_margins_that_write_into_their_caller_stay_in_the_client():
     assert is_pure(lambda x: k * x)
 
 
-def test_more_workers_without_dask_is_a_one_line_exit_2(monkeypatch, tmp_path, capsys):
+def test_a_scheduler_without_dask_is_a_one_line_exit_2_and_workers_need_no_dask(monkeypatch, tmp_path, capsys):
     monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed raises ImportError
-    status = cli.main(["run", "--workers", "2", "--only", "EQ-geom", "--out", str(tmp_path), "--quiet"])
+    status = cli.main(["run", "--scheduler", "tcp://127.0.0.1:1", "--only", "EQ-geom", "--out", str(tmp_path),
+                       "--quiet"])
     err = capsys.readouterr().err.strip()
     assert status == 2 and len(err.splitlines()) == 1 and INSTALL_HINT in err
-    with executor_for(None, None, profile="deep") as executor:  # the default falls back to one worker
-        assert executor.workers == 1
+    assert cli.main(["run", "--workers", "2", "--only", "EQ-geom", "EQ-schur", "--no-verify", "--out",
+                     str(tmp_path), "--quiet"]) == 0
+    with executor_for(2, None) as executor:
+        assert isinstance(executor, ForkExecutor) and executor.lanes == 2
 
 
 def slow_margin(x):
@@ -64,11 +68,20 @@ def dask2():
     import cloudpickle
 
     cloudpickle.register_pickle_by_value(sys.modules[__name__])  # the workers cannot import this test module
-    with executor_for(2, None) as executor:
+    with DaskExecutor(workers=2) as executor:
         yield executor
 
 
-def test_a_run_gives_the_same_results_json_on_one_and_two_workers(dask2, tmp_path):
+@pytest.fixture(scope="module", params=["fork", "dask"])
+def two(request):
+    """Two workers: forked processes on this machine, or a Dask LocalCluster."""
+    if request.param == "dask":
+        yield request.getfixturevalue("dask2")
+    else:
+        yield ForkExecutor(2)
+
+
+def test_a_run_gives_the_same_results_json_on_one_and_two_dask_workers(dask2, tmp_path):
     docs = []
     for i, executor in enumerate((Executor(), dask2)):
         run = runner.run_checks(profile=SMALL, seed=0, only=["Thm4", "EQ-triangle", "Thm1-nec"], out_dir=tmp_path / str(i),
@@ -80,9 +93,24 @@ def test_a_run_gives_the_same_results_json_on_one_and_two_workers(dask2, tmp_pat
     assert {"Thm4 x1", "EQ-triangle", "Thm1-nec"} <= on_workers  # pure, and recording margins, went to the workers
 
 
-def test_a_violation_is_the_first_in_shard_order_and_is_journaled_on_arrival(dask2, tmp_path):
+def test_a_reduced_deep_run_gives_the_same_results_json_on_one_and_two_forked_workers(tmp_path, monkeypatch):
+    """The deep profile (a Hypothesis database, hunts not derandomised, brackets), with fewer examples and a smaller
+    bracket budget; each run starts from its own empty cache."""
+    reduced = dataclasses.replace(PROFILES["deep"], examples=12, samples=400, refine_s=0.3, shard_examples=4)
+    docs = []
+    for i, executor in enumerate((Executor(), ForkExecutor(2))):
+        monkeypatch.setenv("INERTIAPROOF_CACHE", str(tmp_path / f"cache{i}"))
+        run = runner.run_checks(profile=reduced, seed=0, only=["Thm4", "EQ-triangle", "Thm1-nec"],
+                                out_dir=tmp_path / str(i), counterexample_dir=tmp_path / "found", executor=executor)
+        docs.append(without_timings(runner.results_document(run, profile="deep", seed=0, scene=None)))
+    assert docs[0]["summary"] == {"HOLDS": 3, "VIOLATED": 0, "INCONCLUSIVE": 0}
+    assert docs[0] == docs[1]
+    assert hunt_settings(reduced).database is not None  # the deep profile's example database was in use
+
+
+def test_a_violation_is_the_first_in_shard_order_and_is_journaled_on_arrival(two, tmp_path):
     found = []
-    for i, executor in enumerate((Executor(), dask2)):
+    for i, executor in enumerate((Executor(), two)):
         ctx = Context(SMALL, seed=1, outputs=Outputs(tmp_path / str(i), tmp_path / "found"), executor=executor)
         h = hunt(st.integers(0, 10**6), violating_margin, ctx, label="issue16 violation", max_examples=40)
         assert h.violation is not None
@@ -119,17 +147,17 @@ def test_a_killed_worker_has_its_tasks_rerun_and_the_hunt_ends_the_same(dask2):
     assert results[0] == results[1]
 
 
-def test_an_audit_gives_the_same_files_on_one_and_two_workers(dask2):
+def test_an_audit_gives_the_same_files_on_one_and_two_workers(two):
     pybullet_data = pytest.importorskip("pybullet_data")
     from inertiaproof.audit.document import audit_paths
 
     folder = pybullet_data.getDataPath()
     paths = [os.path.join(folder, name) for name in ("r2d2.urdf", "cartpole.urdf", os.path.join("kuka_iiwa", "model.urdf"), "plane.urdf")]
     options = dict(samples=64, refine_s=0.0, bounds="arms")
-    one, two = audit_paths(paths, **options), audit_paths(paths, executor=dask2, **options)
-    assert list(one) == list(two) == paths
-    assert without_timings(one) == without_timings(two)
-    assert dask2.log[-1]["kind"] == "audit" and dask2.log[-1]["tasks"] == 4 and dask2.log[-1]["where"] == "workers"
+    alone, split = audit_paths(paths, **options), audit_paths(paths, executor=two, **options)
+    assert list(alone) == list(split) == paths
+    assert without_timings(alone) == without_timings(split)
+    assert two.log[-1]["kind"] == "audit" and two.log[-1]["tasks"] == 4 and two.log[-1]["where"] == "workers"
 
 
 def test_progress_is_counts_and_an_eta_in_plain_lines_off_a_terminal():
@@ -142,7 +170,7 @@ def test_progress_is_counts_and_an_eta_in_plain_lines_off_a_terminal():
     assert lines[0].startswith("hunt x: 1/3 tasks") and "ETA" in lines[0] and lines[-1] == "hunt x: 3/3 tasks"
 
 
-def test_a_margin_that_records_as_it_goes_is_sent_detached_and_its_records_merged_in_shard_order(dask2):
+def test_a_margin_that_records_as_it_goes_is_sent_detached_and_its_records_merged_in_shard_order(two):
     from inertiaproof.suite.hunt import collectable
 
     def hunt_recording(executor):
@@ -158,8 +186,8 @@ def test_a_margin_that_records_as_it_goes_is_sent_detached_and_its_records_merge
         h = hunt(st.integers(0, 10**6), margin, ctx, label="issue16 records", max_examples=23)
         return h.margins, records, counts
 
-    assert hunt_recording(Executor()) == hunt_recording(dask2)
-    assert dask2.log[-1]["label"] == "issue16 records" and dask2.log[-1]["where"] == "workers"
+    assert hunt_recording(Executor()) == hunt_recording(two)
+    assert two.log[-1]["label"] == "issue16 records" and two.log[-1]["where"] == "workers"
 
 
 def test_a_strategy_is_shipped_by_name_only_when_the_name_rebuilds_it():
@@ -183,3 +211,30 @@ def test_a_hunt_whose_examples_are_all_discarded_counts_none():
     instead of Hypothesis' Unsatisfiable."""
     h = hunt(st.integers(0, 10), lambda x: np.nan, Context(SMALL, seed=2), label="all discarded", max_examples=5)
     assert h.examples == 0 and h.violation is None
+
+
+def _span(i):
+    start = time.time()
+    time.sleep(0.2)
+    return start, time.time()
+
+
+def _overlap(spans):
+    """The most spans open at once."""
+    events = sorted([(a, 1) for a, _ in spans] + [(b, -1) for _, b in spans])
+    most = open_now = 0
+    for _, step in events:
+        open_now += step
+        most = max(most, open_now)
+    return most
+
+
+def test_forked_tasks_compute_only_on_free_tokens():
+    executor = ForkExecutor(2)
+    with executor.computing():  # a check maps: its token goes to its tasks
+        assert _overlap(executor.map(_span, range(4), kind="hunt", label="both free")) == 2
+    executor.tokens.acquire()  # another lane computes
+    with executor.computing():
+        assert _overlap(executor.map(_span, range(4), kind="hunt", label="one free")) == 1
+    executor.tokens.release()
+    assert executor.tokens.acquire(block=False) and executor.tokens.acquire(block=False)  # every token came back

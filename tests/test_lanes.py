@@ -3,6 +3,7 @@
 import os
 
 from inertiaproof.result import Verdict
+from inertiaproof.suite.execution import ForkExecutor
 from inertiaproof.suite.lanes import side_by_side
 from inertiaproof.suite.runner import affinity, run_checks
 from inertiaproof.suite.discovery import load_checks
@@ -16,7 +17,7 @@ def _answers(run):
 
 def test_lanes_give_the_answers_of_one_lane_in_the_same_order(tmp_path):
     one = run_checks(only=ONLY, out_dir=tmp_path / "one", verify=False)
-    two = run_checks(only=ONLY, out_dir=tmp_path / "two", verify=False, lanes=2)
+    two = run_checks(only=ONLY, out_dir=tmp_path / "two", verify=False, executor=ForkExecutor(2))
     assert len(one.results) > 4 and all(r.verdict == Verdict.HOLDS for r in one.results)
     assert _answers(two) == _answers(one)
 
@@ -41,16 +42,16 @@ def test_a_lane_that_dies_leaves_its_unfinished_checks_crashed_and_the_others_an
     assert found[4] == "answer 4" and sorted(found) == [0, 1, 2, 3, 4]  # the lane left alive takes it
 
 
-def test_the_lanes_asked_for_are_the_lanes_run(tmp_path, monkeypatch, capsys):
+def test_the_workers_asked_for_are_the_lanes_run(tmp_path, monkeypatch, capsys):
     from inertiaproof.cli import main
     from inertiaproof.suite import runner
 
     seen = []
     real = runner.run_checks
-    monkeypatch.setattr(runner, "run_checks", lambda **kw: seen.append(kw["lanes"]) or real(**kw))
-    for lanes in ("1", "3"):
-        assert main(["run", "--only", "EQ-geom", "--lanes", lanes, "--no-verify", "--quiet",
-                     "--out", str(tmp_path / lanes)]) == 0
+    monkeypatch.setattr(runner, "run_checks", lambda **kw: seen.append(kw["executor"].lanes) or real(**kw))
+    for workers in ("1", "3"):
+        assert main(["run", "--only", "EQ-geom", "--workers", workers, "--no-verify", "--quiet",
+                     "--out", str(tmp_path / workers)]) == 0
     assert seen == [1, 3]
-    assert main(["run", "--only", "EQ-geom", "--lanes", "0", "--out", str(tmp_path / "0")]) == 2
-    assert "--lanes must be at least 1" in capsys.readouterr().err
+    assert main(["run", "--only", "EQ-geom", "--workers", "0", "--out", str(tmp_path / "0")]) == 2
+    assert "--workers must be at least 1" in capsys.readouterr().err

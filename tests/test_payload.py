@@ -332,3 +332,21 @@ def test_alpha2s_ladder_takes_the_profiles_count_of_boxes_and_aims_at_the_attain
     assert guard_s == pytest.approx(ladder_budget(0.5)[1] * boxes / ladder_budget(0.5)[0])
     payload._sup_over_set(arm.chain, arm.trajectory.base, ball, "sup", kw, goal=1.05)
     assert seen[-1][1] == ladder_budget(0.5) and PROFILES["deep"].envelope_boxes > ladder_budget(20.0)[0]
+
+
+def test_the_attack_in_shards_gives_the_same_answer_on_one_and_two_workers(found, monkeypatch):
+    from inertiaproof.suite.execution import Executor, ForkExecutor
+
+    monkeypatch.setattr(check, "ATTACK_SHARD", 100)  # 3 shards
+    witnesses = np.array([found["upper"]["observed"]["witness"]])
+    certified = (found["lower"]["certified"]["value"], found["upper"]["certified"]["value"],
+                 found["chi"]["certified"]["value"], found["ingredients"]["zeta"][1])
+    too_small = (certified[0], 0.9 * found["upper"]["observed"]["lower"], *certified[2:])
+    answers = []
+    for bounds in (certified, too_small):
+        seen = [check.attack(ARM.chain, ARM.trajectory.base, BALL, bounds, RATE, examples=300, seed_value=3,
+                             witnesses=witnesses, executor=executor) for executor in (Executor(), ForkExecutor(2))]
+        assert seen[0] == seen[1]
+        answers.append(seen[0])
+    assert answers[0]["violation"] is None and answers[0]["examples"] == 300
+    assert answers[1]["violation"] is not None and answers[1]["examples"] <= 100  # found in the first shard

@@ -65,9 +65,9 @@ def configure(parser):
                         help="an argument for the xacro files (repeat for more); their positions are in the expanded "
                              "text, as `xacro FILE NAME:=VALUE` prints it")
     parser.add_argument("--workers", type=int, metavar="N",
-                        help="audit the files on N workers (a Dask LocalCluster; needs inertiaproof[distributed]); "
-                             "default: 1 in ci, the number of cores in deep")
-    parser.add_argument("--scheduler", metavar="ADDRESS", help="audit the files on an existing Dask cluster")
+                        help="audit the files in N forked processes at once; default: the number of cores")
+    parser.add_argument("--scheduler", metavar="ADDRESS", help="audit the files on an existing Dask cluster (needs "
+                        "inertiaproof[distributed])")
 
 
 def main(args):
@@ -89,7 +89,7 @@ def main(args):
             print(f"inertiaproof: {message}", file=sys.stderr)
 
     with np.errstate(all="ignore"), enforced(memory, grace=0.0), \
-            executor_for(args.workers, args.scheduler, profile=args.profile, say=say) as executor:
+            executor_for(args.workers, args.scheduler, say=say) as executor:
         executor.say = say
         files = audit_paths(args.paths, executor=executor, **options)  # overflow inside margins falls back to LAPACK
     doc = document(files, profile=args.profile, seed=args.seed, bounds=args.bounds, floating_base=args.floating_base,

@@ -6,7 +6,6 @@ import dataclasses
 import sys
 from pathlib import Path
 
-from inertiaproof.budget import available_cores
 from inertiaproof.errors import InputError
 from inertiaproof.scene.format import load_scene
 from inertiaproof.suite import runner
@@ -36,15 +35,13 @@ def configure(parser):
     parser.add_argument("--no-verify", action="store_true", help="write the certificates (OUT/certificates) but do "
                         "not re-prove them with the independent checker")
     parser.add_argument("--workers", type=int, metavar="N",
-                        help="workers for splittable work (hunt shards): 1 runs everything in this process without Dask; "
-                             "N > 1 starts a Dask LocalCluster (needs inertiaproof[distributed]); default: 1 in ci, the "
-                             "number of cores in deep. The answers do not depend on N (apart from timings)")
-    parser.add_argument("--lanes", type=int, metavar="N",
-                        help="run the checks side by side in N forked processes (the checks of one module in one); "
-                             "default: the number of cores, 1 with Dask workers. The answers do not depend on N")
+                        help="processes computing at once: 1 runs everything in this process; N > 1 runs the checks "
+                             "side by side in N forked processes and their split work (hunt shards, certificates) in "
+                             "forked processes, never more than N computing; default: the number of cores. The answers "
+                             "do not depend on N (apart from timings)")
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="run the splittable work on an existing Dask cluster (e.g. tcp://host:8786 of 'dask "
-                             "scheduler') instead of a local one")
+                             "scheduler'; needs inertiaproof[distributed]), the checks one after the other here")
 
 
 def main(args):
@@ -58,14 +55,11 @@ def main(args):
         if not 0 < args.budget < float("inf"):
             raise InputError(f"--budget must be a positive number of seconds, got {args.budget:g}")
         profile = dataclasses.replace(profile, check_s=args.budget)
-    lanes = available_cores() if args.lanes is None else args.lanes
-    if lanes < 1:
-        raise InputError(f"--lanes must be at least 1, got {lanes}")
     found = checked_outputs(out, args.junit, args.counterexamples, lambda message: print(message, file=sys.stderr))
-    with executor_for(args.workers, args.scheduler, profile=args.profile, say=say) as executor:
+    with executor_for(args.workers, args.scheduler, say=say) as executor:
         run = runner.run_checks(profile=profile, seed=args.seed, only=args.only, scene=scene, symbolic=args.symbolic,
                                 out_dir=out, counterexample_dir=found, progress=say, executor=executor,
-                                verify=not args.no_verify, lanes=lanes)
+                                verify=not args.no_verify)
         runner.write_execution_log(out / "execution.json", executor)
     doc = runner.results_document(run, profile=args.profile, seed=args.seed, scene=args.scene)
     path = runner.write_results(out / "results.json", doc)

@@ -1,44 +1,52 @@
-"""Where splittable work runs: in this process (one worker, Dask not even imported) or on a Dask cluster.
+"""Where splittable work runs: in this process, in forked processes on this machine, or on a Dask cluster.
 
 A computation that splits into independent tasks (the shards of a hunt, the
-files of an audit) hands them to :meth:`Executor.map` with its *kind*; the
-executor returns their results in the order of the tasks, whatever order they
-finish in, so a run's answers do not depend on how many workers computed them.
-Each task must carry everything it depends on (a shard its own seed), and the
-split itself must not depend on the number of workers.
+files of an audit, the certificates to re-prove) hands them to
+:meth:`Executor.map` with its *kind*; the executor returns their results in
+the order of the tasks, whatever order they finish in, so a run's answers do
+not depend on how many workers computed them. Each task must carry everything
+it depends on (a shard its own seed), and the split itself must not depend on
+the number of workers.
 
 - ``Executor()`` (``--workers 1``): the tasks run one after the other in this
   process.
-- ``DaskExecutor(workers=N)``: a ``dask.distributed.LocalCluster`` on this
-  machine, started when the first task of a kind arrives: worker processes
-  for the kinds in ``KINDS`` marked ``"processes"`` (SymPy, Hypothesis: they
-  hold the GIL and keep global state), threads for ``"threads"`` (batched
-  NumPy, which releases the GIL).
+- ``ForkExecutor(N)`` (``--workers N`` on this machine): N *tokens*, one per
+  core the run may use. The run's checks go side by side in N forked lanes
+  (:mod:`.lanes`), each holding a token while it computes; a check that maps
+  tasks gives its token back while it waits, and its tasks run in forked
+  processes, each started only when a token is free. So the cores stay busy
+  with whatever is ready, a check's and its neighbours', and no more than N
+  processes compute at once. The tasks inherit what they need (no pickling);
+  only their results come back.
 - ``DaskExecutor(scheduler=ADDRESS)``: an existing cluster (``dask
-  scheduler`` + ``dask worker ADDRESS``); every kind goes to it.
+  scheduler`` + ``dask worker ADDRESS``); every kind goes to it (a
+  ``LocalCluster`` with ``DaskExecutor(workers=N)``).
 
 A worker that dies mid-task has its tasks rerun by Dask on another worker;
 ``on_result(index, result)`` is called in the client as each task arrives (a
 hunt writes a violating shard's example there before anything else runs).
 
-Dask is the optional extra ``inertiaproof[distributed]``; asking for more than
-one worker without it is an :class:`~inertiaproof.errors.InputError` (exit 2)
-saying how to install it.
+Dask is the optional extra ``inertiaproof[distributed]``, needed for
+``--scheduler`` only.
 """
 
 from __future__ import annotations
 
 import functools
 import math
+import multiprocessing
 import os
+import pickle
+import queue
 import sys
 import time
+from contextlib import contextmanager
 
 from inertiaproof.budget import available_cores
 from inertiaproof.errors import InputError
 
-__all__ = ["DaskExecutor", "Executor", "INSTALL_HINT", "KINDS", "executor_for", "Progress",
-           "dask_installed", "default_workers"]
+__all__ = ["DaskExecutor", "Executor", "ForkExecutor", "INSTALL_HINT", "KINDS", "executor_for", "Progress",
+           "default_workers"]
 
 KINDS = {  # kind of work: where it runs on a LocalCluster
     "hunt": "processes",  # Hypothesis keeps per-process state and holds the GIL
@@ -47,12 +55,12 @@ KINDS = {  # kind of work: where it runs on a LocalCluster
     "boxes": "threads",  # batched NumPy of branch and bound (releases the GIL)
     "verify": "processes",  # the independent checker's ball arithmetic (python-flint, Python-bound)
 }
-INSTALL_HINT = "more than one worker needs Dask: pip install 'inertiaproof[distributed]'"
+INSTALL_HINT = "a Dask cluster needs Dask: pip install 'inertiaproof[distributed]'"
 
 
-def default_workers(profile_name):
-    """The default of ``--workers``: 1 in ci, the number of cores this process may use otherwise."""
-    return 1 if profile_name == "ci" else max(1, available_cores())
+def default_workers():
+    """The default of ``--workers``: the number of cores this process may use."""
+    return max(1, available_cores())
 
 
 class Progress:
@@ -99,6 +107,8 @@ class Executor:
     """One worker: the tasks run one after the other in this process."""
 
     workers = 1
+    lanes = 1  # checks side by side (suite.lanes)
+    inherits = False  # whether a task is forked from this process (it needs no pickling)
     scheduler = None
     dashboard = None  # the Dask dashboard's address, when there is one
     say = None  # progress lines (a callable taking a message), or None
@@ -143,6 +153,11 @@ class Executor:
         """Whether ``fn`` can be sent to a worker (always, in this process)."""
         return True
 
+    @contextmanager
+    def computing(self):
+        """Around a check's own computation in a lane (a token held, with :class:`ForkExecutor`)."""
+        yield
+
     def close(self):
         pass
 
@@ -154,6 +169,104 @@ class Executor:
 
     def __exit__(self, *exc):
         self.close()
+
+
+class ForkExecutor(Executor):
+    """``workers`` tokens on this machine: checks in as many lanes, tasks in forked processes (see the module)."""
+
+    where = "workers"
+    inherits = True
+
+    def __init__(self, workers, *, say=None):
+        self.workers = self.lanes = workers
+        self.say = say
+        self.tokens = multiprocessing.get_context("fork").BoundedSemaphore(workers)
+        self._holding = False  # whether this process holds a token (each lane its own copy of the flag)
+
+    def describe(self):
+        return f"{self.workers} workers (forked processes on this machine)"
+
+    @contextmanager
+    def computing(self):
+        self.tokens.acquire()
+        self._holding = True
+        try:
+            yield
+        finally:
+            self._holding = False
+            self.tokens.release()
+
+    def map(self, fn, items, *, kind, label, on_result=None, stop=None):
+        items = list(items)
+        if len(items) < 2 or _FORKED_TASK:  # one task, or a task's own tasks: here
+            results = Executor.map(self, fn, items, kind=kind, label=label, on_result=on_result, stop=stop)
+            self.log[-1]["where"] = "client"
+            return results
+        _known(kind)
+        record = self._record(kind, label, len(items))
+        record["bytes_in"], record["bytes_out"] = 0, 0
+        progress = Progress(len(items), label, say=self.say)
+        results, arrived, finished = [None] * len(items), {}, queue.Queue()
+        running, start, deliver, stopped = set(), 0, 0, False
+        _BATCH[:] = [(fn, items)]
+        holding, self._holding = self._holding, False
+        if holding:  # this process waits: its token goes to its tasks
+            self.tokens.release()
+        pool = multiprocessing.get_context("fork").Pool(min(self.workers, len(items)), initializer=_forked)
+        try:
+            while deliver < len(items) and not stopped:
+                while start < len(items) and self.tokens.acquire(block=not running):
+                    pool.apply_async(_forked_task, (start,), callback=finished.put,
+                                     error_callback=lambda exc, i=start: finished.put((i, exc, 0.0, 0)))
+                    running.add(start)
+                    start += 1
+                try:
+                    i, result, seconds, nbytes = finished.get(timeout=0.2)
+                except queue.Empty:  # none ended: try for a token again
+                    continue
+                running.discard(i)
+                self.tokens.release()
+                if isinstance(result, BaseException):
+                    raise result
+                record["task_s"].append(seconds)
+                record["bytes_out"] += nbytes
+                arrived[i] = result
+                progress.update()
+                while deliver in arrived and not stopped:  # in the order of the tasks, as Executor.map
+                    results[deliver] = arrived.pop(deliver)
+                    if on_result is not None:
+                        on_result(deliver, results[deliver])
+                    stopped = stop is not None and stop(deliver, results[deliver])
+                    deliver += 1
+        finally:
+            pool.terminate()  # the tasks not needed (after a stop), or all of them on an error
+            for _ in running:
+                self.tokens.release()
+            _BATCH[:] = []
+            progress.close()
+            record["wall_s"] = time.perf_counter() - record.pop("_start")
+            if holding:
+                self.tokens.acquire()
+                self._holding = True
+        return results
+
+
+_BATCH = []  # (fn, items) of the batch a ForkExecutor maps: its forked processes inherit it
+_FORKED_TASK = False  # true in a forked task's process: its own maps run there
+
+
+def _forked():
+    global _FORKED_TASK
+    _FORKED_TASK = True
+
+
+def _forked_task(i):
+    """Task ``i`` of the inherited batch: (i, its result, seconds, the bytes of the result sent back)."""
+    fn, items = _BATCH[0]
+    t0 = time.perf_counter()
+    result = fn(items[i])
+    seconds = time.perf_counter() - t0
+    return i, result, seconds, len(pickle.dumps(result))
 
 
 class DaskExecutor(Executor):
@@ -299,24 +412,13 @@ def _key(label):
     return "".join(c if c.isalnum() or c in "-_." else "_" for c in str(label))[:60]
 
 
-def executor_for(workers=None, scheduler=None, *, profile="ci", say=None):
-    """The executor of ``--workers`` / ``--scheduler``: in-process for one worker, Dask otherwise."""
+def executor_for(workers=None, scheduler=None, *, say=None):
+    """The executor of ``--workers`` / ``--scheduler``: in-process for one worker, forked processes for more (default:
+    the cores), a Dask cluster with a scheduler."""
     if scheduler is not None:
         return DaskExecutor(scheduler=scheduler, say=say)
-    if workers is None:
-        workers = default_workers(profile)
-        if workers > 1 and not dask_installed():  # the default falls back; asking for workers does not
-            if say is not None:
-                say(f"one worker: Dask is not installed ({INSTALL_HINT})")
-            workers = 1
+    workers = default_workers() if workers is None else workers
     if workers < 1:
         raise InputError(f"--workers must be at least 1, got {workers}")
-    if workers == 1:
-        return Executor()
-    return DaskExecutor(workers=workers, say=say)
+    return Executor() if workers == 1 else ForkExecutor(workers, say=say)
 
-
-def dask_installed():
-    import importlib.util
-
-    return importlib.util.find_spec("distributed") is not None

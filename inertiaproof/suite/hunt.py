@@ -101,25 +101,25 @@ class Shard:
     seed: int
 
 
-def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, **settings_overrides):
+def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, per_shard=None, **settings_overrides):
     """Search ``strategy`` for an example with margin < -tolerance; returns a :class:`Hunt`.
 
-    The hunt is split into shards of at most ``ctx.profile.shard_examples`` examples, each with its own seed
-    (:func:`shard_seed`); they run on ``ctx.executor`` (on workers when the margin is pure, see :func:`is_pure`,
-    or only records into lists and counts, see :func:`collectable`; else in this process) and are merged in shard
-    order, so the answer is the same for any number of workers.
+    The hunt is split into shards of at most ``per_shard`` (default ``ctx.profile.shard_examples``) examples, each with
+    its own seed (:func:`shard_seed`); they run on ``ctx.executor`` (on workers when the margin is pure, see
+    :func:`is_pure`, or only records into lists and counts, see :func:`collectable`; else in this process) and are
+    merged in shard order, so the answer is the same for any number of workers.
     A shard stops at its first violation; the shards after the first violating one are not needed. A violating
     shard's example is appended to ``OUT/data/arrived-counterexamples.jsonl`` as soon as it arrives."""
     from .execution import Executor
 
     examples = settings_overrides.pop("max_examples", ctx.profile.examples)
-    sizes = shard_sizes(examples, getattr(ctx.profile, "shard_examples", examples))
+    sizes = shard_sizes(examples, per_shard or getattr(ctx.profile, "shard_examples", examples))
     shards = [Shard(label, i, len(sizes), n, shard_seed(ctx.seed, label, i, len(sizes))) for i, n in enumerate(sizes)]
     executor = getattr(ctx, "executor", None) or Executor()
     here = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides, None)
     task, collected = here, None  # collected: closure cells of the margin that the shards add to (lists, counts)
     if executor.workers != 1 or executor.scheduler is not None:
-        shipped, sent = portable(strategy), margin
+        shipped, sent = strategy if executor.inherits else portable(strategy), margin
         if pure is None and not is_pure(margin):
             collected = collectable(margin)
             sent = None if collected is None else detached(margin, collected)
@@ -292,12 +292,14 @@ def portable(strategy):
 
 def _run_shard(strategy, margin, profile, tolerance, settings_overrides, collected, shard):
     """One shard of a hunt (a task: it carries its own seed and runs in any process). With ``collected`` (closure
-    cells of a detached margin), the shard's state carries what the margin added to them."""
+    cells of a detached margin), the shard's state carries what the margin added to them in this shard."""
     from hypothesis import assume, given, seed, target
     from hypothesis.errors import Unsatisfiable
 
     if isinstance(strategy, StrategyRef):
         strategy = strategy.build()
+    for i in collected or ():  # empty at each shard's start, whatever ran before it in this process
+        margin.__closure__[i].cell_contents = _empty(margin.__closure__[i].cell_contents)
 
     state = Hunt(shard.label)
 

@@ -28,7 +28,7 @@ def side_by_side(groups, lanes, run_one, on_result, crashed):
     for _ in range(lanes):
         tasks.put(None)
     pipes = [context.Pipe(duplex=False) for _ in range(lanes)]
-    procs = [context.Process(target=_lane, args=(tasks, writer, groups, run_one, lanes), daemon=True)
+    procs = [context.Process(target=_lane, args=(tasks, writer, groups, run_one, lanes))  # not daemons: they fork tasks
              for _, writer in pipes]
     for p in procs:
         p.start()

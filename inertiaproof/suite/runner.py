@@ -99,16 +99,17 @@ def select(checks, *, only=None, scene=None, symbolic=False):
 
 
 def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, out_dir=None,
-               counterexample_dir=Path("counterexamples/found"), progress=None, executor=None, verify=True, lanes=1):
+               counterexample_dir=Path("counterexamples/found"), progress=None, executor=None, verify=True):
     """Run the selected checks and return a :class:`Run`.
 
     ``profile`` is a name of PROFILES or a :class:`Profile`; each check runs within its budget (the profile's
     ``check_s`` and ``memory_mb``, inside the run's ``run_s``) and ends INCONCLUSIVE when it runs out. Splittable
     work (hunt shards) goes to ``executor`` (:mod:`.execution`; default: this process). The certificates a check's
     evidence cites are written under ``out_dir``/certificates and, with ``verify``, re-proved by the independent
-    checker (:mod:`.certificates`). ``lanes`` > 1 runs the checks side by side in that many forked processes, the
-    checks of one :func:`affinity` in one, the groups with most checks on chains first (:mod:`.lanes`; with an
-    in-process executor only); the results are the same, in the same order."""
+    checker (:mod:`.certificates`). An executor with lanes (:class:`~.execution.ForkExecutor`) runs the checks side by
+    side in that many forked processes, the checks of one :func:`affinity` in one, the groups with most checks on
+    chains first (:mod:`.lanes`); the results are the same, in the same order. Each batch of split work in the
+    executor's log names its check."""
     profile = PROFILES[profile] if isinstance(profile, str) else profile
     checks = load_checks()
     specs, skipped = select(checks, only=only, scene=scene, symbolic=symbolic)
@@ -135,10 +136,15 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
         ctx = Context(profile, seed=seed, scene=scene, outputs=outputs, memo=memo, budget=budget, executor=executor,
                       progress=lambda message, name=spec.name: say(f"      {name}: {message}"))
         say(f"[{i + 1}/{len(specs)}] {spec.name} ...")
-        t0 = time.perf_counter()
-        result = _run_one(spec, ctx, profile)
-        result.runtime_s = time.perf_counter() - t0
-        settle(result, out_dir=out_dir, budget=profile.verify_work, verify=verify, memo=proofs, executor=executor)
+        executor.log = executor.log if executor.log is not None else []
+        batches = len(executor.log)
+        with executor.computing():
+            t0 = time.perf_counter()
+            result = _run_one(spec, ctx, profile)
+            result.runtime_s = time.perf_counter() - t0
+            settle(result, out_dir=out_dir, budget=profile.verify_work, verify=verify, memo=proofs, executor=executor)
+        for batch in executor.log[batches:]:
+            batch["check"] = spec.name
         result.check, result.seed, result.profile = spec.name, seed, profile.name
         result.scene = getattr(scene, "source", None) or getattr(scene, "name", None)
         result.artifacts = list(outputs.artifacts)
@@ -148,26 +154,31 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
             except OSError as exc:  # it still goes into results.json
                 result.counterexample["not_saved"] = f"{exc.filename or ''}: {exc.strerror or exc}"
         say(f"[{i + 1}/{len(specs)}] {spec.name}: {result.verdict} ({result.runtime_s:.2f} s)")
-        return result
+        return result, executor.log[batches:]
 
     groups = {}
     for i, spec in enumerate(specs):
         groups.setdefault(affinity(spec), []).append(i)
-    lanes = min(lanes, len(groups)) if executor.where == "client" and executor.workers == 1 else 1
+    lanes = min(executor.lanes, len(groups))
     if lanes > 1:
         found = {}
 
+        def arrived(i, answer):
+            found[i], batches = answer
+            executor.log.extend(batches)
+
         def crashed(i, why):
             return Result(specs[i].id, Verdict.INCONCLUSIVE, f"the check crashed: {why}", evidence={"crashed": True},
-                          check=specs[i].name, seed=seed, profile=profile.name)
+                          check=specs[i].name, seed=seed, profile=profile.name), []
 
         def weight(group):  # checks on chains do the numeric work: those groups first
             return sum("chain" in specs[i].needs for i in group), len(group)
 
-        side_by_side(sorted(groups.values(), key=weight, reverse=True), lanes, one, found.__setitem__, crashed)
+        executor.log = executor.log if executor.log is not None else []
+        side_by_side(sorted(groups.values(), key=weight, reverse=True), lanes, one, arrived, crashed)
         run.results.extend(found[i] for i in range(len(specs)))
     else:
-        run.results.extend(one(i) for i in range(len(specs)))
+        run.results.extend(one(i)[0] for i in range(len(specs)))
     run.runtime_s = time.perf_counter() - start
     return run
 
