@@ -280,8 +280,8 @@ def analysis(doc):
                      f"{one['wall_s'] / e['wall_s']:.2f} | {e['critical_s']:.0f} |")
     longest = sorted(graph, key=lambda c: -c["own_s"])[:5]
     lines += ["", "What stays serial: the checks' own computations that no task splits, longest first:", ""]
-    lines += [f"- {c['check']}: {c['own_s']:.0f} s own, {len(c['batches'])} batches "
-              f"({sum(len(b) for b in c['batches'])} tasks, {sum(sum(b) for b in c['batches']):.0f} s)" for c in longest]
+    lines += [f"- {c['check']}: {c['own_s']:.0f} s own, {len(c['batches'])} batches ("
+              f"{sum(len(b) for b in c['batches'])} tasks, {sum(sum(b) for b in c['batches']):.0f} s)" for c in longest]
     return lines
 
 

@@ -30,6 +30,7 @@ from hypothesis import Phase
 
 from inertiaproof.bounds import formulas
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup
+from inertiaproof.bounds.premises import unsimulable
 from inertiaproof.checks.normality import refutations, unit_bodies
 from inertiaproof.counterexamples.adaptive_runs import euclidean_runs
 from inertiaproof.dynamics import motion
@@ -293,14 +294,20 @@ def robustness_result(ctx, keys, forces=motion.generalized_forces):
                           for law in s.laws for plant in st["plants"]}}}
     table = [{name: _rounded(x.get(key)) for name, key in TABLE} for x in rows]
     verdict = combine(verdicts) if verdicts else Verdict.HOLDS
+    singular = [found for found in (unsimulable(r.chain()) for r in {r.scene: r for r in recipes}.values()) if found]
+    if verdict == Verdict.INCONCLUSIVE and singular:  # only unfinished runs, on a chain whose M(q) is singular
+        verdict = Verdict.HOLDS
+        notes.insert(0, singular[0][1])
     misled = _misled(rows)
     not_started = [x for x in rows if x["status"] in tracking.NOT_STARTED]
     summary = ("; ".join(misled) if misled else "no run finished" + (
         f" ({len(not_started)} of {len(rows)} not started: {not_started[0]['status']}, see the notes)"
         if not_started else "")) + (
-        f"; {len(unbalanced)} runs do not close their Lyapunov balance" if unbalanced else "") + _unfinished(rows)
+        f"; {len(unbalanced)} runs do not close their Lyapunov balance" if unbalanced else "") + _unfinished(rows) + (
+        f"; {singular[0][1]}" if verdict == Verdict.HOLDS and singular else "")
     evidence = {
         "table": table, "columns": LEGEND, "figures": figures, "notes": notes,
+        **({"premises_failed": singular[0][0]} if singular else {}),
         "balance_tolerance": quantity(BALANCE * s.rtol, "tolerance",
                                       "largest Lyapunov balance error a resolved run may have (BALANCE x rtol)"),
         "worst_balance_error": quantity(max((x["balance_error"] for x in rows if np.isfinite(x["balance_error"])),

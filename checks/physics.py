@@ -15,6 +15,7 @@ import dataclasses
 
 import numpy as np
 
+from inertiaproof.bounds.premises import unsimulable
 from inertiaproof.dynamics import motion
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory
 from inertiaproof.errors import InputError
@@ -298,6 +299,9 @@ def stability_result(scenes, ctx, forces=motion.generalized_forces, settings=Non
         chosen = base if horizon is None else dataclasses.replace(base, horizon=horizon)
         st = study.study(scene, chosen, forces, progress=ctx.progress, budget=ctx.budget)
         verdict, coarse, fine, why = st.balance_verdict()
+        singular = unsimulable(scene.chain) if verdict == Verdict.INCONCLUSIVE else None
+        if singular:  # decided by the mathematics: the runs cannot cross where M(q) is singular
+            verdict, why = Verdict.HOLDS, f"{singular[1]} ({why})"
         verdicts.append(verdict)
         wp_rows += st.work_precision_rows()
         stab_rows += st.stability_rows()
@@ -306,6 +310,7 @@ def stability_result(scenes, ctx, forces=motion.generalized_forces, settings=Non
             "fastest_rate": quantity(st.fastest_rate, "estimate", "fastest closed-loop mode at home, rad/s"),
             "verdict": str(verdict),
             "why": why,
+            **({"premises_failed": singular[0]} if singular else {}),
             "reference": {"method": st.reference.method, "rtol": st.reference.rtol, "status": st.reference.status,
                           "seconds": quantity(st.reference.seconds, "seconds"),
                           "balance_residual": quantity(fine, "residual", "max_t |E - E0 - W| / energy in play")},

@@ -55,3 +55,28 @@ def test_the_workers_asked_for_are_the_lanes_run(tmp_path, monkeypatch, capsys):
     assert seen == [1, 3]
     assert main(["run", "--only", "EQ-geom", "--workers", "0", "--out", str(tmp_path / "0")]) == 2
     assert "--workers must be at least 1" in capsys.readouterr().err
+
+
+def test_the_groups_that_took_longest_last_time_start_first(tmp_path, monkeypatch):
+    from inertiaproof.suite import history, runner
+
+    monkeypatch.setenv("INERTIAPROOF_CACHE", str(tmp_path / "cache"))
+    orders = []
+
+    def in_order(groups, lanes, one, arrived, crashed):  # side_by_side, here: the groups in the order lanes take them
+        orders.append([])
+        for group in groups:
+            orders[-1].append([])
+            for i in group:
+                answer = one(i)
+                arrived(i, answer)
+                orders[-1][-1].append(answer[0].check)
+
+    only = ["EQ-geom", "Rem2", "CX-normal"]
+    monkeypatch.setattr(runner, "side_by_side", in_order)
+    runner.run_checks(only=only, verify=False, out_dir=tmp_path / "a", executor=ForkExecutor(2))
+    assert set(history.last_seconds("ci")) == set(only)  # the run remembered its checks' times
+    last = orders[0][-1]
+    history.remember_seconds("ci", None, {last[0]: 100.0})
+    runner.run_checks(only=only, verify=False, out_dir=tmp_path / "b", executor=ForkExecutor(2))
+    assert orders[1][0] == last != orders[0][0]

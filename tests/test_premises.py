@@ -17,6 +17,7 @@ from inertiaproof.bounds.premises import (
     failed_premises,
     normality_failures,
     parameter_failures,
+    unsimulable,
 )
 from inertiaproof.dynamics.chain import Chain, Coordinate, Joint
 from inertiaproof.model.inertia import unit_body
@@ -131,3 +132,33 @@ def test_a_zero_lower_side_is_certified_by_z_and_reproved_where_m_vanishes():
 def test_failed_premises_is_cheap_and_empty_on_the_arms():
     for scene in (robots.panda(payload=2.0), robots.ur5()):
         assert failed_premises(scene) == []
+
+
+class _Unfinished:
+    """A stability study whose reference run stopped at its count: its power balance is not decided."""
+
+    horizon, fastest_rate, substitute, runs = 1.0, 10.0, None, []
+    reference = type("Reference", (), {"method": "Radau", "rtol": 1e-7, "status": "budget", "seconds": 1.0})()
+
+    def balance_verdict(self):
+        return Verdict.INCONCLUSIVE, 1e-6, np.nan, "the reference run ended as 'budget'"
+
+    def work_precision_rows(self):
+        return []
+
+    def stability_rows(self):
+        return []
+
+
+def test_a_study_that_did_not_finish_where_m_is_singular_holds_with_the_witness_and_elsewhere_stays_open(ctx,
+                                                                                                       monkeypatch):
+    from inertiaproof.checks import physics
+
+    monkeypatch.setattr(physics.study, "study", lambda *args, **kwargs: _Unfinished())
+    singular, normal = robots.non_normal_2r(), robots.planar_2r()
+    assert unsimulable(normal.chain) is None and unsimulable(singular.chain)[0] == normality_failures(singular.chain)
+    decided = physics.stability_result([({"builtin": "non_normal_2r"}, singular, None)], ctx)
+    assert decided.verdict == Verdict.HOLDS
+    assert "premise fails" in decided.summary and "M(q) is singular" in decided.summary
+    assert decided.evidence["scenes"]["non_normal_2r"]["premises_failed"][0]["witness"]["q"][0] == 0.0
+    assert physics.stability_result([({"builtin": "planar_2r"}, normal, None)], ctx).verdict == Verdict.INCONCLUSIVE

@@ -34,7 +34,7 @@ from inertiaproof.result import quantity
 from .certificate import pseudo_exact
 
 __all__ = ["NORMAL", "UNIFORMLY_CONSISTENT", "UPPER_BOUNDED", "failed_premises", "normality_failures",
-           "parameter_failures"]
+           "parameter_failures", "unsimulable"]
 
 NORMAL = "QJ is normal (Definition 2)"
 UNIFORMLY_CONSISTENT = "the inertial parameters are uniformly physically consistent (Definition 3)"
@@ -150,3 +150,15 @@ def failed_premises(scene):
     """Certified failures of the premises of Corollary 1 (corollary:UniformBounds) on ``scene``: normality of QJ,
     uniform physical consistency and upper boundedness of the parameters."""
     return normality_failures(scene.chain) + parameter_failures(scene.trajectory)
+
+
+def unsimulable(chain):
+    """(failures, reason) where M(q) is certified singular at a configuration of ``chain`` (:func:`normality_failures`:
+    a column of QJ vanishes, and with it M(q) = QJ^T M_theta QJ's), else None. Forward dynamics, which every simulated
+    run integrates, is undefined there, so a simulation study that did not finish claims nothing on such a chain."""
+    failed = normality_failures(chain)
+    if not failed:
+        return None
+    return failed, ("premise fails: " + "; ".join(f["why"] for f in failed) + ": M(q) is singular there, so forward "
+                    "dynamics, which every run integrates, is undefined at that configuration and the study claims "
+                    "nothing on this scene")

@@ -40,6 +40,7 @@ from .context import Context
 from .discovery import load_checks
 from .environment import versions
 from .execution import Executor
+from .history import last_seconds, remember_seconds
 from .lanes import side_by_side
 from .outputs import Outputs, journal_path
 from .profiles import PROFILES
@@ -107,8 +108,8 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
     work (hunt shards) goes to ``executor`` (:mod:`.execution`; default: this process). The certificates a check's
     evidence cites are written under ``out_dir``/certificates and, with ``verify``, re-proved by the independent
     checker (:mod:`.certificates`). An executor with lanes (:class:`~.execution.ForkExecutor`) runs the checks side by
-    side in that many forked processes, the checks of one :func:`affinity` in one, the groups with most checks on
-    chains first (:mod:`.lanes`); the results are the same, in the same order. Each batch of split work in the
+    side in that many forked processes, the checks of one :func:`affinity` in one, the groups that took longest in the
+    last run first (:mod:`.history`; :mod:`.lanes`); the results are the same, in the same order. Each batch of split work in the
     executor's log names its check."""
     profile = PROFILES[profile] if isinstance(profile, str) else profile
     checks = load_checks()
@@ -120,11 +121,14 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
         executor = Executor()
     if progress is not None and executor.say is None:
         executor.say = lambda message: say(f"      {message}")
+    if executor.log is None:
+        executor.log = []  # each check's batches are named after it (and come back from its lane)
     if out_dir is not None:  # the journal of violations as they arrive, and the certificates, are this run's own
         journal_path(out_dir).unlink(missing_ok=True)
         for old in (Path(out_dir) / "certificates").glob("*.json"):
             old.unlink()
     run = Run(skipped=skipped)
+    scene_name = getattr(scene, "source", None) or getattr(scene, "name", None)
     memo, proofs = {}, {}
     start = time.perf_counter()
     run_ends = time.monotonic() + profile.run_s
@@ -136,7 +140,6 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
         ctx = Context(profile, seed=seed, scene=scene, outputs=outputs, memo=memo, budget=budget, executor=executor,
                       progress=lambda message, name=spec.name: say(f"      {name}: {message}"))
         say(f"[{i + 1}/{len(specs)}] {spec.name} ...")
-        executor.log = executor.log if executor.log is not None else []
         batches = len(executor.log)
         with executor.computing():
             t0 = time.perf_counter()
@@ -146,7 +149,7 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
         for batch in executor.log[batches:]:
             batch["check"] = spec.name
         result.check, result.seed, result.profile = spec.name, seed, profile.name
-        result.scene = getattr(scene, "source", None) or getattr(scene, "name", None)
+        result.scene = scene_name
         result.artifacts = list(outputs.artifacts)
         if result.verdict == Verdict.VIOLATED and result.counterexample:
             try:
@@ -171,15 +174,18 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
             return Result(specs[i].id, Verdict.INCONCLUSIVE, f"the check crashed: {why}", evidence={"crashed": True},
                           check=specs[i].name, seed=seed, profile=profile.name), []
 
-        def weight(group):  # checks on chains do the numeric work: those groups first
-            return sum("chain" in specs[i].needs for i in group), len(group)
+        def weight(group):  # the longest last time first; without a last time, checks on chains do the numeric work
+            return (sum(last.get(specs[i].name, 0.0) for i in group), sum("chain" in specs[i].needs for i in group),
+                    len(group))
 
-        executor.log = executor.log if executor.log is not None else []
+        last = last_seconds(profile.name, scene_name)
+
         side_by_side(sorted(groups.values(), key=weight, reverse=True), lanes, one, arrived, crashed)
         run.results.extend(found[i] for i in range(len(specs)))
     else:
         run.results.extend(one(i)[0] for i in range(len(specs)))
     run.runtime_s = time.perf_counter() - start
+    remember_seconds(profile.name, scene_name, {r.check: r.runtime_s for r in run.results})
     return run
 
 
