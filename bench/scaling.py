@@ -13,7 +13,7 @@ writes ``bench/results/scaling.json`` and ``scaling.md``:
 - per kind of split work (``OUT/execution.json``): batches, tasks, seconds per task, bytes returned;
 - an estimate for 1, 2, 8, 32 and 128 workers from the task graph of the run with the most workers (each check's
   own computation, its runtime less its batches' wall time, and its batches' tasks; each batch names its check):
-  :func:`simulate` replays the run as the executor schedules it (lanes take the groups of checks largest first; a
+  :func:`simulate` replays the run as the executor schedules it (lanes take the groups of checks longest first; a
   check computes holding a token, then its batches' tasks each take a free token) plus a per-task overhead and
   the bytes each task sends back at a cluster's bandwidth. The estimate for the measured worker counts is set
   beside the measurement.
@@ -110,22 +110,23 @@ def task_graph(results, execution):
     graph = []
     for c in results["checks"]:
         mine = [b for b in batches.get(c["check"], []) if b["task_s"]]
-        graph.append({"check": c["check"], "group": affinity(specs[c["check"]]), "needs_chain": "chain" in
-                      specs[c["check"]].needs, "own_s": max(c["runtime_s"] - sum(b["wall_s"] for b in mine), 0.0),
+        graph.append({"check": c["check"], "group": affinity(specs[c["check"]]),
+                      "own_s": max(c["runtime_s"] - sum(b["wall_s"] for b in mine), 0.0),
                       "batches": [b["task_s"] for b in mine],
                       "bytes": [(b.get("bytes_out") or 0) / max(len(b["task_s"]), 1) for b in mine]})
     return graph
 
 
 def simulate(graph, workers, overhead_s=OVERHEAD_S, bandwidth=BANDWIDTH):
-    """The run's wall time on ``workers`` tokens: ``workers`` lanes take the groups of checks (largest first, as the
-    runner orders them); a check's own computation holds a token, then its batches run one after the other, each
+    """The run's wall time on ``workers`` tokens: ``workers`` lanes take the groups of checks (longest first, as the
+    runner orders them after a run: :mod:`inertiaproof.suite.history`); a check's own computation holds a token, then its batches run one after the other, each
     task on the next free token (first come, first served) for its seconds plus ``overhead_s`` plus its bytes over
     ``bandwidth``. Returns {wall_s, busy: token-seconds computing, critical_s: the longest group alone}."""
     groups = {}
     for c in graph:
         groups.setdefault(c["group"], []).append(c)
-    order = deque(sorted(groups.values(), key=lambda g: (sum(c["needs_chain"] for c in g), len(g)), reverse=True))
+    order = deque(sorted(groups.values(), key=lambda g: sum(c["own_s"] + sum(map(sum, c["batches"])) for c in g),
+                         reverse=True))  # the runner's order with a last run's times (suite.history)
     free, waiting, events, now, busy = workers, deque(), [], 0.0, 0.0
     seq = [0]
 

@@ -34,7 +34,8 @@ from inertiaproof.suite.execution import Executor
 from inertiaproof.suite.hunt import shard_seed, shard_sizes
 from inertiaproof.suite.registry import check, replayer
 
-__all__ = ["attack", "BUILT_IN", "envelope_result", "payload_envelope", "ramp_rate", "replay_payload", "TOLERANCE"]
+__all__ = ["attack", "BUILT_IN", "envelope_result", "payload_envelope", "prove", "ramp_rate", "replay_payload",
+           "TOLERANCE"]
 
 ID = "APP-payload-envelope"
 BUILT_IN = {  # (scene, kg, m): deep runs the report's section; ci the planar 2R (Panda's envelope and the checker's
@@ -132,17 +133,26 @@ def _beyond(chain, theta, pset, alpha2, point, q):
     return None
 
 
-def envelope_result(name, chain, theta, pset, *, ramp_s, profile, examples, points, goal, speed=None, seed_value=0,
-                    progress=None, executor=None):
-    """The Result of one envelope: the constants, the brackets, the curve against the mass (``points`` masses below
-    the set's), and the attack (``examples`` Hypothesis payloads); ``goal`` the sup brackets' (None: the ladder's
-    default; alpha2's ladder may test ``profile.envelope_boxes`` boxes); ``speed``: the payload's particles move
-    inside the set at most this fast (m/s; Theorem 5); the attack's shards are tasks of ``executor``."""
-    rate = ramp_rate(ramp_s)
+def prove(chain, theta, pset, *, ramp_s, profile, points, goal, speed=None, seed_value=0, progress=None):
+    """The certified side of one envelope (:func:`inertiaproof.bounds.payload.envelope`): the constants, the
+    brackets and the curve against the mass (``points`` masses below the set's); ``goal`` the sup brackets' (None:
+    the ladder's default; alpha2's ladder may test ``profile.envelope_boxes`` boxes); ``speed``: the payload's
+    particles move inside the set at most this fast (m/s; Theorem 5). Its own random stream (``seed_value``): one
+    envelope's answer does not depend on another's."""
     masses = [pset.mass * Fraction(i, points + 1) for i in range(1, points + 1)]
-    found = envelope(chain, theta, pset, rate=rate, speed=speed, masses=masses, goal=goal,
-                     boxes=profile.envelope_boxes or None, samples=profile.samples, refine_s=profile.refine_s,
-                     rng=np.random.default_rng(seed_value), progress=progress)
+    return envelope(chain, theta, pset, rate=ramp_rate(ramp_s), speed=speed, masses=masses, goal=goal,
+                    boxes=profile.envelope_boxes or None, samples=profile.samples, refine_s=profile.refine_s,
+                    rng=np.random.default_rng(seed_value), progress=progress)
+
+
+def envelope_result(name, chain, theta, pset, *, ramp_s, profile, examples, points, goal, speed=None, seed_value=0,
+                    progress=None, executor=None, found=None):
+    """The Result of one envelope: :func:`prove`'s constants, brackets and curve (``found``, when already proved)
+    and the attack (``examples`` Hypothesis payloads, its shards tasks of ``executor``)."""
+    rate = ramp_rate(ramp_s)
+    if found is None:
+        found = prove(chain, theta, pset, ramp_s=ramp_s, profile=profile, points=points, goal=goal, speed=speed,
+                      seed_value=seed_value, progress=progress)
     low, high, chi = found["lower"], found["upper"], found["chi"]
     bounds = (low["certified"]["value"], high["certified"]["value"], chi["certified"]["value"],
               found["ingredients"]["zeta"][1])
@@ -284,17 +294,25 @@ def _cases(ctx, deep):
                                                                           Fraction(1, 10))
 
 
+def _prove_case(settings, progress, case):
+    name, chain, theta, pset = case
+    return prove(chain, theta, pset, progress=progress, **settings)
+
+
 @check(ID)
 def payload_envelope(ctx):
     """In a run: in ci the profile's Hypothesis examples per hunt, the ladder's default goal and no curve points;
     in deep the envelope's budget (Profile.envelope_*: 100,000 payloads per robot), as ``inertiaproof envelope``."""
     deep = ctx.profile.refine_s >= DEEP_S
-    results = [envelope_result(name, chain, theta, pset, ramp_s=RAMP_S, profile=ctx.profile,
-                               examples=ctx.profile.envelope_examples if deep else ctx.profile.examples,
-                               points=ctx.profile.envelope_points if deep else 0,
-                               goal=ctx.profile.envelope_goal if deep else None, seed_value=ctx.seed,
-                               progress=ctx.progress, executor=ctx.executor)
-               for name, chain, theta, pset in _cases(ctx, deep)]
+    cases = list(_cases(ctx, deep))
+    settings = dict(ramp_s=RAMP_S, profile=ctx.profile, points=ctx.profile.envelope_points if deep else 0,
+                    goal=ctx.profile.envelope_goal if deep else None, seed_value=ctx.seed)
+    task = functools.partial(_prove_case, settings, ctx.progress)
+    executor = ctx.executor if ctx.executor.portable(task) else Executor()
+    found = executor.map(task, cases, kind="boxes", label="payload envelope provers")  # the robots side by side
+    results = [envelope_result(name, chain, theta, pset, examples=ctx.profile.envelope_examples if deep else
+                               ctx.profile.examples, progress=ctx.progress, executor=ctx.executor, found=proved,
+                               **settings) for (name, chain, theta, pset), proved in zip(cases, found)]
     verdict = combine(r.verdict for r in results)
     first = next((r for r in results if r.verdict == verdict), results[0])
     return Result(ID, verdict, "; ".join(r.summary for r in results),

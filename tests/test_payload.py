@@ -350,3 +350,20 @@ def test_the_attack_in_shards_gives_the_same_answer_on_one_and_two_workers(found
         answers.append(seen[0])
     assert answers[0]["violation"] is None and answers[0]["examples"] == 300
     assert answers[1]["violation"] is not None and answers[1]["examples"] <= 100  # found in the first shard
+
+
+def test_the_envelopes_of_two_robots_are_proved_side_by_side_with_the_answers_of_one_worker(tmp_path, monkeypatch):
+    from inertiaproof.suite import runner
+    from inertiaproof.suite.execution import Executor, ForkExecutor
+    from inertiaproof.suite.timings import without_timings
+
+    monkeypatch.setitem(check.BUILT_IN, "ci", (("planar_2r", 2, Fraction(1, 10)), ("spatial_3r", 1, Fraction(1, 10))))
+    docs = []
+    for i, executor in enumerate((Executor(), ForkExecutor(2))):
+        run = runner.run_checks(only=[check.ID], verify=False, executor=executor, out_dir=tmp_path / str(i),
+                                counterexample_dir=tmp_path / "found")
+        docs.append(without_timings(runner.results_document(run, profile="ci", seed=0, scene=None)))
+        provers = [b for b in executor.log if b["label"] == "payload envelope provers"]
+        assert provers and provers[-1]["tasks"] == 2
+    assert docs[0] == docs[1] and docs[0]["summary"]["HOLDS"] == 1
+    assert provers[-1]["where"] == "workers"
