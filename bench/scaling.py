@@ -212,8 +212,10 @@ def main(argv=None):
             execution = json.loads((out / "execution.json").read_text())
         except (OSError, ValueError):
             results, execution = None, {"batches": []}
-        if made is not None and results is not None:
+        if made is not None and results is not None:  # the run's own time; its exit status from its verdicts
             r["wall_s"] = results["runtime_s"]
+            counts = results["summary"]
+            r["exit_status"] = 1 if counts["VIOLATED"] else 3 if counts["INCONCLUSIVE"] else 0
         r["summary"] = results and results["summary"]
         r["check_s"] = results and {c["check"]: round(c["runtime_s"], 3) for c in results["checks"]}
         r["kinds"] = kinds(execution["batches"])
