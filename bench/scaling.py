@@ -119,9 +119,10 @@ def task_graph(results, execution):
 
 def simulate(graph, workers, overhead_s=OVERHEAD_S, bandwidth=BANDWIDTH):
     """The run's wall time on ``workers`` tokens: ``workers`` lanes take the groups of checks (longest first, as the
-    runner orders them after a run: :mod:`inertiaproof.suite.history`); a check's own computation holds a token, then its batches run one after the other, each
-    task on the next free token (first come, first served) for its seconds plus ``overhead_s`` plus its bytes over
-    ``bandwidth``. Returns {wall_s, busy: token-seconds computing, critical_s: the longest group alone}."""
+    runner orders them after a run: :mod:`inertiaproof.suite.history`); a check's own computation holds a token,
+    then its batches run one after the other, each task on the next free token (first come, first served) for its
+    seconds plus ``overhead_s`` plus its bytes over ``bandwidth``. Returns {wall_s, busy_s: token-seconds computing,
+    critical_s: the longest group alone, each batch as long as its longest task}."""
     groups = {}
     for c in graph:
         groups.setdefault(c["group"], []).append(c)

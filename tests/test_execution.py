@@ -84,13 +84,14 @@ def two(request):
 def test_a_run_gives_the_same_results_json_on_one_and_two_dask_workers(dask2, tmp_path):
     docs = []
     for i, executor in enumerate((Executor(), dask2)):
-        run = runner.run_checks(profile=SMALL, seed=0, only=["Thm4", "EQ-triangle", "Thm1-nec"], out_dir=tmp_path / str(i),
+        run = runner.run_checks(profile=SMALL, seed=0, only=["EQ-triangle", "Thm1-nec"], out_dir=tmp_path / str(i),
                                 counterexample_dir=tmp_path / "found", executor=executor)
         docs.append(without_timings(runner.results_document(run, profile="ci", seed=0, scene=None)))
-    assert docs[0]["summary"] == {"HOLDS": 3, "VIOLATED": 0, "INCONCLUSIVE": 0}
+    assert docs[0]["summary"] == {"HOLDS": 2, "VIOLATED": 0, "INCONCLUSIVE": 0}
     assert docs[0] == docs[1]
     on_workers = {b["label"] for b in dask2.log if b["where"] == "workers"}
-    assert {"Thm4 x1", "EQ-triangle", "Thm1-nec"} <= on_workers  # pure, and recording margins, went to the workers
+    assert {"EQ-triangle", "Thm1-nec"} <= on_workers  # pure, and recording margins, went to the workers
+    # (brackets on two workers: the reduced deep run below)
 
 
 def test_a_reduced_deep_run_gives_the_same_results_json_on_one_and_two_forked_workers(tmp_path, monkeypatch):

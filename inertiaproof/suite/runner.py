@@ -109,8 +109,8 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
     evidence cites are written under ``out_dir``/certificates and, with ``verify``, re-proved by the independent
     checker (:mod:`.certificates`). An executor with lanes (:class:`~.execution.ForkExecutor`) runs the checks side by
     side in that many forked processes, the checks of one :func:`affinity` in one, the groups that took longest in the
-    last run first (:mod:`.history`; :mod:`.lanes`); the results are the same, in the same order. Each batch of split work in the
-    executor's log names its check."""
+    last run first (:mod:`.history`; :mod:`.lanes`); the results are the same, in the same order. Each batch of split
+    work in the executor's log names its check."""
     profile = PROFILES[profile] if isinstance(profile, str) else profile
     checks = load_checks()
     specs, skipped = select(checks, only=only, scene=scene, symbolic=symbolic)
