@@ -101,19 +101,19 @@ class Shard:
     seed: int
 
 
-def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, per_shard=None, **settings_overrides):
+def hunt(strategy, margin, ctx, *, label, tolerance=0.0, pure=None, **settings_overrides):
     """Search ``strategy`` for an example with margin < -tolerance; returns a :class:`Hunt`.
 
-    The hunt is split into shards of at most ``per_shard`` (default ``ctx.profile.shard_examples``) examples, each with
-    its own seed (:func:`shard_seed`); they run on ``ctx.executor`` (on workers when the margin is pure, see
-    :func:`is_pure`, or only records into lists and counts, see :func:`collectable`; else in this process) and are
-    merged in shard order, so the answer is the same for any number of workers.
+    The hunt is split into shards of at most ``ctx.profile.shard_examples`` examples, each with its own seed
+    (:func:`shard_seed`); they run on ``ctx.executor`` (on workers when the margin is pure, see :func:`is_pure`,
+    or only records into lists and counts, see :func:`collectable`; else in this process) and are merged in shard
+    order, so the answer is the same for any number of workers.
     A shard stops at its first violation; the shards after the first violating one are not needed. A violating
     shard's example is appended to ``OUT/data/arrived-counterexamples.jsonl`` as soon as it arrives."""
     from .execution import Executor
 
     examples = settings_overrides.pop("max_examples", ctx.profile.examples)
-    sizes = shard_sizes(examples, per_shard or getattr(ctx.profile, "shard_examples", examples))
+    sizes = shard_sizes(examples, getattr(ctx.profile, "shard_examples", examples))
     shards = [Shard(label, i, len(sizes), n, shard_seed(ctx.seed, label, i, len(sizes))) for i, n in enumerate(sizes)]
     executor = getattr(ctx, "executor", None) or Executor()
     here = functools.partial(_run_shard, strategy, margin, ctx.profile, tolerance, settings_overrides, None)
