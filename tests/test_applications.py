@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from inertiaproof import cli
+from inertiaproof.budget import Budget
 from inertiaproof.checks import applications as app
 from inertiaproof.dynamics import motion
 from inertiaproof.model.inertia import pseudo_inertia
@@ -75,6 +76,17 @@ def test_euclidean_escape_is_found_saved_and_replays(app_ctx):
     assert euclidean["min_lambda_min_f_hat"] < 0 < natural["min_lambda_min_f_hat"]
     replayed = replay(result.evidence["escapes"][KEY]["witness_file"])
     assert replayed.verdict == Verdict.HOLDS, replayed.summary
+
+
+def test_the_escape_hunt_is_budgeted_in_runs_and_a_clock_stop_claims_nothing(app_ctx, monkeypatch):
+    monkeypatch.setitem(app.SETTINGS, "ci", dataclasses.replace(app.SETTINGS["ci"], hunt_runs=0))
+    capped = app.euclidean_escape_result(app_ctx, {KEY: 3})
+    assert capped.verdict == Verdict.INCONCLUSIVE and " in 0 runs" in capped.summary
+    assert capped.evidence["searched"]["runs_budget"] == 0
+    monkeypatch.setitem(app.SETTINGS, "ci", dataclasses.replace(app.SETTINGS["ci"], hunt_runs=6))
+    expired = dataclasses.replace(app_ctx, budget=Budget.of(0.0))
+    clocked = app.euclidean_escape_result(expired, {KEY: 3})
+    assert clocked.verdict == Verdict.INCONCLUSIVE and "safety net" in clocked.summary
 
 
 def test_a_scene_file_seeds_its_hunts_by_its_text_not_its_path(tmp_path):

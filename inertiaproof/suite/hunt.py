@@ -61,7 +61,9 @@ class Hunt:
 
 
 def hunt_settings(profile, **overrides):
-    """Hypothesis settings for a hunt under ``profile``: derandomised with no database in ci."""
+    """Hypothesis settings for a hunt under ``profile``: derandomised with no database in ci. One bug is enough: with
+    ``report_multiple_bugs`` Hypothesis goes on generating for up to 10 s of wall clock after the first, so how many
+    examples a hunt draws would depend on the machine."""
     from hypothesis import HealthCheck, settings
     from hypothesis.database import DirectoryBasedExampleDatabase
 
@@ -71,6 +73,7 @@ def hunt_settings(profile, **overrides):
         database=None if profile.derandomize else DirectoryBasedExampleDatabase(str(cache_dir() / "hypothesis")),
         deadline=None,
         print_blob=False,
+        report_multiple_bugs=False,
         suppress_health_check=list(HealthCheck),
     )
     kwargs.update(overrides)
@@ -324,7 +327,7 @@ def _run_shard(strategy, margin, profile, tolerance, settings_overrides, collect
     # the example database (deep profile) keeps each shard's examples under its own key, not one shared by all hunts
     test._hypothesis_internal_database_key = hashlib.sha256(
         f"{shard.label}:{shard.index}/{shard.count}".encode()).digest()
-    with _fixed_constants(), warnings.catch_warnings():
+    with _fixed_constants(), _shrinking_unclocked(), warnings.catch_warnings():
         # the strategies draw from NumPy generators seeded by Hypothesis; what moves the global `random` state during
         # a shard is another thread of a Dask worker (its heartbeats), which Hypothesis cannot tell apart
         warnings.filterwarnings("ignore", "Do not use the `random` module inside strategies")
@@ -360,6 +363,21 @@ def _fixed_constants():
     finally:
         providers._get_local_constants = original
         _clear(providers)
+
+
+@contextmanager
+def _shrinking_unclocked():
+    """Hypothesis stops shrinking after 300 s of wall clock (``MAX_SHRINKING_SECONDS``), which would make a slow
+    margin's shrunk example depend on the machine. During a shard only its counts bound shrinking (at most 500
+    shrinks, 200 calls without progress); the margins budget their own work."""
+    from hypothesis.internal.conjecture import engine
+
+    original = engine.MAX_SHRINKING_SECONDS
+    engine.MAX_SHRINKING_SECONDS = float("inf")
+    try:
+        yield
+    finally:
+        engine.MAX_SHRINKING_SECONDS = original
 
 
 def _clear(providers):

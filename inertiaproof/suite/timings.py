@@ -9,11 +9,9 @@ same for one worker or many (:mod:`.execution`). Timing-dependent are:
   whose ``x_label`` or ``y_label`` is ``"seconds"`` (GRE's derivation time per n);
 - ``versions`` (the environment, not the answer).
 
-Work stopped by a wall-clock budget is timing-dependent in its values too: a
-bracket narrowed for ``refine_s`` seconds (``deep``: 20 s) ends where the time
-ran out, and the adaptive-control hunts (``APP-*``) stop simulating after
-``hunt_seconds``. In ``ci`` those budgets are not reached on an idle machine;
-under heavy load, or in ``deep``, their lower/upper values may differ.
+Budgets that decide values are counts (a bracket's boxes and rounds, a study's right-hand sides, a hunt's
+examples and runs), the same on every machine. Wall-clock limits are safety nets only: work one stops is
+INCONCLUSIVE, so its values are never compared.
 """
 
 from __future__ import annotations
