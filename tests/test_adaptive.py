@@ -210,12 +210,16 @@ def test_a_batch_stopped_by_the_clock_says_so():
 
 
 def test_a_batch_with_a_numerically_singular_mass_matrix_is_not_started():
-    """extreme_lengths.toml (links of 1 km, 1 m, 1 mm): cond(M(q0)) ~ 1e20, beyond simulate.MAX_CONDITION, the
-    criterion of the stability and loading studies; the run says so instead of integrating digits that are lost."""
-    recipe = Recipe(str(SCENES / "extreme_lengths.toml"), "natural", horizon=0.5)
-    (run,), batch = tracking.simulate(recipe.chain(), [recipe.spec()], 0.5, samples=5)
-    assert run.status == "ill-conditioned" and run.status in tracking.NOT_STARTED and "cond(M" in run.note
+    """The cubic shoulder at q_1 = 0: M(q0) singular, its scaled condition (dynamics.forward) beyond
+    simulate.MAX_CONDITION; the run says so instead of integrating digits that are lost. extreme_lengths.toml
+    (links of 1 km, 1 m, 1 mm, cond(M(q0)) ~ 1e20 from its units alone) scales to a condition near 1 and starts."""
+    cubic = Recipe(str(SCENES / "near_singular_cubic.toml"), "natural", horizon=0.5, home=(0.0, 0.5))
+    (run,), batch = tracking.simulate(cubic.chain(), [cubic.spec()], 0.5, samples=5)
+    assert run.status == "ill-conditioned" and run.status in tracking.NOT_STARTED and "scaled cond(M" in run.note
     assert batch.evaluations <= 2 and len(run.t) == 1
+    extreme = Recipe(str(SCENES / "extreme_lengths.toml"), "natural", horizon=0.002)
+    (run,), _ = tracking.simulate(extreme.chain(), [extreme.spec()], 0.002, samples=2, max_evaluations=2_000)
+    assert run.status not in tracking.NOT_STARTED and len(run.t) > 1
 
 
 def test_a_natural_law_that_cannot_start_is_not_started_with_the_reason():

@@ -33,6 +33,7 @@ import numpy as np
 
 from inertiaproof.budget import UNLIMITED
 from inertiaproof.dynamics import motion
+from inertiaproof.dynamics.forward import solve_mass
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
 from inertiaproof.result import Verdict
 
@@ -198,7 +199,7 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
                 set_mass_time(current["mass_time"])
                 momentum = rigid.mass_matrix(q) @ qd
                 set_mass_time(new_time)
-                qd = np.linalg.solve(rigid.mass_matrix(q), momentum)
+                qd = solve_mass(rigid.mass_matrix(q), momentum)
             current["mass_time"] = new_time
             return np.concatenate([q, qd])
 
@@ -340,8 +341,8 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
                             Verdict.INCONCLUSIVE, None, why, history, scheme, work=work)
 
     if condition > simulate.MAX_CONDITION:
-        return unanswered(steps, f"M is numerically singular for forward dynamics (cond {condition:.1e}): qdd keeps "
-                                 f"fewer than 6 correct digits in float64")
+        return unanswered(steps, f"M is numerically singular for forward dynamics (scaled cond {condition:.1e}): qdd "
+                                 f"keeps fewer than 6 correct digits in float64")
     if scheme.implicit and chosen is scheme:
         progress(f"fastest closed-loop mode {rate:.3g} rad/s: RK4 would need "
                  f"{steps_for(window, rate, counts, steps)} steps; {scheme.name} instead")

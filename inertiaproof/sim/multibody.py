@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from inertiaproof.dynamics.chain import COMPLEX_STEP
+from inertiaproof.dynamics.forward import solve_mass
 from inertiaproof.dynamics.trajectory import MovingMass
 from inertiaproof.model.inertia import inertia_com, unpack
 
@@ -176,4 +177,4 @@ class RigidChain:
         bias = self.pin.rnea(self.model, self.data, position, np.concatenate([xd, rider[1]]),
                              np.concatenate([xdd0, rider[2]]))[:n]
         mass = slope[:, None] * full[:n, :n] * slope[None, :]
-        return np.linalg.solve(mass, tau - slope * bias)
+        return solve_mass(mass, tau - slope * bias)

@@ -23,6 +23,7 @@ import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau, solve_ivp
 
 from inertiaproof.dynamics import energy, motion, terms
+from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 __all__ = [
     "accelerations", "balance_error", "CLOCK", "conditioning", "EXPLICIT", "fastest_rate", "least_evaluations",
@@ -65,9 +66,10 @@ def fastest_rate(chain, trajectory, control, times):
 
 
 def conditioning(chain, trajectory, control, times):
-    """max over ``times`` of cond(M(home, Theta(t))): qdd = M^-1 (...) keeps about -log10(cond x eps) digits."""
+    """max over ``times`` of the scaled cond(M(home, Theta(t))) (:func:`forward.scaled_condition`): qdd keeps about
+    -log10(cond x eps) digits."""
     qj = chain.body_jacobian(control.home)
-    return float(max(np.linalg.cond(terms.mass_matrix(qj, trajectory.theta(np.array(t))[0])) for t in times))
+    return float(max(scaled_condition(terms.mass_matrix(qj, trajectory.theta(np.array(t))[0])) for t in times))
 
 
 MAX_CONDITION = 1e-6 / np.finfo(float).eps  # beyond this, forward dynamics keeps fewer than 6 digits
@@ -78,7 +80,7 @@ MAX_CONDITION = 1e-6 / np.finfo(float).eps  # beyond this, forward dynamics keep
 def accelerations(kin, gravity, p, qd, tau, forces=motion.generalized_forces):
     """qdd solving (RoboticEquation) with w = 0; ``forces`` is the equation's inverse dynamics."""
     bias = forces(kin, gravity, p, qd, np.zeros_like(qd))
-    return np.linalg.solve(terms.mass_matrix(kin.qj, p.theta), (tau - bias)[..., None])[..., 0]
+    return solve_mass(terms.mass_matrix(kin.qj, p.theta), tau - bias)
 
 
 @dataclass

@@ -8,7 +8,7 @@ power-balance residual that Prop1 implies (inertiaproof.dynamics.energy).
 
 Besides the statuses of inertiaproof.sim.simulate, a row may read ``not run`` (the
 method already failed at a looser tolerance), ``clock`` (not run: the check's time is
-spent) or ``ill-conditioned`` (cond(M) beyond 1e-6 / eps at the home posture: forward
+spent) or ``ill-conditioned`` (scaled cond(M) beyond 1e-6 / eps at the home posture: forward
 dynamics cannot be trusted in float64, so nothing is run).
 
 The balance also yields a verdict: integrating a correct equation more
@@ -202,7 +202,8 @@ def study(scene, settings=StudySettings(), forces=motion.generalized_forces, pro
     out = Study(scene.name, horizon, None, rate)
     condition = simulate.conditioning(scene.chain, scene.trajectory, system.control, (t0, t0 + horizon))
     if condition > simulate.MAX_CONDITION:
-        note = f"cond(M) = {condition:.1e} at home: forward dynamics keeps fewer than 6 digits in float64; not run"
+        note = (f"scaled cond(M) = {condition:.1e} at home: forward dynamics keeps fewer than 6 digits in float64; "
+                "not run")
         progress(note)
         out.reference = simulate.Run(method, settings.reference_rtol, "ill-conditioned", 0.0, 0, 0, note)
         out.runs = [(simulate.Run(m, rtol, "ill-conditioned", 0.0, 0, 0, note), None)

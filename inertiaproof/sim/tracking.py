@@ -32,6 +32,7 @@ from scipy import sparse
 from scipy.integrate import BDF, RK45, Radau
 
 from inertiaproof.dynamics import motion, regressors, terms
+from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 from .adaptive import make_law
 from .control import controller, reference_motion
@@ -179,7 +180,7 @@ class Batch:
         p = self.parameters(t)
         plant = self.plant_parameters(p)
         bias = self.forces(kin, self.chain.gravity, plant, qd, np.zeros_like(qd))
-        qdd = np.linalg.solve(terms.mass_matrix(kin.qj, p.theta), (tau - bias)[..., None])[..., 0]
+        qdd = solve_mass(terms.mass_matrix(kin.qj, p.theta), tau - bias)
         zdot = self.per_law("rate", z, np.einsum("...lkh,...k->...lh", r, s))
         power = self.lyapunov_power(kin, p, plant, qd, s, z)
         return np.concatenate([qd, qdd, zdot.reshape(zdot.shape[:-2] + (-1,)), power[..., None]], -1).reshape(y.shape)
@@ -332,13 +333,13 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     law's U_l turned indefinite, f(Phi_hat_l) through infinity) ends ``barrier``: its exact solution cannot (D <=
     V(0) plus what Thetadot adds stays finite), so the integrator stepped over a pole, and the run is no evidence.
 
-    A batch is not started (only its initial sample) when M(q0, Theta(t0)) of a run has a condition number above
-    inertiaproof.sim.simulate.MAX_CONDITION (``ill-conditioned``: qdd would keep fewer than 6 digits, the criterion
-    of the stability and loading studies)."""
+    A batch is not started (only its initial sample) when M(q0, Theta(t0)) of a run has a scaled condition number
+    (:mod:`inertiaproof.dynamics.forward`) above inertiaproof.sim.simulate.MAX_CONDITION (``ill-conditioned``: qdd
+    would keep fewer than 6 digits, the criterion of the stability and loading studies)."""
     batch = Batch(chain, specs, forces)
     t0 = specs[0].trajectory.span[0]
     with np.errstate(all="ignore"):
-        condition = float(np.linalg.cond(batch.start_mass_matrix()).max())
+        condition = float(scaled_condition(batch.start_mass_matrix()).max())
         try:
             y0 = batch.initial_state()
         except np.linalg.LinAlgError as exc:
@@ -346,8 +347,8 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
             unstartable = f"{type(exc).__name__}: {exc}"
     start = time.perf_counter()
     if condition > MAX_CONDITION:
-        status, note = "ill-conditioned", (f"not started: cond(M(q0, Theta(t0))) = {condition:.1e}: forward dynamics "
-                                           "keeps fewer than 6 correct digits in float64")
+        status, note = "ill-conditioned", (f"not started: scaled cond(M(q0, Theta(t0))) = {condition:.1e}: forward "
+                                           "dynamics keeps fewer than 6 correct digits in float64")
         ys, t_eval, chosen = [y0], np.array([t0]), "none"
     elif not np.all(np.isfinite(y0)):
         status, note = "no start", (f"not started: an adaptive law cannot start from Theta_hat(0) ({unstartable}): "
