@@ -290,3 +290,24 @@ def test_a_certified_number_the_checker_does_not_reprove_leaves_the_check_inconc
     result = Result("Def2", Verdict.HOLDS, "held", {"bracket": {"lower": {"value": 0.0, "certificate": cert}}})
     settle(result, out_dir=None, budget=0, verify=True, memo={})
     assert result.verdict == Verdict.INCONCLUSIVE and "not re-proved" in result.summary
+
+
+def test_an_upper_claim_on_a_long_chain_is_reproved_from_lengths_and_a_false_one_is_not():
+    """The 24-link snake: no tree of boxes proves sup lambda_max(M), the lengths do (inertiaproof.verify.lengths),
+    at the prover's own Perron side; below the sampled sup they do not."""
+    from inertiaproof.bounds.taylor import MassFamily, perron_bound
+    from inertiaproof.scene.format import load_scene
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "scenes" / "many_links_24.toml")
+    chain, theta = scene.chain, scene.trajectory.theta(np.array([0.0]))[0]
+    lo, hi = chain.coordinate_box()
+    q = lo + (hi - lo) * np.random.default_rng(2).random((2000, chain.n))
+    values = np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], theta[None]))[..., -1].max(-1)
+    sup, at = float(values.max()), q[int(np.argmax(values))]
+    side = perron_bound(MassFamily(chain, theta))
+    out = check(spectrum_certificate(chain, theta, "lambda_max", side), budget=0)
+    assert out["status"] == "re-proved" and "lengths" in out["why"], out
+    assert side >= sup
+    for bound, witness in ((0.99 * sup, at), (0.99 * sup, None)):
+        out = check(spectrum_certificate(chain, theta, "lambda_max", bound, witness=witness), budget=200)
+        assert out["status"] in ("refuted", "not decided"), out

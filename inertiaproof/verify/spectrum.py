@@ -9,8 +9,10 @@ hull of the parameter sets (``parameters``),
 M is linear in Theta and lambda_min concave (lambda_max convex), so the hull's extremes are at its vertices:
 each parameter set is proved in turn. The ``tree`` (:mod:`.tree`) cuts D into boxes, walked from its root: a box
 the pivots of :meth:`.kinematics.Chain.pivots` prove needs none of its halves; a leaf they do not prove is cut
-again, within the budget of work spent on the boxes beyond the tree (:data:`.kinematics.WORK`); where the pivots at its centre are proved negative, the claim is refuted
-there, and so it is at the optional ``witness`` (a configuration, tested first).
+again, within the budget of work spent on the boxes beyond the tree (:data:`.kinematics.WORK`); where the pivots
+at its centre are proved negative, the claim is refuted there, and so it is at the optional ``witness`` (a
+configuration, tested first). An upper claim is first tried without boxes: the spectral radius of entry sizes from the chain's lengths bounds
+lambda_max(M(q)) for every q at once (:mod:`.lengths`), where a long chain's tree would need too many boxes.
 
 Optional ``forms`` (lambda_min only): one set of body matrices Y_l for all parameter sets, or one per set, each
 Y_l <= Z(Phi_l) (decided exactly); then M(q, Theta) >= sum_l QJ_l^T Y_l QJ_l and the boxes are proved on the
@@ -28,6 +30,7 @@ from flint import arb, arb_mat, fmpq
 from .bodies import parameter_sets, spatial_inertia
 from .exact import BadCertificate, rational, rational_matrix, semidefinite
 from .kinematics import WORK, Chain, definite, indefinite
+from .lengths import perron_side
 from .outcome import Outcome
 from .tree import Node, halves, parse
 
@@ -138,6 +141,11 @@ def prove(cert, budget):
         found = refuted(witness, "at the witness q")
         if found:
             return found
+    if sign < 0:
+        side = perron_side(chain, domain, bodies)
+        if side <= shift:  # an upper claim from lengths alone, no tree needed
+            return Outcome("re-proved", f"rho of the entry sizes from the chain's lengths, {side.str(6)} <= the "
+                           "bound (Perron-Frobenius: inertiaproof.verify.lengths)", 0)
     cuts, spent = [0], [0]
 
     def walk(root, v, test, last):  # the tree from its root: a box that passes needs none of its own
