@@ -501,8 +501,10 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
                f"of the natural law's {len(natural)}): "
                + (f"smallest relative margin {min(worst['lower_margin'], worst['upper_margin']):.3g} "
                   f"(tightness alpha1 / inf lambda_min {worst['tightness_lower']:.2g}, "
-                  f"sup lambda_max / alpha2 {worst['tightness_upper']:.2g})" if worst else "no run to check")
-               + (f"; {len(stiff)} runs {stiff[0]['status']}, {stiff[0]['why']}" if stiff else ""))
+                  f"sup lambda_max / alpha2 {worst['tightness_upper']:.2g})" if worst else
+                  "no run to check" + "".join(f" ({c['why']})" for c in list(cases.values())[:1] if "why" in c))
+               + (f"; {len(stiff)} runs {stiff[0]['status']}, {stiff[0]['why']}" if stiff else "")
+               + _unfinished([c for c in cases.values() if c["status"] not in tracking.NOT_STARTED]))
     if lead is not None:
         summary = f"{lead[1]}; {summary}"
     evidence = {"runs": rows, "qj_brackets": brackets, "figures": figures,
