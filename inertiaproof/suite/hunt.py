@@ -28,7 +28,8 @@ from inertiaproof.result import quantity
 
 from .paths import cache_dir
 
-__all__ = ["collectable", "detached", "Hunt", "hunt", "hunt_settings", "is_pure", "merge", "Shard", "portable", "shard_seed", "shard_sizes", "StrategyRef"]
+__all__ = ["collectable", "detached", "Hunt", "hunt", "hunt_settings", "is_pure", "merge", "Shard", "portable",
+           "shard_seed", "shard_sizes", "StrategyRef"]
 
 
 class _Violation(Exception):
@@ -321,9 +322,8 @@ def _run_shard(strategy, margin, profile, tolerance, settings_overrides, collect
             state.violation, state.violation_margin = example, value
             raise _Violation(value)
 
-    test = seed(shard.seed)(
-        hunt_settings(profile, derandomize=False, max_examples=shard.examples, **settings_overrides)(given(strategy)(prop))
-    )
+    chosen = hunt_settings(profile, derandomize=False, max_examples=shard.examples, **settings_overrides)
+    test = seed(shard.seed)(chosen(given(strategy)(prop)))
     # the example database (deep profile) keeps each shard's examples under its own key, not one shared by all hunts
     test._hypothesis_internal_database_key = hashlib.sha256(
         f"{shard.label}:{shard.index}/{shard.count}".encode()).digest()
