@@ -311,3 +311,19 @@ def test_an_upper_claim_on_a_long_chain_is_reproved_from_lengths_and_a_false_one
     for bound, witness in ((0.99 * sup, at), (0.99 * sup, None)):
         out = check(spectrum_certificate(chain, theta, "lambda_max", bound, witness=witness), budget=200)
         assert out["status"] in ("refuted", "not decided"), out
+
+
+@pytest.mark.parametrize("key", ["rp-bounded", "passenger-platform"])
+def test_the_lengths_side_is_above_every_sampled_lambda_max(key):
+    """verify.lengths on a chain with a slide (rp-bounded) and on a 4-joint platform: its side is at least
+    lambda_max(M) at 4000 random configurations of the domain (prismatic reach included)."""
+    from inertiaproof.verify import spectrum
+    from inertiaproof.verify.lengths import perron_side
+
+    scene = robots.BUILTIN[key]()
+    chain, theta = scene.chain, scene.trajectory.theta(np.array([0.0]))[0]
+    lo, hi = chain.coordinate_box()
+    q = lo + (hi - lo) * np.random.default_rng(3).random((4000, chain.n))
+    sup = np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], theta[None]))[..., -1].max()
+    parsed = spectrum._parse(spectrum_certificate(chain, theta, "lambda_max", 2 * sup))
+    assert perron_side(*parsed[:3]).lower() >= sup
