@@ -497,12 +497,13 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
     worst = min(applicable, key=lambda c: min(c["lower_margin"], c["upper_margin"])) if applicable else None
     natural = [c for name, c in cases.items() if ", natural," in name]
     stiff = [c for c in cases.values() if c["status"] in tracking.NOT_STARTED]
+    first = next(iter(cases.values()), {})
     summary = (f"{len(applicable)} of {len(cases)} runs uniformly consistent ({sum(c['applicable'] for c in natural)} "
                f"of the natural law's {len(natural)}): "
                + (f"smallest relative margin {min(worst['lower_margin'], worst['upper_margin']):.3g} "
                   f"(tightness alpha1 / inf lambda_min {worst['tightness_lower']:.2g}, "
                   f"sup lambda_max / alpha2 {worst['tightness_upper']:.2g})" if worst else
-                  "no run to check" + "".join(f" ({c['why']})" for c in list(cases.values())[:1] if "why" in c))
+                  "no run to check" + (f" ({first['why']})" if "why" in first else ""))
                + (f"; {len(stiff)} runs {stiff[0]['status']}, {stiff[0]['why']}" if stiff else "")
                + _unfinished([c for c in cases.values() if c["status"] not in tracking.NOT_STARTED]))
     if lead is not None:

@@ -21,13 +21,18 @@ def jacobi_scaling(mass):
     return np.where((d > 0) & np.isfinite(s), s, 1.0)
 
 
+def _scaled(mass):
+    """(s, s M s) with s = :func:`jacobi_scaling` (M)."""
+    s = jacobi_scaling(mass)
+    return s, mass * s[..., :, None] * s[..., None, :]
+
+
 def scaled_condition(mass):
     """cond(s M s) (2-norm, via SVD), batched: about how many digits a :func:`solve_mass` answer loses."""
-    s = jacobi_scaling(mass)
-    return np.linalg.cond(mass * s[..., :, None] * s[..., None, :])
+    return np.linalg.cond(_scaled(mass)[1])
 
 
 def solve_mass(mass, rhs):
     """x with M x = rhs (both batched over leading axes; rhs (..., n)), solved as (s M s) y = s rhs, x = s y."""
-    s = jacobi_scaling(mass)
-    return s * np.linalg.solve(mass * s[..., :, None] * s[..., None, :], (s * rhs)[..., None])[..., 0]
+    s, scaled = _scaled(mass)
+    return s * np.linalg.solve(scaled, (s * rhs)[..., None])[..., 0]

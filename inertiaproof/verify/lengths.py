@@ -49,8 +49,7 @@ def perron_side(chain, domain, bodies):
 def _reach(chain, domain, k):
     """(L, A) balls bounding the linear and angular parts of joint k's column in bodies k, k + 1, ..."""
     s = chain.joints[k].subspace
-    norm = lambda rows: sum((s[i, 0] ** 2 for i in rows), arb(0)).sqrt()  # noqa: E731
-    out = [(norm(range(3)), norm(range(3, 6)))]
+    out = [(_length(s[i, 0] for i in range(3)), _length(s[i, 0] for i in range(3, 6)))]
     for j in range(k + 1, chain.n):
         joint = chain.joints[j]
         lin, ang = _moved(*out[-1], joint.before)
@@ -64,15 +63,18 @@ def _reach(chain, domain, k):
 def _moved(lin, ang, transform):
     r, p = transform
     g = _norm2([[sum((r[m, i] * r[m, j] for m in range(3)), arb(0)) for j in range(3)] for i in range(3)]).sqrt()
-    reach = sum((p[i, 0] ** 2 for i in range(3)), arb(0)).sqrt()
-    return g * (lin + reach * ang), g * ang
+    return g * (lin + _length(p[i, 0] for i in range(3)) * ang), g * ang
 
 
 def _own(column, z):
     """(|(Z s)_v|, |(Z s)_w|, s^T Z s) of body l's matrix and joint l's column s, which is x_l in body l exactly."""
     w = [sum((arb(z[i][j]) * column[j, 0] for j in range(6)), arb(0)) for i in range(6)]
-    size = lambda part: sum((w[i] ** 2 for i in part), arb(0)).sqrt()  # noqa: E731
-    return size(range(3)), size(range(3, 6)), sum((column[i, 0] * w[i] for i in range(6)), arb(0))
+    return _length(w[:3]), _length(w[3:]), sum((column[i, 0] * w[i] for i in range(6)), arb(0))
+
+
+def _length(xs):
+    """|x| of a vector of balls."""
+    return sum((x * x for x in xs), arb(0)).sqrt()
 
 
 def _block_norms(z):
