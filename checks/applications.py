@@ -24,6 +24,7 @@ import dataclasses
 import hashlib
 import time
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
 from hypothesis import Phase
@@ -34,6 +35,7 @@ from inertiaproof.bounds.premises import unsimulable
 from inertiaproof.checks.normality import refutations, unit_bodies
 from inertiaproof.counterexamples.adaptive_runs import euclidean_runs
 from inertiaproof.dynamics import motion
+from inertiaproof.model.exact import definiteness, integer_matrix
 from inertiaproof.model.inertia import pseudo_inertia
 from inertiaproof.result import Result, Verdict, combine, quantity
 from inertiaproof.scene import robots
@@ -133,33 +135,40 @@ FINER = 1 / 2  # of the work, the runs simulated again at rtol / 10 may spend th
 
 def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     """Simulate recipes of one chain and horizon together, within ``s.work`` units of counted work
-    (:func:`inertiaproof.sim.tracking.evaluation_cost`) and one wall-clock safety net ``s.max_seconds`` for it all.
+    (:func:`inertiaproof.sim.tracking.evaluation_cost`) and one wall-clock safety net ``s.max_seconds`` for it all,
+    with the scene's ``[adaptive] integrator``.
     When the batch stops early (one stiff run holds up all: the step is the whole state's), each run is simulated
-    alone (:func:`_alone`), unless the batch was not started (ill-conditioned: its runs share the chain); a run
-    whose Lyapunov balance error exceeds BALANCE x rtol, or that stepped over its law's barrier, is simulated again
-    at a tenth of the tolerance, keeping the first residual as ``looser_balance_error`` (balance_verdict). Returns
-    (runs, batches) in the recipes' order."""
+    alone (:func:`_alone`), unless the batch was not started (ill-conditioned: its runs share the chain); the runs
+    whose Lyapunov balance error exceeds BALANCE x rtol, or that stepped over their law's barrier, are simulated
+    again, likewise, at a tenth of the tolerance, keeping the first residual as ``looser_balance_error``
+    (balance_verdict). Returns (runs, batches) in the recipes' order."""
     horizon, chain = recipes[0].run_horizon(), recipes[0].chain()
+    method = recipes[0].scene_object().adaptive.integrator
     deadline = time.perf_counter() + s.max_seconds
 
     def simulate(specs, work, rtol):
         evaluations = max(int(work / tracking.evaluation_cost(chain.n, len(specs))), 1)
         return tracking.simulate(chain, specs, horizon, rtol=rtol, samples=_samples(s, horizon), forces=forces,
-                                 max_evaluations=evaluations, max_seconds=max(deadline - time.perf_counter(), 0.0))
+                                 max_evaluations=evaluations, max_seconds=max(deadline - time.perf_counter(), 0.0),
+                                 method=method)
 
-    several = len(recipes) > 1
-    runs, batch = simulate([r.spec() for r in recipes], s.work * BATCH if several else s.work, s.rtol)
-    batches = [batch] * len(runs)
-    if not batch_finished(runs) and several and runs[0].status not in tracking.NOT_STARTED:
-        _alone(runs, batches, s.work * (1 - BATCH), lambda spec, work: simulate([spec], work, s.rtol),
-               tracking.evaluation_cost(chain.n, 1))
+    def together_then_alone(specs, work, rtol):
+        several = len(specs) > 1
+        runs, batch = simulate(specs, work * BATCH if several else work, rtol)
+        batches = [batch] * len(runs)
+        if not batch_finished(runs) and several and runs[0].status not in tracking.NOT_STARTED:
+            _alone(runs, batches, work * (1 - BATCH), lambda spec, share: simulate([spec], share, rtol),
+                   tracking.evaluation_cost(chain.n, 1))
+        return runs, batches
+
+    runs, batches = together_then_alone([r.spec() for r in recipes], s.work, s.rtol)
     again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol
              or r.status == tracking.BARRIER]  # the barrier too: the exact solution stays clear of it
     if again:
-        finer, finer_batch = simulate([runs[i].spec for i in again], s.work * FINER, s.rtol / 10)
-        for i, run in zip(again, finer):
+        finer, finer_batches = together_then_alone([runs[i].spec for i in again], s.work * FINER, s.rtol / 10)
+        for i, run, batch in zip(again, finer, finer_batches):
             run.looser_balance_error = runs[i].balance_error
-            runs[i], batches[i] = run, finer_batch
+            runs[i], batches[i] = run, batch
     return runs, batches
 
 
@@ -193,7 +202,9 @@ def balance_verdict(run, rtol):
     in the limit. VIOLATED: it stayed within a factor 1 / LEVEL of where it was: no tolerance removes it, the run
     simulated something else than its plant."""
     if not run.finished:
-        return Verdict.INCONCLUSIVE, f"{run.status}: {run.note}"
+        again = (f"simulated again at rtol {rtol / 10:g} (balance error {run.looser_balance_error:.2e} at {rtol:g}): "
+                 if np.isfinite(run.looser_balance_error) else "")
+        return Verdict.INCONCLUSIVE, f"{again}{run.status}: {run.note}"
     if run.balance_error <= BALANCE * rtol:
         return Verdict.HOLDS, f"balance error {run.balance_error:.2e} <= {BALANCE * rtol:.0e}"
     change = (f"balance error {run.looser_balance_error:.2e} -> {run.balance_error:.2e} from rtol {rtol:g} to "
@@ -393,11 +404,16 @@ def bound_case(chain, run, q_samples, gamma, sigma, xi=None, zeta=None):
     the largest eigenvalue of M_hat at that time, > 0 holds), resolution and the witness of the smaller margin."""
     theta_hat = estimates.estimates(run)
     f = np.linalg.eigvalsh(pseudo_inertia(theta_hat))
-    xi = float(f[..., 0].min()) if xi is None else xi
+    given, xi = xi is not None, float(f[..., 0].min()) if xi is None else xi
     zeta = float(f[..., -1].max()) if zeta is None else zeta
     resolution = _resolution(chain.n + 4)
     out = {"xi_hat": xi, "zeta_hat": zeta, "samples": len(run.t), "status": run.status,
            "applicable": bool(xi > resolution * zeta), "resolution": resolution}
+    if not out["applicable"] and not given and 0 < xi:  # below float's resolution: decide it in rationals
+        proved = _proved_xi(theta_hat, f[..., 0], xi, resolution * zeta)
+        if proved is not None:
+            out.update(xi_hat=proved[0], applicable=True, xi_proof=proved[1])
+            xi = proved[0]
     if not out["applicable"]:
         out["why"] = (f"Theta_hat is not uniformly consistent over the run: min lambda_min(f(Phi_hat_l)) = {xi:.3g} "
                       f"at t = {run.t[np.unravel_index(np.argmin(f[..., 0]), f.shape[:-1])[0]]:.4g}")
@@ -417,6 +433,28 @@ def bound_case(chain, run, q_samples, gamma, sigma, xi=None, zeta=None):
                         "bound": "lower" if lower[ti, qi] <= upper[ti, qi] else "upper"},
                series={"t": run.t, "low": low.min(-1), "high": high.max(-1)})
     return out
+
+
+def _proved_xi(theta_hat, lambda_min, xi, error):
+    """(x, how) with 0 < x <= lambda_min(f(Phi_hat_l(t_k))) for every sample k and body l: proved in rational
+    arithmetic (:func:`_exceeds`) wherever the float eigenvalue lambda_min, within ``error``, does not show it.
+    x is 15/16 or 1/2 of the float minimum xi; None if neither is proved."""
+    for x in (xi * 15 / 16, xi / 2):
+        unresolved = np.argwhere(lambda_min < x + error)
+        if all(_exceeds(theta_hat[tuple(i)], x) for i in unresolved):
+            return x, (f"{len(unresolved)} of {lambda_min.size} samples x bodies below float resolution: "
+                       f"f(Phi_hat) - {x:.4g} 1 proved positive definite in rational arithmetic")
+    return None
+
+
+def _exceeds(phi, x):
+    """Whether f(phi) - x 1 is positive definite (DefTrafoInertialParameters), by its minors in exact rationals
+    (:func:`inertiaproof.model.exact.definiteness`)."""
+    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = map(Fraction, phi)
+    inertia, h = [[i11, i12, i13], [i12, i22, i23], [i13, i23, i33]], [h1, h2, h3]
+    half_trace, x = (i11 + i22 + i33) / 2, Fraction(x)
+    f = [[(half_trace - x if i == j else 0) - inertia[i][j] for j in range(3)] + [h[i]] for i in range(3)]
+    return definiteness(integer_matrix(f + [h + [m - x]]))[0] == "pd"
 
 
 def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, xi_override=None):
@@ -526,8 +564,8 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
 
 def _case_row(case):
     """One run of APP-estimate-bounds as a flat row of the evidence table."""
-    keys = ("status", "xi_hat", "zeta_hat", "alpha1", "inf_lambda_min_M_hat", "sup_lambda_max_M_hat", "alpha2",
-            "unfinished")
+    keys = ("status", "xi_hat", "xi_proof", "zeta_hat", "alpha1", "inf_lambda_min_M_hat", "sup_lambda_max_M_hat",
+            "alpha2", "unfinished")
     row = {k: _rounded(case[k]) for k in keys if k in case}
     if case["applicable"]:
         row["margin"] = _rounded(min(case["lower_margin"], case["upper_margin"]))

@@ -12,10 +12,11 @@ from inertiaproof import cli
 from inertiaproof.budget import Budget
 from inertiaproof.checks import applications as app
 from inertiaproof.dynamics import motion
-from inertiaproof.model.inertia import pseudo_inertia
+from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse
 from inertiaproof.report import adapt as adapt_report
 from inertiaproof.result import Verdict
 from inertiaproof.sim import tracking
+from inertiaproof.sim.recipe import Recipe
 from inertiaproof.scene.format import SceneError, parse_scene
 from inertiaproof.suite.catalog import APPLICATIONS, BY_ID
 from inertiaproof.suite.context import Context
@@ -66,6 +67,21 @@ def test_an_inconsistent_estimate_passed_as_consistent_violates_the_lower_bound(
     assert wrong.verdict == Verdict.VIOLATED
     assert wrong.counterexample["data"]["bound"] == "lower"
     assert wrong.counterexample["data"]["recipe"]["law"] == "slotine-li"
+
+
+def test_a_consistency_below_float_resolution_is_proved_in_rationals():
+    """f(Phi) = diag(1, 1, 2^-46, 1): lambda_min 1.4e-14 is below eigvalsh's resolution (64 eps (n + 4) zeta); the
+    check proves 15/16 of it exactly (the thin rod's natural-law runs, xi_hat 1.7e-13, are decided so), and the
+    proof fails at and beyond the exact lambda_min, and for a body that is not consistent."""
+    tiny = 2.0 ** -46
+    phi = pseudo_inertia_inverse(np.diag([1.0, 1.0, tiny, 1.0]))
+    assert app._exceeds(phi, tiny / 2) and not app._exceeds(phi, tiny) and not app._exceeds(phi, 2 * tiny)
+    theta_hat = np.stack([phi, pseudo_inertia_inverse(np.diag([2.0, 1.0, 1.0, 3.0]))])[None]  # (1 sample, 2 bodies)
+    lambda_min = np.linalg.eigvalsh(pseudo_inertia(theta_hat))[..., 0]
+    assert lambda_min.min() < app._resolution(2 + 4) * 3.0
+    x, how = app._proved_xi(theta_hat, lambda_min, tiny, app._resolution(2 + 4) * 3.0)
+    assert x == tiny * 15 / 16 and how.startswith("1 of 2")
+    assert app._proved_xi(theta_hat, lambda_min, 4 * tiny, app._resolution(2 + 4) * 3.0) is None
 
 
 def test_euclidean_escape_is_found_saved_and_replays(app_ctx):
@@ -175,6 +191,16 @@ def test_the_adaptive_table_of_a_scene():
     assert scene.adaptive.gain("natural") == 200.0 and scene.adaptive.lam == 5.0
     with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.estimate: must be a list of 7 numbers"):
         parse_scene(text.replace("estimate = 1.0", "estimate = [1.0, 2.0]"), "panda.toml")
+    assert scene.adaptive.integrator == "auto"
+    with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.integrator: must be one of auto, RK45, BDF"):
+        parse_scene(text.replace("estimate = 1.0", "estimate = 1.0\nintegrator = \"Euler\""), "panda.toml")
+
+
+def test_the_scene_chooses_the_integrator_of_its_runs():
+    """stiff_mass_ratio_1e6.toml asks for Radau ([adaptive] integrator): the study's runs use it."""
+    recipe = Recipe(str(SCENES / "stiff_mass_ratio_1e6.toml"), "slotine-li", horizon=0.05)
+    (run,), _ = app.simulate_recipes([recipe], dataclasses.replace(app.SETTINGS["ci"], work=3_000))
+    assert run.method == "Radau" and run.finished
 
 
 def test_a_run_stopped_by_the_clock_is_inconclusive_and_a_finished_unbalanced_run_violated(app_ctx, monkeypatch):
@@ -209,6 +235,8 @@ def test_the_balance_verdict_follows_the_tolerance():
     assert app.balance_verdict(_run("ok", 0.5), rtol)[0] == Verdict.VIOLATED  # never simulated finer: level
     for status in ("clock", "budget", "nan", tracking.BARRIER):
         assert app.balance_verdict(_run(status, 0.5, 0.6), rtol)[0] == Verdict.INCONCLUSIVE
+    assert app.balance_verdict(_run("budget", 0.5, 0.6), rtol)[1].startswith("simulated again at rtol 3e-06")
+    assert app.balance_verdict(_run("budget", 0.5), rtol)[1].startswith("budget")
     # a run past its law's barrier ends its batch (alone it would again): no split of the batch for it
     assert app.batch_finished([_run("ok", 0.0), _run(tracking.BARRIER, 0.0)])
     assert not app.batch_finished([_run("ok", 0.0), _run("clock", 0.0)])

@@ -99,7 +99,8 @@ def main(args):
         raise InputError(f"{args.gains or args.scene}: gamma: no gain for law {args.law!r}")
     spec = tracking.scene_specs(scene, [args.law], [args.plant], settings)[0]
     horizon = args.horizon or scene.horizon()
-    (run,), batch = tracking.simulate(scene.chain, [spec], horizon, samples=args.samples, rtol=args.rtol)
+    (run,), batch = tracking.simulate(scene.chain, [spec], horizon, samples=args.samples, rtol=args.rtol,
+                                      method=settings.integrator)
     q_samples = estimates.configurations(scene.chain, args.configurations, np.random.default_rng(args.seed))
     doc = document(scene, run, batch, settings, q_samples)
     out = Path(args.out)

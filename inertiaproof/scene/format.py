@@ -65,16 +65,21 @@ class ControlSettings:
     GAINS = ("per_joint", "uniform")
 
 
+INTEGRATORS = ("auto", "RK45", "BDF", "Radau")  # of [adaptive] integrator (inertiaproof.sim.tracking.SOLVERS)
+
+
 @dataclass(frozen=True)
 class AdaptiveSettings:
     """Adaptive tracking of the scene's reference (inertiaproof.sim.tracking, ``inertiaproof adapt``): the sliding
     variable s = e' + lam e (lam in 1/s), K_D = kd diag(M(home, Theta(t0))) (kd in 1/s), the adaptation gain of
-    each law by name, and the initial estimate Theta_hat(0) = estimate Theta(t0) (one factor, or one per body)."""
+    each law by name, the initial estimate Theta_hat(0) = estimate Theta(t0) (one factor, or one per body), and the
+    integrator of the runs (``method`` of inertiaproof.sim.tracking.simulate)."""
 
     lam: float = 5.0
     kd: float = 10.0
     gamma: tuple = (("natural", 10.0), ("slotine-li", 1.0))  # (law name, gain) pairs
     estimate: tuple = (1.0,)
+    integrator: str = "auto"
 
     def gain(self, law):
         return dict(self.gamma).get(law)
@@ -443,7 +448,7 @@ def _control(r, table, joints):
 
 
 def _adaptive(r, table, path, bodies, defaults=AdaptiveSettings()):
-    r.keys(table, path, {"lambda", "kd", "gamma", "estimate"})
+    r.keys(table, path, {"lambda", "kd", "gamma", "estimate", "integrator"})
     gamma = dict(defaults.gamma)
     for law in r.table(table, path, "gamma", required=False) or {}:
         gamma[law] = r.number(table["gamma"], path + ("gamma",), law, positive=True)
@@ -454,9 +459,12 @@ def _adaptive(r, table, path, bodies, defaults=AdaptiveSettings()):
             r.error(path + ("estimate",), f"factors must be > 0, got {list(estimate)}")
     elif "estimate" in table:
         estimate = (r.number(table, path, "estimate", positive=True),)
+    integrator = table.get("integrator", defaults.integrator)
+    if integrator not in INTEGRATORS:
+        r.error(path + ("integrator",), f"must be one of {', '.join(INTEGRATORS)}, got {integrator!r}")
     return AdaptiveSettings(lam=r.number(table, path, "lambda", defaults.lam, positive=True),
                             kd=r.number(table, path, "kd", defaults.kd, positive=True),
-                            gamma=tuple(sorted(gamma.items())), estimate=estimate)
+                            gamma=tuple(sorted(gamma.items())), estimate=estimate, integrator=integrator)
 
 
 def load_gains(path, scene):

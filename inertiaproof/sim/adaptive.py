@@ -80,6 +80,10 @@ class AdaptiveLaw:
         solution cannot get there (D <= V stays finite), so an integrator that did stepped over it (default: none)."""
         return np.zeros(np.shape(z)[:-1], bool)
 
+    def barrier_margin(self, z):
+        """How far (..., N) the state is from the law's barrier, relative to its own size (default: inf, none)."""
+        return np.full(np.shape(z)[:-1], np.inf)
+
     def linearization(self, z, g):
         """(d estimate/dz, d rate/dz, d rate/dg) at (z, g), per body (..., N, 10, 10) with [..., i, k] = d out_i /
         d in_k, for the Newton matrix of an implicit integrator (inertiaproof.sim.tracking), where an approximation
@@ -169,6 +173,12 @@ class NaturalAdaptation(AdaptiveLaw):
     def outside(self, z):
         """Where (..., N) U_l is not positive definite: f(Phi_hat_l) = U_l^-1 passed through infinity, where D is."""
         return np.linalg.eigvalsh(self.mirror(z))[..., 0] <= 0
+
+    def barrier_margin(self, z):
+        """lambda_min(U_l) / lambda_max(U_l) (..., N): where it reaches rounding, f(Phi_hat_l) = U_l^-1 is beyond what
+        float64 resolves."""
+        eigenvalues = np.linalg.eigvalsh(self.mirror(z))
+        return eigenvalues[..., 0] / np.abs(eigenvalues).max(-1)
 
     def linearization(self, z, g):
         """Closed forms: d f^-1(U^-1) = -f^-1(U^-1 f(dz) U^-1) (finite differences lose it when U is as

@@ -48,6 +48,8 @@ SOLVERS = {"RK45": RK45, "BDF": BDF, "Radau": Radau}
 IMPLICIT = ("BDF", "Radau")
 MAX_JACOBIAN_BYTES = 2 ** 28  # dense blocks of one batch's Jacobian beyond this: RK45 whatever the stiffness
 STIFFNESS_TIMES = 5  # instants over the horizon at which Batch.stiffness looks
+STOPPED = ("budget", "step collapse", "error", "nan")  # a batch the integrator or the count stopped
+UNRESOLVED_MARGIN = 1e-12  # AdaptiveLaw.barrier_margin below this: the estimate is beyond float64's resolution
 IMPLICIT_DEFAULT = "BDF"  # measured faster than Radau on the stiff scenes (README: stiff runs)
 KEPT = {"gre": (1.0, 1.0), "pagilla": (1.0, 0.0), "classical": (0.0, 0.0)}  # (Thetadot, Psi) each plant keeps
 
@@ -345,7 +347,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
         except np.linalg.LinAlgError as exc:
             y0 = np.full(len(specs) * batch.size, np.nan)
             unstartable = f"{type(exc).__name__}: {exc}"
-    start = time.perf_counter()
+    start, last = time.perf_counter(), y0
     if condition > MAX_CONDITION:
         status, note = "ill-conditioned", (f"not started: scaled cond(M(q0, Theta(t0))) = {condition:.1e}: forward "
                                            "dynamics keeps fewer than 6 correct digits in float64")
@@ -361,6 +363,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
         solver = SOLVERS[chosen](batch.rhs, t0, y0, t0 + horizon, rtol=rtol, atol=rtol * batch.scale(), **kw)
         t_eval = np.linspace(t0, t0 + horizon, samples)
         status, note, ys = _integrate(solver, batch, t_eval, max_evaluations, start + max_seconds)
+        last = solver.y
     seconds = time.perf_counter() - start
     t, y = t_eval[:len(ys)], np.array(ys)
     with np.errstate(all="ignore"):
@@ -369,6 +372,13 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     per_run = y.reshape(len(t), len(specs), batch.size)
     runs = [Run(spec, i, status, note, seconds, batch.evaluations, t, per_run[:, i], float(err[i]), chosen,
                 batch.jacobians) for i, spec in enumerate(specs)]
+    if status in STOPPED and np.all(np.isfinite(last)):
+        margins = batch.per_law("barrier_margin", batch.split(last)[2]).min(-1)
+        for run in runs:
+            if margins[run.index] < UNRESOLVED_MARGIN:
+                run.note += (f"; the {run.spec.law.name} law's state was then {margins[run.index]:.1e} of its size from "
+                             "its barrier, where float64 no longer resolves the estimate: its exact solution stays off "
+                             "the barrier (D <= V is finite), but comes closer than the float64 integration can follow")
     z = batch.split(y)[2]
     for run in runs:
         crossed = np.flatnonzero(run.spec.law.outside(z[:, run.index]).any(-1)) if run.finished else []
