@@ -375,9 +375,10 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     if status in STOPPED and np.all(np.isfinite(last)):
         margins = batch.per_law("barrier_margin", batch.split(last)[2]).min(-1)
         for run in runs:
-            if margins[run.index] < UNRESOLVED_MARGIN:
-                run.note += (f"; the {run.spec.law.name} law's state was then {margins[run.index]:.1e} of its size from "
-                             "its barrier, where float64 no longer resolves the estimate: its exact solution stays off "
+            margin = margins[run.index]
+            if margin < UNRESOLVED_MARGIN:
+                run.note += (f"; the {run.spec.law.name} law's state was then {margin:.1e} of its size from its "
+                             "barrier, where float64 no longer resolves the estimate: its exact solution stays off "
                              "the barrier (D <= V is finite), but comes closer than the float64 integration can follow")
     z = batch.split(y)[2]
     for run in runs:
