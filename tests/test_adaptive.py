@@ -249,12 +249,13 @@ def test_a_natural_run_that_steps_over_its_barrier_is_no_evidence():
 
 
 def test_a_run_stopped_at_its_barrier_says_float64_cannot_follow():
-    """The passenger platform's natural law under the 0.25 s traverse at rtol 3e-6: every integrator stops at
-    t = 0.2299 s (RK45, BDF and Radau alike, README: stiff runs) with U_l = f(Phi_hat_l)^-1 within 1e-15 of its size
-    from singular: the note names the margin and that the exact solution stays off the barrier."""
-    recipe = Recipe(str(SCENES / "passenger_platform.toml"), "natural", horizon=1.7, timing=(0.2, 0.25))
-    (run,), _ = tracking.simulate(recipe.chain(), [recipe.spec()], 1.7, samples=86, rtol=3e-6,
+    """The passenger platform's natural law under a 0.25 s traverse at rtol 3e-6: the integrators stop (in the APP
+    study at t = 0.2299 s, RK45, BDF and Radau alike, README: stiff runs; here, the traverse starting at 0.02 s, near
+    0.05 s) with U_l = f(Phi_hat_l)^-1 singular to 1e-15 of its size: the note names the margin and that the exact
+    solution stays off the barrier."""
+    recipe = Recipe(str(SCENES / "passenger_platform.toml"), "natural", horizon=0.4, timing=(0.02, 0.25))
+    (run,), _ = tracking.simulate(recipe.chain(), [recipe.spec()], 0.4, samples=21, rtol=3e-6,
                                   max_evaluations=20_000)
-    assert run.status == "step collapse" and abs(run.t[-1] - 0.22) < 0.02
+    assert run.status == "step collapse" and run.t[-1] < 0.1
     assert "from its barrier" in run.note and "float64" in run.note
     assert not adaptive.SlotineLi(1.0).barrier_margin(np.zeros((2, 10))).min() < np.inf
