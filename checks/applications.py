@@ -82,7 +82,7 @@ SETTINGS = {
                       hunts=(("planar-2r-payload", 3),), hunt_runs=6, hunt_horizon=2.0, shrink=False,
                       ramps=(1.0, 0.1, 0.01), traverses=(1.0, 0.25), start=0.2, settle=0.5,
                       laws=("slotine-li", "natural"), samples_per_second=50, configurations=128, rtol=3e-5,
-                      work=32_000, max_seconds=90.0),
+                      work=36_000, max_seconds=90.0),
     "deep": AppSettings(scenes=(("planar-2r-payload", (10.0, 3.0, 1.0, 0.3, 0.1, 0.03, 0.01)),
                                 ("trolley-2r", (4.0, 2.0, 1.0, 0.5, 0.25, 0.1)),
                                 ("panda-payload-3kg", (1.0, 0.1, 0.01))),

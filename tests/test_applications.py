@@ -192,15 +192,15 @@ def test_the_adaptive_table_of_a_scene():
     with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.estimate: must be a list of 7 numbers"):
         parse_scene(text.replace("estimate = 1.0", "estimate = [1.0, 2.0]"), "panda.toml")
     assert scene.adaptive.integrator == "auto"
-    with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.integrator: must be one of auto, RK45, BDF"):
+    with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.integrator: must be one of auto, RK45, DOP853, BDF"):
         parse_scene(text.replace("estimate = 1.0", "estimate = 1.0\nintegrator = \"Euler\""), "panda.toml")
 
 
 def test_the_scene_chooses_the_integrator_of_its_runs():
-    """stiff_mass_ratio_1e6.toml asks for Radau ([adaptive] integrator): the study's runs use it."""
+    """stiff_mass_ratio_1e6.toml asks for DOP853 ([adaptive] integrator): the study's runs use it."""
     recipe = Recipe(str(SCENES / "stiff_mass_ratio_1e6.toml"), "slotine-li", horizon=0.05)
     (run,), _ = app.simulate_recipes([recipe], dataclasses.replace(app.SETTINGS["ci"], work=3_000))
-    assert run.method == "Radau" and run.finished
+    assert run.method == "DOP853" and run.finished
 
 
 def test_a_run_stopped_by_the_clock_is_inconclusive_and_a_finished_unbalanced_run_violated(app_ctx, monkeypatch):

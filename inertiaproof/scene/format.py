@@ -65,7 +65,7 @@ class ControlSettings:
     GAINS = ("per_joint", "uniform")
 
 
-INTEGRATORS = ("auto", "RK45", "BDF", "Radau")  # of [adaptive] integrator (inertiaproof.sim.tracking.SOLVERS)
+INTEGRATORS = ("auto", "RK45", "DOP853", "BDF", "Radau")  # of [adaptive] integrator (inertiaproof.sim.tracking.SOLVERS)
 
 
 @dataclass(frozen=True)

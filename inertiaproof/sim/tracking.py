@@ -18,8 +18,8 @@ classical: 0), assembled here from inertiaproof.dynamics.terms independently of 
 A run integrates the right-hand side as W; max |V - V(0) - W| / max |V| is its Lyapunov balance error.
 
 Runs on one chain are integrated together (one state vector, batched NumPy; RK45, or BDF / Radau with a block-diagonal
-Jacobian when the batch is stiff); each keeps its own trajectory, law, gains, reference, initial estimate and plant,
-and keeps what it reached when the batch stops early.
+Jacobian when the batch is stiff, or the method the scene asks for); each keeps its own trajectory, law, gains,
+reference, initial estimate and plant, and keeps what it reached when the batch stops early.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import sparse
-from scipy.integrate import BDF, RK45, Radau
+from scipy.integrate import BDF, DOP853, RK45, Radau
 
 from inertiaproof.dynamics import motion, regressors, terms
 from inertiaproof.dynamics.forward import scaled_condition, solve_mass
@@ -44,7 +44,7 @@ __all__ = ["BARRIER", "CLOCK", "choose_method", "evaluation_cost", "IMPLICIT", "
 PLANTS = ("gre", "pagilla", "classical")
 NOT_STARTED = ("ill-conditioned", "no start")  # statuses of a batch that simulate() does not integrate
 BARRIER = "barrier"  # a run whose law's state crossed a barrier (AdaptiveLaw.outside): integration error, not the law
-SOLVERS = {"RK45": RK45, "BDF": BDF, "Radau": Radau}
+SOLVERS = {"RK45": RK45, "DOP853": DOP853, "BDF": BDF, "Radau": Radau}
 IMPLICIT = ("BDF", "Radau")
 MAX_JACOBIAN_BYTES = 2 ** 28  # dense blocks of one batch's Jacobian beyond this: RK45 whatever the stiffness
 STIFFNESS_TIMES = 5  # instants over the horizon at which Batch.stiffness looks
@@ -306,7 +306,7 @@ class Run:
     t: np.ndarray = field(default=None, repr=False)
     y: np.ndarray = field(default=None, repr=False)  # (T, size): q, qd, z, W
     balance_error: float = np.nan
-    method: str = "RK45"  # RK45, BDF, Radau (none: not started)
+    method: str = "RK45"  # a key of SOLVERS (none: not started)
     jacobians: int = 0  # of the whole batch
     looser_balance_error: float = np.nan  # the same run's at 10 x its rtol, when it was simulated again finer
 
@@ -324,7 +324,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     evaluations (:func:`inertiaproof.sim.simulate.least_evaluations`); more than ``max_evaluations`` and the batch is
     integrated with the implicit method ``implicit`` (BDF or Radau) and the Jacobian of :meth:`Batch.jacobian`
     (block diagonal).
-    "RK45", "BDF" or "Radau" force a method.
+    A key of SOLVERS ("RK45", "DOP853", "BDF", "Radau") forces a method.
 
     The decisive budget is counted, the same on every machine: ``max_evaluations`` right-hand sides of the batch,
     each Jacobian and LU factorization counted as one; a batch past it stops as ``budget``. ``max_seconds`` is a
