@@ -34,7 +34,8 @@ from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup
 from inertiaproof.bounds.premises import unsimulable
 from inertiaproof.checks.normality import refutations, unit_bodies
 from inertiaproof.counterexamples.adaptive_runs import euclidean_runs
-from inertiaproof.dynamics import motion
+from inertiaproof.dynamics import composite, motion
+from inertiaproof.dynamics.forward import jacobi_scaling
 from inertiaproof.model.exact import definiteness, integer_matrix
 from inertiaproof.model.inertia import pseudo_inertia
 from inertiaproof.result import Result, Verdict, combine, quantity
@@ -400,8 +401,10 @@ def bound_case(chain, run, q_samples, gamma, sigma, xi=None, zeta=None):
 
     ``gamma`` is a certified lower bound of inf_q sigma_min(QJ)^2, ``sigma`` a certified upper bound of
     sup_q sigma_max(QJ); xi_hat and zeta_hat are the extremes of the spectra of f(Phi_hat_l) over the run's samples
-    unless given (a test passes wrong ones). Returns plain data: applicable, alpha1, alpha2, margins (relative to
-    the largest eigenvalue of M_hat at that time, > 0 holds), resolution and the witness of the smaller margin."""
+    unless given (a test passes wrong ones); one below float's resolution is proved in rationals (:func:`_proved_xi`).
+    Returns plain data: applicable, alpha1, alpha2, margins (relative to the largest eigenvalue of M_hat at that
+    time, the lower one in its Jacobi scaling, :func:`_lower_margin`; > 0 holds), resolution and the witness of the
+    smaller margin."""
     theta_hat = estimates.estimates(run)
     f = np.linalg.eigvalsh(pseudo_inertia(theta_hat))
     given, xi = xi is not None, float(f[..., 0].min()) if xi is None else xi
@@ -419,10 +422,11 @@ def bound_case(chain, run, q_samples, gamma, sigma, xi=None, zeta=None):
                       f"at t = {run.t[np.unravel_index(np.argmin(f[..., 0]), f.shape[:-1])[0]]:.4g}")
         return out
     q = np.concatenate([run.y[:, None, :chain.n], np.broadcast_to(q_samples, (len(run.t),) + q_samples.shape)], 1)
-    low, high = estimates.mass_matrix_spectrum(chain, q, theta_hat[:, None])
+    mass = composite.mass_matrix(chain, q, theta_hat[:, None])
+    low, high = estimates.mass_matrix_spectrum(mass)
     alpha1, alpha2 = formulas.alpha1(xi, max(gamma, 0.0)), formulas.alpha2(zeta, sigma)  # sigma = inf: unchecked
     scale = np.maximum(high.max(-1), alpha2 if np.isfinite(alpha2) else 0.0)
-    lower, upper = (low - alpha1) / scale[:, None], (alpha2 - high) / scale[:, None]
+    lower, upper = _lower_margin(mass, alpha1), (alpha2 - high) / scale[:, None]
     margin = np.minimum(lower, upper)
     ti, qi = np.unravel_index(np.argmin(margin), margin.shape)
     out.update(alpha1=alpha1, alpha2=alpha2, lower_margin=float(lower.min()), upper_margin=float(upper.min()),
@@ -433,6 +437,17 @@ def bound_case(chain, run, q_samples, gamma, sigma, xi=None, zeta=None):
                         "bound": "lower" if lower[ti, qi] <= upper[ti, qi] else "upper"},
                series={"t": run.t, "low": low.min(-1), "high": high.max(-1)})
     return out
+
+
+def _lower_margin(mass, alpha1):
+    """lambda_min(s (M - alpha1 1) s) / lambda_max(s M s) with s the Jacobi scaling of M by powers of two
+    (:mod:`inertiaproof.dynamics.forward`): by Sylvester's law of inertia its sign is that of M - alpha1 1, and it
+    is resolved to rounding of the scaled M, whose condition is that of M freed of its units (extreme_lengths:
+    cond(M) 1e20, scaled 2.3), where lambda_min(M) itself is below rounding of lambda_max(M)."""
+    s = jacobi_scaling(mass)
+    outer = s[..., :, None] * s[..., None, :]
+    shifted = np.linalg.eigvalsh((mass - alpha1 * np.eye(mass.shape[-1])) * outer)[..., 0]
+    return shifted / np.linalg.eigvalsh(mass * outer)[..., -1]
 
 
 def _proved_xi(theta_hat, lambda_min, xi, error):
@@ -552,7 +567,8 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
                                             "min over the consistent runs, times and sampled q (> 0 holds)"),
                 "resolution": quantity(_resolution(max(scene_of(k).chain.n for k in keys) + 4), "tolerance",
                                        "rounding of the eigenvalues against the largest one"),
-                "note": "Margins are relative to the largest eigenvalue of M_hat at that time; the extremes over q "
+                "note": "Margins are relative to the largest eigenvalue of M_hat at that time (the lower one in "
+                        "M_hat's Jacobi scaling, where it is resolved whatever the units); the extremes over q "
                         "are sampled (the run's configurations, random ones and the brackets' witnesses): a sampled "
                         "inf is an upper estimate, so a negative margin is a true violation, a positive one is not "
                         "a proof."}
@@ -592,9 +608,10 @@ def replay_bound(data, ctx):
     (run,), _ = simulate_recipes([recipe], s)
     case = bound_case(chain, run, np.atleast_2d(data["q"]), data["gamma"], data["sigma"], xi=data["xi_hat"],
                       zeta=data["zeta_hat"])
-    low, high = estimates.mass_matrix_spectrum(chain, np.asarray(data["q"]), np.asarray(data["theta_hat"]))
+    mass = composite.mass_matrix(chain, np.asarray(data["q"]), np.asarray(data["theta_hat"]))
+    low, high = estimates.mass_matrix_spectrum(mass)
     alpha1, alpha2 = data["xi_hat"] * max(data["gamma"], 0.0), 2 * data["zeta_hat"] * data["sigma"] ** 2
-    point = min(low - alpha1, alpha2 - high) / max(high, alpha2)
+    point = min(_lower_margin(mass, alpha1), (alpha2 - high) / max(high, alpha2))
     margin = min(point, case.get("lower_margin", np.inf), case.get("upper_margin", np.inf))
     verdict = Verdict.VIOLATED if margin < -_resolution(chain.n + 4) else Verdict.HOLDS
     return Result("APP-estimate-bounds", verdict, f"relative margin {margin:.3g} at t = {data['t']:g}",

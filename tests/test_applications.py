@@ -3,6 +3,7 @@
 
 import dataclasses
 import json
+from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -12,6 +13,7 @@ from inertiaproof import cli
 from inertiaproof.budget import Budget
 from inertiaproof.checks import applications as app
 from inertiaproof.dynamics import motion
+from inertiaproof.model.exact import definiteness, integer_matrix, to_fractions
 from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse
 from inertiaproof.report import adapt as adapt_report
 from inertiaproof.result import Verdict
@@ -82,6 +84,26 @@ def test_a_consistency_below_float_resolution_is_proved_in_rationals():
     x, how = app._proved_xi(theta_hat, lambda_min, tiny, app._resolution(2 + 4) * 3.0)
     assert x == tiny * 15 / 16 and how.startswith("1 of 2")
     assert app._proved_xi(theta_hat, lambda_min, 4 * tiny, app._resolution(2 + 4) * 3.0) is None
+
+
+def test_the_lower_margin_is_resolved_in_the_jacobi_scaling():
+    """A graded mass matrix D A D (D = diag(1e4, 1, 1e-4), cond 1e16, as extreme_lengths' units make it): its
+    lambda_min is below eigvalsh's rounding of lambda_max, but the sign of M - alpha1 1 is decided in the scaling
+    (_lower_margin) and agrees with exact arithmetic on both sides of the exact threshold, 0.1 % away."""
+    a = np.array([[2.0, 0.5, 0.2], [0.5, 1.5, 0.3], [0.2, 0.3, 1.0]])
+    d = np.array([1e4, 1.0, 1e-4])
+    mass = d[:, None] * a * d[None, :]
+
+    def positive_definite(alpha):
+        return definiteness(integer_matrix(to_fractions(mass) - np.diag([Fraction(alpha)] * 3)))[0] == "pd"
+
+    low, high = 0.0, 1e-6  # bisection of the exact threshold alpha* = lambda_min(M)
+    for _ in range(50):
+        middle = (low + high) / 2
+        low, high = (middle, high) if positive_definite(middle) else (low, middle)
+    assert 0 < low < app._resolution(3) * np.linalg.eigvalsh(mass)[-1]  # unresolved without the scaling
+    assert app._lower_margin(mass, 0.999 * low) > app._resolution(3)
+    assert app._lower_margin(mass, 1.001 * low) < -app._resolution(3)
 
 
 def test_euclidean_escape_is_found_saved_and_replays(app_ctx):

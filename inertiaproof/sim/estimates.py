@@ -27,9 +27,9 @@ def configurations(chain, count, rng):
     return lo + (hi - lo) * rng.random((count, chain.n))
 
 
-def mass_matrix_spectrum(chain, q, theta_hat):
-    """(lambda_min, lambda_max) of M(q, Theta_hat) for q (..., n) and Theta_hat (..., N, 10) that broadcast."""
-    w = np.linalg.eigvalsh(composite.mass_matrix(chain, q, theta_hat))
+def mass_matrix_spectrum(mass):
+    """(lambda_min, lambda_max) of mass matrices (..., n, n), e.g. M(q, Theta_hat) of composite.mass_matrix."""
+    w = np.linalg.eigvalsh(mass)
     return w[..., 0], w[..., -1]
 
 
@@ -37,7 +37,7 @@ def spectrum_over(chain, q_run, theta_hat, q_samples):
     """Per sample time: (lambda_min, lambda_max) of M(q, Theta_hat(t)) over q in {q(t)} and ``q_samples``, and the
     configuration attaining the minimum: a sampled inf and sup over configurations (one-sided estimates)."""
     q = np.concatenate([q_run[:, None, :], np.broadcast_to(q_samples, (len(q_run),) + q_samples.shape)], 1)
-    low, high = mass_matrix_spectrum(chain, q, theta_hat[:, None])
+    low, high = mass_matrix_spectrum(composite.mass_matrix(chain, q, theta_hat[:, None]))
     at = np.argmin(low, -1)
     return low.min(-1), high.max(-1), q[np.arange(len(q_run)), at]
 
@@ -52,7 +52,7 @@ def series(chain, run, batch, q_samples=None):
     theta = batch.parameters(t[:, None] * np.ones(len(batch.specs))).theta[:, index]
     theta_hat = estimates(run)
     f_hat = np.linalg.eigvalsh(pseudo_inertia(theta_hat))
-    low, high = mass_matrix_spectrum(chain, q, theta_hat)
+    low, high = mass_matrix_spectrum(composite.mass_matrix(chain, q, theta_hat))
     error = pseudo_inertia(theta_hat - theta)
     out = {
         "t": t, "q": q, "q_d": q_d, "e": q - q_d, "tracking_error": np.linalg.norm(q - q_d, axis=-1),
