@@ -10,7 +10,7 @@ from hypothesis import given, settings, strategies as st
 from inertiaproof.counterexamples.inertias import consistent_phi
 from inertiaproof.dynamics import motion
 from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse
-from inertiaproof.sim import adaptive, estimates, tracking
+from inertiaproof.sim import adaptive, estimates, simulate, tracking
 from inertiaproof.sim.recipe import Recipe
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
@@ -259,3 +259,13 @@ def test_a_run_stopped_at_its_barrier_says_float64_cannot_follow():
     assert run.status == "step collapse" and run.t[-1] < 0.1
     assert "from its barrier" in run.note and "float64" in run.note
     assert not adaptive.SlotineLi(1.0).barrier_margin(np.zeros((2, 10))).min() < np.inf
+
+
+def test_rk45_is_taken_only_well_inside_its_budget():
+    """choose_method keeps RK45 only where its stability bound needs at most 1 / RK45_MARGIN of the budget: a batch
+    predicted at 0.94 of its budget (Panda's 12 runs in ci) goes implicit."""
+    recipes = [Recipe("panda-payload-3kg", law, horizon=1.7, timing=(0.2, 0.01)) for law in ("slotine-li", "natural")]
+    batch = tracking.Batch(recipes[0].chain(), [r.spec() for r in recipes])
+    need = simulate.least_evaluations("RK45", float(batch.stiffness(1.7).max()), 1.7)
+    assert tracking.choose_method(batch, 1.7, int(need / 0.94)) == "BDF"
+    assert tracking.choose_method(batch, 1.7, int(need * tracking.RK45_MARGIN) + 1) == "RK45"
