@@ -19,7 +19,7 @@ from inertiaproof.report import adapt as adapt_report
 from inertiaproof.result import Verdict
 from inertiaproof.sim import tracking
 from inertiaproof.sim.recipe import Recipe
-from inertiaproof.scene.format import SceneError, parse_scene
+from inertiaproof.scene.format import INTEGRATORS, SceneError, parse_scene
 from inertiaproof.suite.catalog import APPLICATIONS, BY_ID
 from inertiaproof.suite.context import Context
 from inertiaproof.suite.outputs import Outputs
@@ -213,7 +213,7 @@ def test_the_adaptive_table_of_a_scene():
     assert scene.adaptive.gain("natural") == 200.0 and scene.adaptive.lam == 5.0
     with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.estimate: must be a list of 7 numbers"):
         parse_scene(text.replace("estimate = 1.0", "estimate = [1.0, 2.0]"), "panda.toml")
-    assert scene.adaptive.integrator == "auto"
+    assert scene.adaptive.integrator == "auto" and INTEGRATORS == ("auto",) + tuple(tracking.SOLVERS)
     with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.integrator: must be one of auto, RK45, DOP853"):
         parse_scene(text.replace("estimate = 1.0", "estimate = 1.0\nintegrator = \"Euler\""), "panda.toml")
 
