@@ -19,6 +19,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -31,10 +32,25 @@ def _burn():
         pass
 
 
-def verdicts(scene, out):
+@contextmanager
+def hogs(count):
+    """``count`` busy processes running for the duration of the block."""
+    busy = [multiprocessing.Process(target=_burn, daemon=True) for _ in range(count)]
+    for hog in busy:
+        hog.start()
+    try:
+        yield
+    finally:
+        for hog in busy:
+            hog.terminate()
+
+
+def verdicts(scene, out, timeout=1800):
+    """The verdicts of CHECKS on ``scene`` (``inertiaproof run`` in a subprocess, results in ``out``) and its
+    seconds."""
     start = time.perf_counter()
     subprocess.run([sys.executable, "-m", "inertiaproof", "run", "--scene", scene, "--quiet", "--no-verify",
-                    "--out", str(out), "--only", *CHECKS], cwd=ROOT, capture_output=True, timeout=1800)
+                    "--out", str(out), "--only", *CHECKS], cwd=ROOT, capture_output=True, timeout=timeout)
     seconds = time.perf_counter() - start
     doc = json.loads((out / "results.json").read_text())
     return {"seconds": round(seconds, 1), "verdicts": {c["check"]: c["verdict"] for c in doc["checks"]}}
@@ -49,14 +65,8 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         for scene in args.scenes:
             idle = verdicts(scene, Path(tmp) / "idle")
-            hogs = [multiprocessing.Process(target=_burn, daemon=True) for _ in range(args.hogs)]
-            for hog in hogs:
-                hog.start()
-            try:
+            with hogs(args.hogs):
                 busy = verdicts(scene, Path(tmp) / "busy")
-            finally:
-                for hog in hogs:
-                    hog.terminate()
             rows[scene] = {"idle": idle, "busy": busy, "same": idle["verdicts"] == busy["verdicts"],
                            "violated": "VIOLATED" in {*idle["verdicts"].values(), *busy["verdicts"].values()}}
             print(scene, json.dumps(rows[scene]), flush=True)

@@ -30,6 +30,7 @@ import numpy as np
 from hypothesis import Phase
 
 from inertiaproof.bounds import formulas
+from inertiaproof.bounds.certificate import pseudo_exact
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup
 from inertiaproof.bounds.premises import unsimulable
 from inertiaproof.checks.normality import refutations, unit_bodies
@@ -465,11 +466,9 @@ def _proved_xi(theta_hat, lambda_min, xi, error):
 def _exceeds(phi, x):
     """Whether f(phi) - x 1 is positive definite (DefTrafoInertialParameters), by its minors in exact rationals
     (:func:`inertiaproof.model.exact.definiteness`)."""
-    m, h1, h2, h3, i11, i22, i33, i12, i23, i13 = map(Fraction, phi)
-    inertia, h = [[i11, i12, i13], [i12, i22, i23], [i13, i23, i33]], [h1, h2, h3]
-    half_trace, x = (i11 + i22 + i33) / 2, Fraction(x)
-    f = [[(half_trace - x if i == j else 0) - inertia[i][j] for j in range(3)] + [h[i]] for i in range(3)]
-    return definiteness(integer_matrix(f + [h + [m - x]]))[0] == "pd"
+    x = Fraction(x)
+    shifted = [[e - x if i == j else e for j, e in enumerate(row)] for i, row in enumerate(pseudo_exact(phi))]
+    return definiteness(integer_matrix(shifted))[0] == "pd"
 
 
 def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, xi_override=None):

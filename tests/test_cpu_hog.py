@@ -1,37 +1,23 @@
 """Verdicts that do not depend on the machine (issue 26): the clock-sensitive checks of the stiff thin rod (the
 adaptive runs, the escape hunt and the stability study, which stop at wall-clock safety nets) give the same
-verdicts on a machine with two CPU hogs running as on an idle one, and none is VIOLATED."""
+verdicts on a machine with two CPU hogs running as on an idle one, and none is VIOLATED (bench/cpu_hog.py, which
+also runs the 24-link snake)."""
 
 from __future__ import annotations
 
-import json
-import multiprocessing
-import subprocess
-import sys
+import importlib.util
+from pathlib import Path
 
-CHECKS = ("APP-robustness", "APP-estimate-bounds", "APP-euclidean-escape", "stability")
-
-
-def _burn():
-    while True:
-        pass
-
-
-def _verdicts(out):
-    subprocess.run([sys.executable, "-m", "inertiaproof", "run", "--scene", "scenes/stiff_thin_rod.toml", "--quiet",
-                    "--no-verify", "--out", str(out), "--only", *CHECKS], capture_output=True, timeout=300)
-    return {c["id"]: c["verdict"] for c in json.loads((out / "results.json").read_text())["checks"]}
+ROOT = Path(__file__).resolve().parents[1]
+spec = importlib.util.spec_from_file_location("bench_cpu_hog", ROOT / "bench" / "cpu_hog.py")
+bench = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(bench)
+SCENE = "scenes/stiff_thin_rod.toml"
 
 
 def test_the_thin_rod_gives_the_same_verdicts_under_two_cpu_hogs(tmp_path):
-    idle = _verdicts(tmp_path / "idle")
-    hogs = [multiprocessing.Process(target=_burn, daemon=True) for _ in range(2)]
-    for hog in hogs:
-        hog.start()
-    try:
-        busy = _verdicts(tmp_path / "busy")
-    finally:
-        for hog in hogs:
-            hog.terminate()
-    assert set(idle) == set(CHECKS) and busy == idle
+    idle = bench.verdicts(SCENE, tmp_path / "idle", timeout=300)["verdicts"]
+    with bench.hogs(2):
+        busy = bench.verdicts(SCENE, tmp_path / "busy", timeout=300)["verdicts"]
+    assert set(idle) == set(bench.CHECKS) and busy == idle
     assert "VIOLATED" not in idle.values()

@@ -11,8 +11,9 @@ each parameter set is proved in turn. The ``tree`` (:mod:`.tree`) cuts D into bo
 the pivots of :meth:`.kinematics.Chain.pivots` prove needs none of its halves; a leaf they do not prove is cut
 again, within the budget of work spent on the boxes beyond the tree (:data:`.kinematics.WORK`); where the pivots
 at its centre are proved negative, the claim is refuted there, and so it is at the optional ``witness`` (a
-configuration, tested first). An upper claim is first tried without boxes: the spectral radius of entry sizes from the chain's lengths bounds
-lambda_max(M(q)) for every q at once (:mod:`.lengths`), where a long chain's tree would need too many boxes.
+configuration, tested first). An upper claim is first tried without boxes: the spectral radius of entry sizes
+from the chain's lengths bounds lambda_max(M(q)) for every q at once (:mod:`.lengths`), where a long chain's tree
+would need too many boxes.
 
 Optional ``forms`` (lambda_min only): one set of body matrices Y_l for all parameter sets, or one per set, each
 Y_l <= Z(Phi_l) (decided exactly); then M(q, Theta) >= sum_l QJ_l^T Y_l QJ_l and the boxes are proved on the
