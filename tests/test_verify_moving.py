@@ -12,7 +12,7 @@ import pytest
 from inertiaproof.bounds.certificate import product_certificate
 from inertiaproof.bounds.time import BODY_FUNCTIONS, lumped_velocity_bounds, time_extreme
 from inertiaproof.checks.other_components import acc_result
-from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Path, Profile, Scaling
+from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile, Scaling
 from inertiaproof.model.inertia import from_urdf
 from inertiaproof.scene import robots
 from inertiaproof.suite.context import Context
@@ -25,6 +25,11 @@ ROD = from_urdf(np.array([1.5]), np.array([[0.3, 0.0, 0.0]]), np.diag([1e-3, 0.0
 LINE = ParameterTrajectory(np.stack([ROD, ROD]), (
     MovingMass(1, 0.7, np.diag([1e-3, 2e-3, 2e-3]), Path("line", Profile("cosine", 0.5, 2.0), (0.1, 0.0, 0.0),
                                                           (0.8, 0.1, 0.0))),), (0.0, 4.0))
+
+BALL = from_urdf(np.array([2.0]), np.array([[0.5, 0.1, 0.0]]), np.diag([4e-3, 4e-3, 4e-3])[None])[0]
+MIXED = ParameterTrajectory(LINE.base, LINE.loads + (  # a moving mass beside two payloads
+    Payload(1, BALL, Profile("smootherstep", 1.0, 1.5)), Payload(0, 0.5 * BALL, Profile("smoothstep", 0.2, 0.4))),
+    LINE.span)
 
 
 def _found(trajectory):
@@ -44,6 +49,31 @@ def test_every_bound_over_time_of_moving_loads_is_reproved_and_a_lower_one_refut
         tampered["claim"]["bound"] = str(Fraction(found["observed"]) * (Fraction(101, 100) if lower
                                                                          else Fraction(99, 100)))
         assert check(tampered)["status"] == "refuted", name
+
+
+def test_spectra_over_time_of_moving_loads_beside_payloads_are_reproved_and_a_lower_one_refuted():
+    """The rest of Theta(t) sweeps the hull of the payloads' segments: the spectra are certified over it (and sampled
+    inside their bounds); the rates, which would need the payloads' rates too, are left uncertified."""
+    for name, found in _found(MIXED).items():
+        if name in ("smax_fdot", "smax_Zdot"):
+            assert not np.isfinite(found["certified"]) and "certificate" not in found, name
+            continue
+        lower = found.get("sense") == "min"
+        assert (found["certified"] <= found["observed"]) if lower else (found["observed"] <= found["certified"])
+        cert = found["certificate"]
+        assert len(cert["parameters"]) == (1 if name.startswith("psi") else 4)
+        assert check(cert)["status"] == "re-proved", (name, check(cert))
+        tampered = copy.deepcopy(cert)
+        tampered["claim"]["bound"] = str(Fraction(found["observed"]) * (Fraction(101, 100) if lower
+                                                                         else Fraction(99, 100)))
+        assert check(tampered)["status"] == "refuted", name
+
+
+def test_a_rate_claim_over_several_parameter_sets_is_a_bad_certificate():
+    cert = copy.deepcopy(_found(LINE)["smax_fdot"]["certificate"])
+    cert["parameters"] = cert["parameters"] * 2
+    out = check(cert)
+    assert out["status"] == "bad certificate" and "one set" in out["why"], out
 
 
 @pytest.mark.parametrize("field, value, why", [

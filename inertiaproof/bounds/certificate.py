@@ -14,6 +14,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from inertiaproof.dynamics.trajectory import MovingMass
 from inertiaproof.model.exact import definiteness, integer_matrix
 
 from .domain import certification_obstacle, search_box
@@ -315,10 +316,11 @@ MOVING_CLAIMS = {  # time_extreme's name or "psi", "psi_dot": (the checker's qua
 }
 
 
-def moving_mass_certificate(trajectory, name, bound, provenance=""):
+def moving_mass_certificate(trajectory, name, bound, provenance, stack):
     """The certificate (kind ``moving-mass``) of "for every t, ``name`` (a key of :data:`MOVING_CLAIMS`) is bounded
-    by ``bound``" on a trajectory whose loads all move (:class:`inertiaproof.dynamics.trajectory.MovingMass`); None
-    when the bound is not finite."""
+    by ``bound``" on a trajectory with moving loads (:class:`inertiaproof.dynamics.trajectory.MovingMass`), the rest
+    of Theta(t) in the hull of ``stack`` (V, N, 10; one set, its base, for the rates and Psi, which need every load
+    to move); None when the bound is not finite."""
     if not np.isfinite(float(bound)):
         return None
     quantity, statement = MOVING_CLAIMS[name]
@@ -332,11 +334,14 @@ def moving_mass_certificate(trajectory, name, bound, provenance=""):
               "path": path(load.path), "profile": {"shape": load.path.profile.shape,
                                                    "duration": exact(load.path.profile.duration),
                                                    "rate": exact(load.path.profile.rate)}}
-             for load in trajectory.loads]
+             for load in trajectory.loads if isinstance(load, MovingMass)]
+    stack = np.asarray(stack, float)
+    sets = np.unique(stack.reshape(len(stack), -1), axis=0).reshape(-1, *stack.shape[1:])
+    hull = "" if len(sets) == 1 else f", the rest of each body's row in the hull of its {len(sets)} parameter sets"
     return {"schema": SCHEMA,
             "claim": {"kind": "moving-mass", "quantity": quantity, "bound": exact(bound),
-                      "statement": "for every t: " + statement.format(bound=f"{float(bound):.10g}")},
-            "parameters": [_rows(trajectory.base)], "loads": loads, "provenance": provenance}
+                      "statement": f"for every t{hull}: " + statement.format(bound=f"{float(bound):.10g}")},
+            "parameters": [_rows(s) for s in sets], "loads": loads, "provenance": provenance}
 
 
 def key_step_certificate(choi, lower, upper):
