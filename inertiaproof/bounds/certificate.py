@@ -319,8 +319,8 @@ MOVING_CLAIMS = {  # time_extreme's name or "psi", "psi_dot": (the checker's qua
 def moving_mass_certificate(trajectory, name, bound, provenance, stack):
     """The certificate (kind ``moving-mass``) of "for every t, ``name`` (a key of :data:`MOVING_CLAIMS`) is bounded
     by ``bound``" on a trajectory with moving loads (:class:`inertiaproof.dynamics.trajectory.MovingMass`), the rest
-    of Theta(t) in the hull of ``stack`` (V, N, 10; one set, its base, for the rates and Psi, which need every load
-    to move); None when the bound is not finite."""
+    of Theta(t) (of Thetadot(t) for the rates) in the hull of ``stack`` (V, N, 10; for Psi, which only the moving
+    loads have, one set); None when the bound is not finite."""
     if not np.isfinite(float(bound)):
         return None
     quantity, statement = MOVING_CLAIMS[name]

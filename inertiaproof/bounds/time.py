@@ -203,21 +203,22 @@ def _rounded(matrices, kind):
     return spectral(matrices, kind) + (-allowance if kind == "lmin" else allowance)
 
 
-def fixed_part_vertices(trajectory):
-    """(V, N, 10): vertices of Theta(t) less its moving masses, the hull of the payloads' and scalings' segments; None
-    where a profile grows without bound."""
+def fixed_part_vertices(trajectory, rate=False):
+    """(V, N, 10): vertices of Theta(t) (``rate``: of Thetadot(t)) less its moving masses, the hull of the payloads'
+    and scalings' segments; None where a profile grows without bound."""
     fixed = ParameterTrajectory(trajectory.base, tuple(load for load in trajectory.loads
                                                        if not isinstance(load, MovingMass)), trajectory.span)
-    stack = parameter_vertices(fixed)[0]
+    stack = parameter_vertices(fixed)[1 if rate else 0]
     return stack if np.all(np.isfinite(stack)) else None
 
 
 def _moving_mass_bound(trajectory, name):
-    """Theta(t) = Theta_fixed(t) + sum_p Phi_p(t), Theta_fixed in the hull of :func:`fixed_part_vertices`: a moving
-    body adds a PSD f(Phi_p) (and Z(Phi_p)) of norm at most its ``f_norm``; rates only where every load moves."""
+    """Theta(t) = Theta_fixed(t) + sum_p Phi_p(t), Theta_fixed in the hull of :func:`fixed_part_vertices` (and so
+    its rate): a moving body adds a PSD f(Phi_p) (and Z(Phi_p)) of norm at most its ``f_norm``, and a rate of norm at
+    most its ``f_rate``."""
     build, kind, rate = BODY_FUNCTIONS[name]
-    stack = fixed_part_vertices(trajectory)
-    if stack is None or (rate and not all(isinstance(load, MovingMass) for load in trajectory.loads)):
+    stack = fixed_part_vertices(trajectory, rate)
+    if stack is None:
         return -np.inf if kind == "lmin" else np.inf
     extra = np.zeros(trajectory.bodies)
     for load in trajectory.loads:
@@ -225,8 +226,6 @@ def _moving_mass_bound(trajectory, name):
             terms = _moving_mass_terms(load)
             factor = 2.0 if build is spatial_inertia else 1.0  # ||Z(F)|| <= 2 ||F|| for F >= 0 or |F| bounded
             extra[load.body] += factor * (terms["f_rate"] if rate else terms["f_norm"])
-    if rate:
-        return _up(extra.max())
     base = _rounded(build(stack), kind)  # (V, N)
     if kind == "lmin":
         return float(base.min())  # adding a consistent body only adds a PSD term
@@ -255,15 +254,9 @@ def _up(x):
 
 
 def _moving_certificate(trajectory, name, bound, how):
-    """The ``moving-mass`` certificate of a bound over time where a load moves: for the spectra of Theta(t) over the
-    hull of the rest's vertices, for Psi (only the moving loads have one) over the base; for the rates of Theta(t)
-    only where every load moves. None otherwise."""
-    moving = [isinstance(load, MovingMass) for load in trajectory.loads]
-    if not any(moving):
+    """The ``moving-mass`` certificate of a bound over time where a load moves, the rest of Theta(t) (or of its rate)
+    over the hull of its vertices; for Psi, which only the moving loads have, over the base. None otherwise."""
+    if not any(isinstance(load, MovingMass) for load in trajectory.loads):
         return None
-    if name in BODY_FUNCTIONS and not BODY_FUNCTIONS[name][2]:
-        stack = fixed_part_vertices(trajectory)
-        return None if stack is None else moving_mass_certificate(trajectory, name, bound, how, stack)
-    if name.startswith("psi") or all(moving):
-        return moving_mass_certificate(trajectory, name, bound, how, trajectory.base[None])
-    return None
+    rest = fixed_part_vertices(trajectory, BODY_FUNCTIONS[name][2]) if name in BODY_FUNCTIONS else trajectory.base[None]
+    return None if rest is None else moving_mass_certificate(trajectory, name, bound, how, rest)

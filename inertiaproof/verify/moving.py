@@ -1,8 +1,7 @@
 """The ``moving-mass`` claim: bounds over all time of bodies carrying rigid loads that translate along paths.
 
-Data: ``parameters`` (the bodies' rows without the moving loads: one set, their constant rows; for the spectra of
-f and Z, one or more sets, the claim then holding for the rows anywhere in their hull, as payloads and scalings sweep
-it) and ``loads``, each a rigid body of ``mass`` m > 0 and
+Data: ``parameters``, the bodies' rows without the moving loads (for the rates, their rates; one or more sets, whose
+hull the payloads and scalings sweep; for Psi one set), and ``loads``, each a rigid body of ``mass`` m > 0 and
 ``inertia_com`` I_c (3x3, about its centre, Sigma_c = tr(I_c)/2 I3 - I_c >= 0: consistent, decided exactly) on body
 ``body`` (from 1), its centre at c(t) = a + s(t) (b - a) (``path`` shape ``line``, ``start`` a, ``end`` b) or on a
 circle of ``radius`` r about ``center`` at angle 2 pi s(t) (shape ``circle``), s(t) a ``profile`` (``shape``,
@@ -16,17 +15,14 @@ d1 A + d2 R^2, the claim ``quantity`` holds for every t:
   decide (F - bound I >= 0, exactly, in every set);
 - ``lambda_max_f`` (``lambda_max_Z``): max_l lambda_max <= bound: bound I - F(row_l) - sum_p (diag(Sigma_c, 0) (or
   diag(0, I_c)) + m (1 + C^2) I) >= 0 for each body, exactly, in every set;
-
-both conditions are linear in the row and the semidefinite cone is convex: holding at every set, they hold on the
-hull;
 - ``sigma_max_fdot``: max_l sigma_max(f(Phidot_l)) <= bound: f(Phidot_p) = m (u v^T + v u^T), u = (cdot, 0), whose
-  eigenvalues are m (u.v +- |u| |v|), so sum_p m d1 R (C + (1 + C^2)^(1/2)) <= bound for each body;
-- ``sigma_max_Zdot``: Z(Phidot_p) = m (Wdot W^T + W Wdot^T), ||Wdot|| = |cdot|: sum_p 2 m d1 R (1 + C^2)^(1/2);
-- ``psi`` (``psi_dot``): ||Psi|| <= sum_p ||psi_p|| <= sum_p m d1 R (1 + C^2)^(1/2) (the same with d1 A + d2 R^2)
-  <= bound.
+  eigenvalues are m (u.v +- |u| |v|): sigma_max(F) + sum_p m d1 R (C + (1 + C^2)^(1/2)) <= bound, F the rest's rate;
+- ``sigma_max_Zdot``: Z(Phidot_p) = m (Wdot W^T + W Wdot^T), ||Wdot|| = |cdot|: the sum of 2 m d1 R (1 + C^2)^(1/2);
+- ``psi`` (``psi_dot``): ||Psi|| <= sum_p ||psi_p|| <= sum_p m d1 R (1 + C^2)^(1/2) (d1 A + d2 R^2 for R), F = 0.
 
-The sums are decided in ball arithmetic; C^2 is an exact rational (for a circle checked exactly against
-(|center| + r)^2).
+A matrix condition linear in the row, holding at every set, holds on their hull (the semidefinite cone is convex).
+The sums are balls; sigma_max(F) + sum <= bound is (bound - r) I -+ F >= 0, decided exactly for the ball's ends r.
+C^2 is an exact rational (for a circle checked exactly against (|center| + r)^2).
 """
 
 from __future__ import annotations
@@ -85,14 +81,15 @@ def _path(data, where):
     centre2, r = _norm2(_vector(data.get("center"), f"{where}.center")), rational(data.get("radius"), f"{where}.radius")
     if r < 0:
         raise BadCertificate(f"{where}.radius: must be >= 0")
-    reach = _rational_above((arb(centre2).sqrt() + arb(r)) ** 2)
+    reach = _exact(((arb(centre2).sqrt() + arb(r)) ** 2).upper())
     while not (reach - centre2 - r * r >= 0 and (reach - centre2 - r * r) ** 2 >= 4 * r * r * centre2):
         reach *= 1 + fmpq(1, 2**40)  # (|center| + r)^2 <= reach, decided exactly
     return reach, 2 * arb.pi() * arb(r), 4 * arb.pi() ** 2 * arb(r)
 
 
-def _rational_above(x):
-    man, exp = x.upper().mid().man_exp()
+def _exact(x):
+    """An exact arb (a ball's end) as a rational."""
+    man, exp = x.mid().man_exp()
     return fmpq(int(man)) * fmpq(2) ** int(exp) if exp >= 0 else fmpq(int(man), 2 ** int(-exp))
 
 
@@ -145,7 +142,7 @@ def prove(cert, budget):
     if quantity not in QUANTITIES:
         raise BadCertificate(f"claim.quantity: one of {list(QUANTITIES)}")
     sets = parameter_sets(cert.get("parameters"))
-    if len(sets) != 1 and not quantity.startswith("lambda"):
+    if len(sets) != 1 and quantity.startswith("psi"):
         raise BadCertificate("parameters: one set, the bodies' constant rows")
     loads = _loads(cert, len(sets[0]))
     if quantity.startswith("lambda"):
@@ -161,16 +158,29 @@ def prove(cert, budget):
                             for i, r in enumerate(f)]
                 if not semidefinite(test):
                     return Outcome("refuted", f"body {l + 1} of set {v + 1}: the bound fails for its own row and its "
-                                   "loads' bounds (exact rational arithmetic)", 0,
-                                   {"body": l + 1, "set": v + 1, "quantity": quantity})
-        return Outcome("re-proved", f"{len(sets[0])} bodies in {len(sets)} set(s), {len(loads)} moving load(s): "
-                       "decided exactly", 0)
-    rows = sets[0]
-    groups = [loads] if quantity.startswith("psi") else [[p for p in loads if p["body"] == l] for l in range(len(rows))]
-    for group in groups:
-        total = sum((_rate(load, quantity) for load in group), arb(0))
-        if not total <= arb(bound):
-            status = "refuted" if total > arb(bound) else "not decided"
-            return Outcome(status, f"the loads' bound {total.str(10)} is not <= {float(bound):.10g} (ball "
-                           "arithmetic)", 0, {"quantity": quantity})
-    return Outcome("re-proved", f"{len(loads)} moving load(s): the sum decided in ball arithmetic", 0)
+                                   "loads' bounds (exact rational arithmetic)", 0, {"quantity": quantity})
+        return Outcome("re-proved", f"{len(sets)} set(s), {len(loads)} moving load(s): decided exactly", 0)
+    psi = quantity.startswith("psi")
+    matrix = pseudo_inertia if quantity.endswith("fdot") else spatial_inertia
+    for l in range(1 if psi else len(sets[0])):
+        total = sum((_rate(load, quantity) for load in loads if psi or load["body"] == l), arb(0))
+        for v, rows in enumerate(sets):
+            status = _decide(total, bound, [[fmpq(0)]] if psi else matrix(rows[l]))
+            if status:
+                return Outcome(status, f"{'Psi' if psi else f'body {l + 1} of set {v + 1}'}: sigma_max(F) + the loads' "
+                               f"{total.str(10)} is not <= {float(bound):.10g}", 0, {"quantity": quantity})
+    return Outcome("re-proved", f"{len(loads)} moving load(s) on {len(sets)} set(s): the sums decided", 0)
+
+
+def _decide(total, bound, f):
+    """None where sigma_max(F) + total <= bound, proved as (bound - r) I -+ F >= 0 exactly for r the upper end of the
+    ball ``total``; else "refuted" where that fails for its lower end, "not decided" where it does not."""
+    def holds(r):
+        return all(semidefinite([[(bound - r if i == j else 0) + sign * x for j, x in enumerate(row)]
+                                 for i, row in enumerate(f)]) for sign in (-1, 1))
+
+    if holds(_exact(total.upper())):
+        return None
+    return "not decided" if holds(_exact(total.lower())) else "refuted"
+
+
