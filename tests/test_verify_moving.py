@@ -120,3 +120,24 @@ def test_a_scaling_without_bound_is_certified_along_its_growth_direction():
     upper = copy.deepcopy(cert)
     upper["claim"]["quantity"] = "lambda_max"
     assert check(upper)["status"] == "bad certificate"
+
+
+def test_bounds_over_time_of_a_moving_mass_beside_a_payload_hold_on_random_trajectories():
+    """Random bodies with a payload ramp and a moving mass: every certified side lies beyond what a time grid attains
+    and is re-proved."""
+    from hypothesis import given, settings, strategies as st
+    from inertiaproof.counterexamples.trajectories import trajectories
+
+    @settings(max_examples=15, deadline=None, derandomize=True)
+    @given(st.data())
+    def beyond_the_samples(data):
+        moving = data.draw(trajectories(3, 1.0, moving_mass=True))
+        payload = data.draw(trajectories(3, 1.0))
+        mixed = ParameterTrajectory(moving.base, moving.loads + payload.loads,
+                                    (0.0, max(moving.span[1], payload.span[1])))
+        for name, found in _found(mixed).items():
+            lower = found.get("sense") == "min"
+            assert (found["certified"] <= found["observed"]) if lower else (found["observed"] <= found["certified"])
+            assert check(found["certificate"])["status"] == "re-proved", name
+
+    beyond_the_samples()
