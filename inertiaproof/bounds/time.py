@@ -3,7 +3,7 @@
 Theta(t) of payloads and scalings lies on segments Theta_base + s Phi_load with s in the profile's range;
 spectral extremes that are concave or convex in Theta are then attained at the segment's ends (exact for one
 load per body). Moving masses are bounded by positivity (Z(Phi_load) >= 0) and by the profile's rate and
-acceleration bounds.
+acceleration bounds, the rest of Theta(t) beside them (payloads, scalings) over its segments' hull.
 """
 
 from __future__ import annotations
