@@ -31,7 +31,7 @@ from inertiaproof.checks.pointwise import with_hunt
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
 from inertiaproof.bounds.constants import lower_constants, upper_constants
 from inertiaproof.bounds.premises import failed_premises
-from inertiaproof.bounds.time import parameter_vertices, time_extreme
+from inertiaproof.bounds.time import moving_mass_hull, parameter_vertices, time_extreme
 from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
 from inertiaproof.model.positive_map import key_step_certificate
@@ -60,10 +60,24 @@ def _extreme_over_time(ctx, scene, kind, what):
     thetas = parameter_stack(traj, rate=False)
     pick = (lambda w: w[..., 0].min(-1)) if kind == "lmin" else (lambda w: w[..., -1].max(-1))
     name = "inf lambda_min(M(q, Theta(t)))" if kind == "lmin" else "sup lambda_max(M(q, Theta(t)))"
-    return cached(ctx, scene, what, lambda: sampled_bracket(
-        lambda q: pick(np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], thetas[None]))),
-        chain, name, "min" if kind == "lmin" else "max", ctx, scene,
-        "moving mass: Theta(t) is not affine in the profile, the extreme over t is sampled on 64 times"))
+
+    def bracket():
+        """Sampled over 64 times; certified over the moving masses' hull (bounds.time.moving_mass_hull)."""
+        found = sampled_bracket(lambda q: pick(np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None],
+                                                                                         thetas[None]))),
+                                chain, name, "min" if kind == "lmin" else "max", ctx, scene,
+                                "moving mass: Theta(t) is not affine in the profile, the extreme over t is sampled on "
+                                "64 times")
+        hull = moving_mass_hull(traj, kind)
+        if hull is not None:
+            outer = (mass_inf if kind == "lmin" else mass_sup)(chain, hull, **kw(ctx, scene, what + " hull"))
+            how = ("certified over the hull of the rest's vertices, where each moving body " +
+                   ("adds f(Phi_p) >= 0" if kind == "lmin" else "is replaced by a row above f(Phi_p(c)) on its path"))
+            if found.tighten(outer.certified, f"{how}: {outer.note}" if outer.note else how, outer.proof):
+                found.certify, found.boxes = outer.certify, outer.boxes
+        return found
+
+    return cached(ctx, scene, what, bracket)
 
 
 @hunted_case("Thm2")

@@ -16,7 +16,7 @@ from inertiaproof.checks.other_components import acc_result, rate_case, thm4_res
 from inertiaproof.checks.pointwise import margins, point_counterexample, replay_point, run_hunt, worst_point
 
 from inertiaproof.bounds.configuration import REPROVABLE, apriori_bound, jacobian_sup, triangular_normality_floor
-from inertiaproof.bounds.time import BODY_FUNCTIONS, lumped_velocity_bounds, time_extreme
+from inertiaproof.bounds.time import BODY_FUNCTIONS, lumped_velocity_bounds, moving_mass_hull, time_extreme
 from inertiaproof.model.inertia import spatial_inertia, unit_body
 from inertiaproof.model.positive_map import (
     exact_map,
@@ -226,6 +226,49 @@ def test_moving_mass_bounds_are_valid():
     for name in BODY_FUNCTIONS:
         d = time_extreme(traj, name, samples=4001)
         assert (d["certified"] <= d["observed"] + 1e-12) if d["sense"] == "min" else (d["observed"] <= d["certified"] + 1e-12)
+
+
+def test_the_moving_mass_hull_bounds_the_mass_matrix_over_time_and_without_the_lift_it_does_not():
+    """lambda_min of M along Theta(t) stays above its min over the hull's rows and lambda_max below its max, on random
+    bodies carrying a payload ramp and a moving mass; the hull of the rest alone (no row above the moving mass) fails
+    the upper side."""
+    from hypothesis import given, settings, strategies as st
+    from inertiaproof.counterexamples.trajectories import trajectories
+    from inertiaproof.dynamics import composite
+    from inertiaproof.dynamics.trajectory import ParameterTrajectory
+
+    chain = robots.planar_2r().chain
+    q = np.random.default_rng(0).uniform(-np.pi, np.pi, (40, 2))
+    spectra = lambda thetas: np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], thetas[None]))  # noqa: E731
+    escaped = []
+
+    @settings(max_examples=20, deadline=None, derandomize=True)
+    @given(st.data())
+    def inside(data):
+        moving = data.draw(trajectories(2, 1.0, moving_mass=True))
+        payload = data.draw(trajectories(2, 1.0))
+        mixed = ParameterTrajectory(moving.base, moving.loads + payload.loads, (0.0, max(moving.span[1],
+                                                                                        payload.span[1])))
+        along = spectra(mixed.theta(mixed.times(200))[0])
+        rest, above = (spectra(moving_mass_hull(mixed, kind)) for kind in ("lmin", "lmax"))
+        assert rest[..., 0].min() <= along[..., 0].min() * (1 + 1e-9)
+        assert along[..., -1].max() <= above[..., -1].max() * (1 + 1e-9)
+        escaped.append(along[..., -1].max() > rest[..., -1].max() * (1 + 1e-9))
+
+    inside()
+    assert any(escaped)
+
+
+def test_the_trolleys_mass_matrix_brackets_are_certified_over_its_hull_and_reproved():
+    from inertiaproof.verify.cli import check
+
+    scene = robots.trolley_2r()
+    for case, side in ((lower_bound_case, "lower"), (upper_bound_case, "upper")):
+        bracket = case(ctx(), scene)[2]["bracket"]
+        certified, observed = bracket[side]["value"], bracket["upper" if side == "lower" else "lower"]["value"]
+        assert np.isfinite(certified) and ((certified <= observed) if side == "lower" else (observed <= certified))
+        assert "hull of the rest's vertices" in bracket[side]["note"]
+        assert check(bracket[side]["certificate"])["status"] == "re-proved"
 
 
 def test_triangular_normality_floor_is_valid_on_random_chains():

@@ -13,14 +13,14 @@ import itertools
 import numpy as np
 
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
-from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
+from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse, spatial_inertia
 
 from .certificate import body_spectrum_certificate, moving_mass_certificate
 from .spectral import EPS, ROUNDING, spectral
 
 __all__ = [
     "ACCELERATION_PEAK", "affine_loads", "BODY_FUNCTIONS", "fixed_part_vertices", "lumped_velocity_bounds",
-    "parameter_vertices", "profile_acceleration_bound", "profile_range", "time_extreme", "vertex_extreme",
+    "moving_mass_hull", "parameter_vertices", "profile_acceleration_bound", "profile_range", "time_extreme", "vertex_extreme",
 ]
 
 
@@ -210,6 +210,27 @@ def fixed_part_vertices(trajectory, rate=False):
                                                        if not isinstance(load, MovingMass)), trajectory.span)
     stack = parameter_vertices(fixed)[1 if rate else 0]
     return stack if np.all(np.isfinite(stack)) else None
+
+
+def moving_mass_hull(trajectory, kind):
+    """(V, N, 10) whose hull bounds Theta(t) of moving masses in the semidefinite order of each body's f: for "lmin"
+    the rest's vertices (:func:`fixed_part_vertices`; a moving body adds f(Phi_p) >= 0), for "lmax" those plus, on
+    each moving body, the row of diag(Sigma_c, 0) + m (1 + C^2) I4 >= f(Phi_p(c)) (|c| <= C), its diagonal raised by
+    ROUNDING eps of its size for the float steps. M(q, Theta) is monotone in each f(Phi_l) (Z = L(f), L a positive map:
+    the key step), so lambda_min and lambda_max of M over t are bounded by their extremes over the hull. None where a
+    profile grows without bound."""
+    stack = fixed_part_vertices(trajectory)
+    if stack is None or kind == "lmin":
+        return stack
+    stack = stack.copy()
+    for load in trajectory.loads:
+        if isinstance(load, MovingMass):
+            f = np.zeros((4, 4))
+            f[:3, :3] = 0.5 * np.trace(load.inertia_com) * np.eye(3) - load.inertia_com
+            lift = load.mass * (1 + _path_geometry(load.path)[0] ** 2)
+            f += (lift + ROUNDING * EPS * (lift + np.abs(f).sum())) * np.eye(4)
+            stack[:, load.body] += pseudo_inertia_inverse(f)
+    return stack
 
 
 def _moving_mass_bound(trajectory, name):
