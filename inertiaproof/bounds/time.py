@@ -20,7 +20,8 @@ from .spectral import EPS, ROUNDING, spectral
 
 __all__ = [
     "ACCELERATION_PEAK", "affine_loads", "BODY_FUNCTIONS", "fixed_part_vertices", "lumped_velocity_bounds",
-    "moving_mass_hull", "parameter_vertices", "profile_acceleration_bound", "profile_range", "time_extreme", "vertex_extreme",
+    "moving_mass_hull", "parameter_vertices", "profile_acceleration_bound", "profile_range", "time_extreme",
+    "vertex_extreme",
 ]
 
 
