@@ -28,6 +28,12 @@ SCHEMA = "inertiaproof.certificate/1"
 STATEMENT = {"lambda_min": "lambda_min(M(q, Theta)) >= {bound}", "lambda_max": "lambda_max(M(q, Theta)) <= {bound}"}
 
 
+def _distinct(stack):
+    """The distinct parameter sets of a stack (V, N, 10)."""
+    stack = np.asarray(stack, float)
+    return np.unique(stack.reshape(len(stack), -1), axis=0).reshape(-1, *stack.shape[1:])
+
+
 def exact(x):
     """The float64 x (or a Fraction) as the exact rational it is, "p/q" (or "p")."""
     return str(x if isinstance(x, Fraction) else Fraction(float(x)))
@@ -119,7 +125,7 @@ def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=
     if isinstance(proof, SplitProof) or forms is not None and len(forms) == len(thetas) > 1:  # paired: keep the order
         sets = thetas
     else:
-        sets = np.unique(thetas.reshape(len(thetas), -1), axis=0).reshape((-1,) + thetas.shape[1:])
+        sets = _distinct(thetas)
     joints = [{"kind": j.kind, "axis": [exact(a) for a in j.axis], "before": _rows(j.before), "after": _rows(j.after),
                "coordinate": j.coordinate.name} for j in chain.joints]
     return {"schema": SCHEMA,
@@ -194,8 +200,7 @@ class PayloadClaim:
         cert = self.inner(bound, note, witness, proof) if self.inner else None
         if cert is None or "parameters" not in cert:
             return None
-        arm = np.asarray(self.arm, float)
-        sets = np.unique(arm.reshape(len(arm), -1), axis=0).reshape((-1,) + arm.shape[1:])
+        sets = _distinct(self.arm)
         if len(cert["parameters"]) != len(sets):
             return None
         claim = {**cert["claim"], "kind": "payload-envelope",
@@ -229,7 +234,7 @@ def payload_f_certificate(arm, payloads, beta):
     while not all(definiteness(integer_matrix([[(bound - lift if i == j else 0) - f[i][j] for j in range(4)]
                                                for i in range(4)]))[0] != "indefinite" for f, lift in pseudo):
         bound += step
-    sets = np.unique(arm.reshape(len(arm), -1), axis=0).reshape((-1,) + arm.shape[1:])
+    sets = _distinct(arm)
     return {"schema": SCHEMA,
             "claim": {"kind": "payload-envelope", "quantity": "lambda_max_f", "bound": exact(bound),
                       "statement": f"for every body l, Theta in the hull of the {len(sets)} parameter set(s) and all "
@@ -258,7 +263,7 @@ def body_spectrum_certificate(stack, name, bound, provenance="", directions=None
     if not (np.all(np.isfinite(stack)) and np.isfinite(float(bound))):
         return None
     matrix, quantity, statement = BODY_CLAIMS[name]
-    sets = np.unique(stack.reshape(len(stack), -1), axis=0).reshape(-1, *stack.shape[1:])
+    sets = _distinct(stack)
     return {"schema": SCHEMA,
             "claim": {"kind": "body-spectrum", "matrix": matrix, "quantity": quantity, "bound": exact(bound),
                       "statement": f"for every body l and Phi_l in the hull of its rows in the {len(sets)} parameter "
@@ -335,8 +340,7 @@ def moving_mass_certificate(trajectory, name, bound, provenance, stack):
                                                    "duration": exact(load.path.profile.duration),
                                                    "rate": exact(load.path.profile.rate)}}
              for load in trajectory.loads if isinstance(load, MovingMass)]
-    stack = np.asarray(stack, float)
-    sets = np.unique(stack.reshape(len(stack), -1), axis=0).reshape(-1, *stack.shape[1:])
+    sets = _distinct(stack)
     hull = "" if len(sets) == 1 else f", the rest of each body's row in the hull of its {len(sets)} parameter sets"
     return {"schema": SCHEMA,
             "claim": {"kind": "moving-mass", "quantity": quantity, "bound": exact(bound),
