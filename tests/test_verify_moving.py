@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from inertiaproof.bounds.certificate import product_certificate
+from inertiaproof.bounds.spectral import EPS, ROUNDING
 from inertiaproof.bounds.time import BODY_FUNCTIONS, lumped_velocity_bounds, time_extreme
 from inertiaproof.checks.other_components import acc_result
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile, Scaling
@@ -38,6 +39,15 @@ def _found(trajectory):
     return found
 
 
+def _beyond(found, trajectory):
+    """Whether a certified side lies beyond the sampled one, which eigvalsh computes to within ROUNDING eps of the
+    largest eigenvalue of f or Z along the trajectory (a sample may fall that far below a true lambda_min)."""
+    slack = ROUNDING * EPS * max(time_extreme(trajectory, name)["observed"] for name in ("lmax_f", "lmax_Z"))
+    if found.get("sense") == "min":
+        return found["certified"] <= found["observed"] + slack
+    return found["observed"] <= found["certified"] + slack
+
+
 @pytest.mark.parametrize("trajectory", [TROLLEY, LINE], ids=["circle", "line"])
 def test_every_bound_over_time_of_moving_loads_is_reproved_and_a_lower_one_refuted(trajectory):
     for name, found in _found(trajectory).items():
@@ -56,7 +66,7 @@ def test_spectra_over_time_of_moving_loads_beside_payloads_are_reproved_and_a_lo
     it, sampled inside it, re-proved, and refuted below what the samples attain."""
     for name, found in _found(MIXED).items():
         lower = found.get("sense") == "min"
-        assert (found["certified"] <= found["observed"]) if lower else (found["observed"] <= found["certified"])
+        assert _beyond(found, MIXED)
         cert = found["certificate"]
         assert len(cert["parameters"]) == (1 if name.startswith("psi") else 4)
         assert check(cert)["status"] == "re-proved", (name, check(cert))
@@ -136,8 +146,7 @@ def test_bounds_over_time_of_a_moving_mass_beside_a_payload_hold_on_random_traje
         mixed = ParameterTrajectory(moving.base, moving.loads + payload.loads,
                                     (0.0, max(moving.span[1], payload.span[1])))
         for name, found in _found(mixed).items():
-            lower = found.get("sense") == "min"
-            assert (found["certified"] <= found["observed"]) if lower else (found["observed"] <= found["certified"])
+            assert _beyond(found, mixed), name
             assert check(found["certificate"])["status"] == "re-proved", name
 
     beyond_the_samples()
