@@ -21,7 +21,7 @@ from inertiaproof.suite import runner
 from inertiaproof.suite.profiles import PROFILES
 
 SCENES = sorted((Path(__file__).resolve().parent.parent / "scenes").glob("*.toml"))
-QUICK = dataclasses.replace(PROFILES["ci"], samples=256, refine_s=0.05, examples=8, check_s=1.5, run_s=5.0,
+QUICK = dataclasses.replace(PROFILES["ci"], samples=256, refine_s=0.05, examples=8, check_s=1.5, run_s=4.0,
                             verify_work=500)  # the checker still runs on every certificate; on the 24-link scene
 # the ci profile's work (5,000 per certificate) took 15 s of the run's 25 s, and a certificate it leaves undecided
 # is an honest INCONCLUSIVE (test_verify*.py decide them in full)
