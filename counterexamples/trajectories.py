@@ -8,7 +8,7 @@ from inertiaproof.counterexamples.inertias import consistent_phi, log_uniform
 
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile
 
-__all__ = ["profiles", "SMOOTH", "trajectories"]
+__all__ = ["mixed_trajectories", "profiles", "SMOOTH", "trajectories"]
 
 SMOOTH = ("smoothstep", "smootherstep", "cosine")
 
@@ -34,3 +34,11 @@ def trajectories(draw, bodies, length, moving_mass=False, thinness=6):
         load = Payload(body, draw(consistent_phi(size=(length / 10, length), thinness=thinness)), profile)
     end = profile.start + profile.duration
     return ParameterTrajectory(base, (load,), (0.0, end + 0.5))
+
+
+@st.composite
+def mixed_trajectories(draw, bodies, length):
+    """A moving mass beside a payload ramp on the same consistent bodies (both as :func:`trajectories` draws them)."""
+    moving = draw(trajectories(bodies, length, moving_mass=True))
+    payload = draw(trajectories(bodies, length))
+    return ParameterTrajectory(moving.base, moving.loads + payload.loads, (0.0, max(moving.span[1], payload.span[1])))

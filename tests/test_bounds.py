@@ -233,9 +233,8 @@ def test_the_moving_mass_hull_bounds_the_mass_matrix_over_time_and_without_the_l
     bodies carrying a payload ramp and a moving mass; the hull of the rest alone (no row above the moving mass) fails
     the upper side."""
     from hypothesis import given, settings, strategies as st
-    from inertiaproof.counterexamples.trajectories import trajectories
+    from inertiaproof.counterexamples.trajectories import mixed_trajectories
     from inertiaproof.dynamics import composite
-    from inertiaproof.dynamics.trajectory import ParameterTrajectory
 
     chain = robots.planar_2r().chain
     q = np.random.default_rng(0).uniform(-np.pi, np.pi, (40, 2))
@@ -245,10 +244,7 @@ def test_the_moving_mass_hull_bounds_the_mass_matrix_over_time_and_without_the_l
     @settings(max_examples=20, deadline=None, derandomize=True)
     @given(st.data())
     def inside(data):
-        moving = data.draw(trajectories(2, 1.0, moving_mass=True))
-        payload = data.draw(trajectories(2, 1.0))
-        mixed = ParameterTrajectory(moving.base, moving.loads + payload.loads, (0.0, max(moving.span[1],
-                                                                                        payload.span[1])))
+        mixed = data.draw(mixed_trajectories(2, 1.0))
         along = spectra(mixed.theta(mixed.times(200))[0])
         rest, above = (spectra(moving_mass_hull(mixed, kind)) for kind in ("lmin", "lmax"))
         assert rest[..., 0].min() <= along[..., 0].min() * (1 + 1e-9)

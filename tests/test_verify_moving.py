@@ -39,10 +39,11 @@ def _found(trajectory):
     return found
 
 
-def _beyond(found, trajectory):
+def _beyond(found, everything):
     """Whether a certified side lies beyond the sampled one, which eigvalsh computes to within ROUNDING eps of the
-    largest eigenvalue of f or Z along the trajectory (a sample may fall that far below a true lambda_min)."""
-    slack = ROUNDING * EPS * max(time_extreme(trajectory, name)["observed"] for name in ("lmax_f", "lmax_Z"))
+    largest eigenvalue of f or Z along the trajectory (``everything``: its :func:`_found`; a sample may fall that far
+    below a true lambda_min)."""
+    slack = ROUNDING * EPS * max(everything[name]["observed"] for name in ("lmax_f", "lmax_Z"))
     if found.get("sense") == "min":
         return found["certified"] <= found["observed"] + slack
     return found["observed"] <= found["certified"] + slack
@@ -64,9 +65,10 @@ def test_every_bound_over_time_of_moving_loads_is_reproved_and_a_lower_one_refut
 def test_spectra_over_time_of_moving_loads_beside_payloads_are_reproved_and_a_lower_one_refuted():
     """The rest of Theta(t) (and of its rate) sweeps the hull of the payloads' segments: every bound is certified over
     it, sampled inside it, re-proved, and refuted below what the samples attain."""
-    for name, found in _found(MIXED).items():
+    everything = _found(MIXED)
+    for name, found in everything.items():
         lower = found.get("sense") == "min"
-        assert _beyond(found, MIXED)
+        assert _beyond(found, everything)
         cert = found["certificate"]
         assert len(cert["parameters"]) == (1 if name.startswith("psi") else 4)
         assert check(cert)["status"] == "re-proved", (name, check(cert))
@@ -135,18 +137,15 @@ def test_a_scaling_without_bound_is_certified_along_its_growth_direction():
 def test_bounds_over_time_of_a_moving_mass_beside_a_payload_hold_on_random_trajectories():
     """Random bodies with a payload ramp and a moving mass: every certified side lies beyond what a time grid attains
     and is re-proved."""
-    from hypothesis import given, settings, strategies as st
-    from inertiaproof.counterexamples.trajectories import trajectories
+    from hypothesis import given, settings
+    from inertiaproof.counterexamples.trajectories import mixed_trajectories
 
     @settings(max_examples=15, deadline=None, derandomize=True)
-    @given(st.data())
-    def beyond_the_samples(data):
-        moving = data.draw(trajectories(3, 1.0, moving_mass=True))
-        payload = data.draw(trajectories(3, 1.0))
-        mixed = ParameterTrajectory(moving.base, moving.loads + payload.loads,
-                                    (0.0, max(moving.span[1], payload.span[1])))
-        for name, found in _found(mixed).items():
-            assert _beyond(found, mixed), name
+    @given(mixed_trajectories(3, 1.0))
+    def beyond_the_samples(mixed):
+        everything = _found(mixed)
+        for name, found in everything.items():
+            assert _beyond(found, everything), name
             assert check(found["certificate"])["status"] == "re-proved", name
 
     beyond_the_samples()

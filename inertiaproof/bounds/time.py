@@ -13,7 +13,7 @@ import itertools
 import numpy as np
 
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
-from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse, spatial_inertia
+from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse, sigma_from_inertia, spatial_inertia
 
 from .certificate import body_spectrum_certificate, moving_mass_certificate
 from .spectral import EPS, ROUNDING, spectral
@@ -106,7 +106,7 @@ def _moving_mass_terms(load):
     cmax, d1, d2 = _path_geometry(load.path)
     m = load.mass
     rate, acc = load.path.profile.rate_bound(), profile_acceleration_bound(load.path.profile)
-    sigma_c = 0.5 * np.trace(load.inertia_com) * np.eye(3) - load.inertia_com
+    sigma_c = sigma_from_inertia(load.inertia_com)
     lever = np.sqrt(1 + cmax**2)
     return {
         "f_norm": m * (1 + cmax**2) + np.linalg.eigvalsh(sigma_c)[-1],
@@ -227,7 +227,7 @@ def moving_mass_hull(trajectory, kind):
     for load in trajectory.loads:
         if isinstance(load, MovingMass):
             f = np.zeros((4, 4))
-            f[:3, :3] = 0.5 * np.trace(load.inertia_com) * np.eye(3) - load.inertia_com
+            f[:3, :3] = sigma_from_inertia(load.inertia_com)
             lift = load.mass * (1 + _path_geometry(load.path)[0] ** 2)
             f += (lift + ROUNDING * EPS * (lift + np.abs(f).sum())) * np.eye(4)
             stack[:, load.body] += pseudo_inertia_inverse(f)

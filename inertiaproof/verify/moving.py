@@ -182,5 +182,3 @@ def _decide(total, bound, f):
     if holds(_exact(total.upper())):
         return None
     return "not decided" if holds(_exact(total.lower())) else "refuted"
-
-
