@@ -1,13 +1,11 @@
-"""Beyond the paper: the applications it names (abstract, introduction), checked with adaptive laws.
+"""Beyond the paper: the applications it names (abstract, introduction), checked with adaptive laws
+(``APP-euclidean-escape``, which simulates runs of its own, in inertiaproof.checks.euclidean_escape).
 
 - ``APP-estimate-bounds``: along adaptive runs whose estimate is uniformly physically consistent and upper bounded
   (Definition 3 applied to Theta_hat over the run's samples: xi_hat, zeta_hat), M(q, Theta_hat(t)) obeys
   Theorem 2's alpha1 = xi_hat inf_q sigma_min(QJ)^2 and Theorem 3's alpha2 = 2 zeta_hat sup_q sigma_max(QJ)^2 with
   the chain's certified QJ brackets (inertiaproof.bounds.configuration), at the run's configurations and at sampled
   ones.
-- ``APP-euclidean-escape``: a Hypothesis hunt for a Slotine-Li run (Euclidean gradient) whose M(q, Theta_hat) turns
-  indefinite, i.e. Theta_hat left the consistent set far enough to lose the lower bound; the natural law of Lee,
-  Kwon and Park on the same run must keep every f(Phi_hat_l) > 0 and M_hat positive definite.
 - ``APP-robustness``: tracking and parameter error against the loads' rate of change (payload ramps, trolley
   traverses) on the three plants (inertiaproof.sim.tracking): where Eq. (1) and Eq. (2) mislead about the
   controller on the generalized equation. Every run's Lyapunov balance (Prop1, Prop2 and the law's divergence)
@@ -27,14 +25,12 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
-from hypothesis import Phase
 
 from inertiaproof.bounds import formulas
 from inertiaproof.bounds.certificate import pseudo_exact
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup
 from inertiaproof.bounds.premises import unsimulable
 from inertiaproof.checks.normality import refutations, unit_bodies
-from inertiaproof.counterexamples.adaptive_runs import euclidean_runs
 from inertiaproof.dynamics import composite, motion
 from inertiaproof.dynamics.forward import jacobi_scaling
 from inertiaproof.model.exact import definiteness, integer_matrix
@@ -43,14 +39,12 @@ from inertiaproof.result import Result, Verdict, combine, quantity
 from inertiaproof.scene import robots
 from inertiaproof.sim import estimates, tracking
 from inertiaproof.sim.recipe import Recipe, scene_of
-from inertiaproof.suite.hunt import hunt
 from inertiaproof.suite.registry import check, replayer
 
 __all__ = [
-    "AppSettings", "BALANCE", "balance_verdict", "bound_case", "escape_margin", "estimate_bounds",
-    "estimate_bounds_result", "euclidean_escape", "euclidean_escape_result", "LEVEL", "natural_twin", "qj_brackets",
-    "replay_bound", "replay_escape",
-    "robustness", "robustness_result", "settings_for", "SETTINGS", "simulate_recipes", "study",
+    "AppSettings", "BALANCE", "balance_verdict", "bound_case", "eigh_resolution", "estimate_bounds",
+    "estimate_bounds_result", "LEVEL", "qj_brackets", "replay_bound", "robustness", "robustness_result", "scene_keys", "settings_for",
+    "SETTINGS", "simulate_recipes", "stream_name", "study",
 ]
 
 EPS = np.finfo(float).eps
@@ -74,8 +68,9 @@ class AppSettings:
     samples_per_second: float
     configurations: int  # sampled configurations for the extremes of M(q, Theta_hat) over q
     rtol: float
-    work: float  # counted work (tracking.evaluation_cost units, about 1 ms each) of simulate_recipes: its batch, its
-    # runs alone and the finer re-run share it (BATCH of it, the rest, FINER of it more)
+    work: float  # counted work (tracking.evaluation_cost units, about 1 ms each) of simulate_recipes on a 2R chain:
+    # its batch, its runs alone and the finer re-run share it (BATCH of it, the rest, FINER of it more); a chain of
+    # n joints gets as many evaluations of a run alone (_work)
     max_seconds: float  # wall-clock safety net of one simulate_recipes (every phase), no evidence when it strikes
 
 
@@ -100,7 +95,7 @@ def settings_for(ctx):
     return SETTINGS.get(ctx.profile.name, SETTINGS["ci"])
 
 
-def _scene_keys(ctx, default):
+def scene_keys(ctx, default):
     """The built-in scenes ``default`` (pairs of key and a setting), or the run's scene file with None."""
     if ctx.scene is None:
         return dict(default)
@@ -109,7 +104,7 @@ def _scene_keys(ctx, default):
     return {ctx.scene.source: None}
 
 
-def _stream(key):
+def stream_name(key):
     """What names a scene in its random streams and hunt seeds: a built-in scene's key, or a scene file's name and
     the digest of its text, not its path (the same file draws the same examples wherever it lives)."""
     if key in robots.BUILTIN:
@@ -122,7 +117,7 @@ def _samples(s, horizon):
     return int(np.ceil(horizon * s.samples_per_second)) + 1
 
 
-def _resolution(n):
+def eigh_resolution(n):
     """Relative rounding of eigvalsh of a symmetric n x n matrix, against its largest eigenvalue."""
     return 64 * EPS * n
 
@@ -131,16 +126,20 @@ def _resolution(n):
 
 BATCH = 2 / 3  # of the work, a batch of several runs may spend this; if it stops early, its runs alone the rest (ci:
 # Panda's 12 runs finish as one batch in 5,375 counted BDF evaluations, 16,600 units; 12.6 s here)
+BATCH_GAIN = 3  # a batch of several runs is tried only where one of its evaluations costs at most a third of its
+# runs' alone (tracking.evaluation_cost; 12 runs: 2R 8x, Panda 5.4x, the 24-link snake 2.1x, whose runs alone took
+# 54 s here and their batch 84 s: its Jacobian's velocity columns, n + 1 states per run, are what cost)
 FINER = 1 / 2  # of the work, the runs simulated again at rtol / 10 may spend this more (ci: Panda's two natural-law
 # runs of the 10 ms ramp need more than 5,289 evaluations at rtol 3e-6)
 
 
 def simulate_recipes(recipes, s, forces=motion.generalized_forces):
-    """Simulate recipes of one chain and horizon together, within ``s.work`` units of counted work
+    """Simulate recipes of one chain and horizon together, within _work(s, n) units of counted work
     (:func:`inertiaproof.sim.tracking.evaluation_cost`) and one wall-clock safety net ``s.max_seconds`` for it all,
     with the scene's ``[adaptive] integrator``.
-    When the batch stops early (one stiff run holds up all: the step is the whole state's), each run is simulated
-    alone (:func:`_alone`), unless the batch was not started (ill-conditioned: its runs share the chain); the runs
+    When the batch stops early (one stiff run holds up all: the step is the whole state's), or where a batch does
+    not pay (BATCH_GAIN), each run is simulated alone (:func:`_alone`), unless the batch was not started
+    (ill-conditioned: its runs share the chain); the runs
     whose Lyapunov balance error exceeds BALANCE x rtol, or that stepped over their law's barrier, are simulated
     again, likewise, at a tenth of the tolerance, keeping the first residual as ``looser_balance_error``
     (balance_verdict). Returns (runs, batches) in the recipes' order."""
@@ -155,40 +154,50 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
                                  method=method)
 
     def together_then_alone(specs, work, rtol):
-        several = len(specs) > 1
-        runs, batch = simulate(specs, work * BATCH if several else work, rtol)
-        batches = [batch] * len(runs)
-        if not batch_finished(runs) and several and runs[0].status not in tracking.NOT_STARTED:
-            _alone(runs, batches, work * (1 - BATCH), lambda spec, share: simulate([spec], share, rtol),
-                   tracking.evaluation_cost(chain.n, 1))
+        runs, batches = [None] * len(specs), [None] * len(specs)
+        if len(specs) == 1 or len(specs) * cost >= BATCH_GAIN * tracking.evaluation_cost(chain.n, len(specs)):
+            runs, batch = simulate(specs, work * BATCH if len(specs) > 1 else work, rtol)
+            batches = [batch] * len(runs)
+            if batch_finished(runs) or len(specs) == 1 or runs[0].status in tracking.NOT_STARTED:
+                return runs, batches
+            work *= 1 - BATCH
+        _alone(specs, runs, batches, work, lambda spec, share: simulate([spec], share, rtol), cost)
         return runs, batches
 
-    runs, batches = together_then_alone([r.spec() for r in recipes], s.work, s.rtol)
+    cost = tracking.evaluation_cost(chain.n, 1)
+    work = _work(s, chain.n)
+    runs, batches = together_then_alone([r.spec() for r in recipes], work, s.rtol)
     again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol
              or r.status == tracking.BARRIER]  # the barrier too: the exact solution stays clear of it
     if again:
-        finer, finer_batches = together_then_alone([runs[i].spec for i in again], s.work * FINER, s.rtol / 10)
+        finer, finer_batches = together_then_alone([runs[i].spec for i in again], work * FINER, s.rtol / 10)
         for i, run, batch in zip(again, finer, finer_batches):
             run.looser_balance_error = runs[i].balance_error
             runs[i], batches[i] = run, batch
     return runs, batches
 
 
-def _alone(runs, batches, work, simulate, cost):
-    """Each run simulated alone (in place), in order, with an equal share of the work left (a run that finishes
-    early leaves the rest of its share to those after it); then the runs the count stopped once more, in order and
-    afresh, each with all the work left, where that is more than it had. Counts only: the same runs finish on every
-    machine. ``cost``: the work of one evaluation of a run alone."""
+def _work(s, n):
+    """The counted work of a study on an n-joint chain: ``s.work`` is a 2R chain's; a longer chain takes about as many
+    evaluations, each costing more (tracking.evaluation_cost of a run alone: 7x on 24 joints)."""
+    return s.work * max(tracking.evaluation_cost(n, 1) / tracking.evaluation_cost(2, 1), 1.0)
+
+
+def _alone(specs, runs, batches, work, simulate, cost):
+    """Each run of ``specs`` simulated alone (into runs[i], batches[i]), in order, with an equal share of the work
+    left (a run that finishes early leaves the rest of its share to those after it); then the runs the count stopped
+    once more, in order and afresh, each with all the work left, where that is more than it had. Counts only: the
+    same runs finish on every machine. ``cost``: the work of one evaluation of a run alone."""
     had = {}
 
     def alone(i, share):
         nonlocal work
-        (runs[i],), batches[i] = simulate(runs[i].spec, share)
+        (runs[i],), batches[i] = simulate(specs[i], share)
         had[i] = share
-        work -= min(share, (runs[i].evaluations + runs[i].jacobians) * cost)
+        work -= min(share, runs[i].work * cost)
 
-    for k in range(len(runs)):
-        alone(k, work / (len(runs) - k))
+    for k in range(len(specs)):
+        alone(k, work / (len(specs) - k))
     for i in [i for i, r in enumerate(runs) if r.status == "budget"]:
         if work > had[i]:
             alone(i, work)
@@ -367,7 +376,7 @@ def _misled(rows):
 @check("APP-robustness", needs={"time_varying"})
 def robustness(ctx):
     try:
-        keys = list(_scene_keys(ctx, settings_for(ctx).scenes))
+        keys = list(scene_keys(ctx, settings_for(ctx).scenes))
     except ValueError as exc:
         return Result("APP-robustness", Verdict.INCONCLUSIVE, str(exc))
     return robustness_result(ctx, keys)
@@ -391,7 +400,7 @@ def qj_brackets(ctx, chain, key):
     """(inf_q sigma_min(QJ)^2, sup_q sigma_max(QJ)) brackets of the chain (shared by the checks of a run)."""
     def compute():
         kw = dict(samples=ctx.profile.samples, refine_s=ctx.profile.refine_s, progress=ctx.progress)
-        name = _stream(key)
+        name = stream_name(key)
         return (jacobian_normality(chain, rng=ctx.rng(f"{name}:APP gamma"), **kw),
                 jacobian_sup(chain, rng=ctx.rng(f"{name}:APP sigma"), **kw))
     return ctx.shared(("APP QJ brackets", key), compute)
@@ -410,7 +419,7 @@ def bound_case(chain, run, q_samples, gamma, sigma, xi=None, zeta=None):
     f = np.linalg.eigvalsh(pseudo_inertia(theta_hat))
     given, xi = xi is not None, float(f[..., 0].min()) if xi is None else xi
     zeta = float(f[..., -1].max()) if zeta is None else zeta
-    resolution = _resolution(chain.n + 4)
+    resolution = eigh_resolution(chain.n + 4)
     out = {"xi_hat": xi, "zeta_hat": zeta, "samples": len(run.t), "status": run.status,
            "applicable": bool(xi > resolution * zeta), "resolution": resolution}
     if not out["applicable"] and not given and 0 < xi:  # below float's resolution: decide it in rationals
@@ -502,8 +511,8 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
             "inf_sigma_min_QJ_sq_observed": quantity(gamma_b.upper, "sampled", "attained at a witness"),
             "sup_sigma_max_QJ": sigma_b.evidence()["upper"],
             "sup_sigma_max_QJ_observed": quantity(sigma_b.lower, "sampled", "attained at a witness")}
-        q_samples = np.concatenate([estimates.configurations(chain, s.configurations, ctx.rng(f"{_stream(key)}:APP q")),
-                                    np.atleast_2d(gamma_b.witness), np.atleast_2d(sigma_b.witness)])
+        drawn = estimates.configurations(chain, s.configurations, ctx.rng(f"{stream_name(key)}:APP q"))
+        q_samples = np.concatenate([drawn, np.atleast_2d(gamma_b.witness), np.atleast_2d(sigma_b.witness)])
         for recipe, run, batch in zip(st["recipes"], st["runs"], st["batches"]):
             if recipe.plant != "gre" or run.t is None:
                 continue
@@ -564,7 +573,7 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
                 "smallest_margin": quantity(min((min(c["lower_margin"], c["upper_margin"]) for c in applicable),
                                                 default=np.nan), "margin",
                                             "min over the consistent runs, times and sampled q (> 0 holds)"),
-                "resolution": quantity(_resolution(max(scene_of(k).chain.n for k in keys) + 4), "tolerance",
+                "resolution": quantity(eigh_resolution(max(scene_of(k).chain.n for k in keys) + 4), "tolerance",
                                        "rounding of the eigenvalues against the largest one"),
                 "note": "Margins are relative to the largest eigenvalue of M_hat at that time (the lower one in "
                         "M_hat's Jacobi scaling, where it is resolved whatever the units); the extremes over q "
@@ -592,7 +601,7 @@ def _case_row(case):
 @check("APP-estimate-bounds", needs={"chain"})
 def estimate_bounds(ctx):
     try:
-        keys = list(_scene_keys(ctx, settings_for(ctx).scenes))
+        keys = list(scene_keys(ctx, settings_for(ctx).scenes))
     except ValueError as exc:
         return Result("APP-estimate-bounds", Verdict.INCONCLUSIVE, str(exc))
     return estimate_bounds_result(ctx, keys)
@@ -612,199 +621,6 @@ def replay_bound(data, ctx):
     alpha1, alpha2 = data["xi_hat"] * max(data["gamma"], 0.0), 2 * data["zeta_hat"] * data["sigma"] ** 2
     point = min(_lower_margin(mass, alpha1), (alpha2 - high) / max(high, alpha2))
     margin = min(point, case.get("lower_margin", np.inf), case.get("upper_margin", np.inf))
-    verdict = Verdict.VIOLATED if margin < -_resolution(chain.n + 4) else Verdict.HOLDS
+    verdict = Verdict.VIOLATED if margin < -eigh_resolution(chain.n + 4) else Verdict.HOLDS
     return Result("APP-estimate-bounds", verdict, f"relative margin {margin:.3g} at t = {data['t']:g}",
                   {"lambda_min": float(low), "lambda_max": float(high), "alpha1": alpha1, "alpha2": alpha2})
-
-
-# -- APP-euclidean-escape -------------------------------------------------------------------------
-
-def natural_twin(recipe):
-    """The natural law on the same run, its gain matched so that its fastest direction at Theta_hat(0) is no faster
-    than Slotine-Li's: gamma_nat = gamma / max_l lambda_max(f(Phi_hat_l(0)))^2 (the law moves f(Phi_hat) by
-    gamma_nat f(Phi_hat) G f(Phi_hat))."""
-    spec = recipe.spec()
-    top = np.linalg.eigvalsh(pseudo_inertia(spec.theta_hat0))[..., -1].max()
-    return dataclasses.replace(recipe, law="natural", gamma=float(spec.law.gain / top**2))
-
-
-def escape_margin(recipe, s, q_samples, forces=motion.generalized_forces, twin=natural_twin):
-    """Simulate a Slotine-Li recipe with its natural twin. Returns plain data: the Slotine-Li margin
-    min_t min_q lambda_min(M(q, Theta_hat(t))) / max lambda_max (< 0: indefinite), its witness, and per law the
-    smallest lambda_min(f(Phi_hat_l)) and of M_hat."""
-    twin_recipe = twin(recipe)
-    runs, batches = simulate_recipes([recipe, twin_recipe], s, forces)
-    chain = recipe.chain()
-    out = {"recipes": [recipe.to_data(), twin_recipe.to_data()], "laws": {}, "resolution": _resolution(chain.n + 4)}
-    out["stiff"] = next((f"{r.status}, {r.note}" for r in runs if r.status in tracking.NOT_STARTED), "")  # no margin
-    if out["stiff"]:
-        out["resolved"] = False
-        return out
-    for name, run in zip(("euclidean", "natural"), runs):
-        theta_hat = estimates.estimates(run)
-        spectrum = np.linalg.eigvalsh(pseudo_inertia(theta_hat))
-        f = spectrum[..., 0].min(-1)
-        low, high, at = estimates.spectrum_over(chain, run.y[:, :chain.n], theta_hat, q_samples)
-        ti = int(np.argmin(low / high.max()))
-        out["laws"][name] = {
-            "status": run.status, "note": run.note, "balance_error": run.balance_error,
-            "min_lambda_min_f_hat": float(f.min()), "max_lambda_max_f_hat": float(spectrum[..., -1].max()),
-            "inf_lambda_min_M_hat": float(low.min()),
-            "sup_lambda_max_M_hat": float(high.max()), "margin": float(low.min() / high.max()),
-            "witness": {"t": float(run.t[ti]), "q": at[ti].tolist()},
-            "series": {"t": run.t.tolist(), "lambda_min_f_hat": f.tolist(), "inf_lambda_min_M_hat": low.tolist()}}
-    out["resolved"] = not out["stiff"] and all(r.status != tracking.CLOCK for r in runs) and all(
-        r.balance_error <= BALANCE * s.rtol for r in runs if r.finished)  # a clock stop: no margin either way
-    return out
-
-
-def _natural_fails(data):
-    """Whether the natural law's f(Phi_hat_l) or M_hat lost definiteness by more than rounding on a finished run (a
-    run that did not finish is no evidence against the law)."""
-    law = data["laws"]["natural"]
-    lost = law["min_lambda_min_f_hat"] < -data["resolution"] * law["max_lambda_max_f_hat"] or (
-        law["margin"] < -data["resolution"])
-    return law["status"] == "ok" and lost
-
-
-def euclidean_escape_result(ctx, hunts, twin=natural_twin):
-    """One hunt per scene of ``hunts`` ({scene: Hypothesis examples, None: the profile's}), each simulating at most
-    the profile's ``hunt_runs`` runs. ``twin`` gives the law compared with Slotine-Li (a test passes a wrong one).
-    The check's wall-clock budget is a safety net: once it strikes no run starts, and a hunt it cut short is
-    INCONCLUSIVE (only a finished run that breaks the natural law stays evidence)."""
-    s = settings_for(ctx)
-    phases = (Phase.explicit, Phase.reuse, Phase.generate, Phase.target) + ((Phase.shrink,) if s.shrink else ())
-    seen, failures, scenes, witnesses, stiff, clocked = {}, [], {}, {}, [], []
-    for key, examples in hunts.items():
-        name = _stream(key)
-        q_samples = estimates.configurations(scene_of(key).chain, s.configurations, ctx.rng(f"{name}:APP escape q"))
-        runs = []
-
-        def margin(recipe):
-            if recipe not in seen:  # Hypothesis replays a failing example once more
-                left = 0.75 * ctx.budget.remaining()
-                if len(runs) >= s.hunt_runs or clocked:
-                    return np.nan
-                if left <= 0:
-                    clocked.append(key)
-                    return np.nan
-                runs.append(recipe)
-                seen[recipe] = escape_margin(recipe, dataclasses.replace(s, max_seconds=min(s.max_seconds, left)),
-                                             q_samples, twin=twin)
-                clocked.extend(key for r in seen[recipe].get("laws", {}).values() if r["status"] == tracking.CLOCK)
-                if seen[recipe]["stiff"]:
-                    stiff.append(seen[recipe]["stiff"])
-                elif _natural_fails(seen[recipe]):
-                    failures.append(seen[recipe])
-            data = seen[recipe]
-            return (data["laws"]["euclidean"]["margin"], data["resolution"]) if data["resolved"] else np.nan
-
-        found = hunt(euclidean_runs((key,), s.hunt_horizon), margin, ctx, label=f"APP-euclidean-escape:{name}",
-                     max_examples=examples or max(n for _, n in s.hunts), phases=phases)
-        scenes[key] = {"runs": len(runs), **found.summary()}
-        if found.violation is not None:
-            witnesses[key] = seen[found.violation]
-    searched = {"scenes": scenes, "horizon_s": s.hunt_horizon, "runs_budget": s.hunt_runs,
-                "space": " ".join(euclidean_runs.__doc__.split(": ", 1)[1].split())}
-    if failures:
-        data = failures[0]
-        nat = data["laws"]["natural"]
-        t = nat["series"]["t"][int(np.argmin(nat["series"]["lambda_min_f_hat"]))]
-        gain = data["recipes"][1].get("gamma")
-        gain = "the scene's gain" if gain is None else f"gain {gain:.3g}"
-        return Result("APP-euclidean-escape", Verdict.VIOLATED,
-                      f"the natural law left the consistent set: min lambda_min(f(Phi_hat)) = "
-                      f"{nat['min_lambda_min_f_hat']:.3g} at t = {t:.3g} s ({gain}); its mirror variable U_l = "
-                      "f(Phi_hat_l)^-1 moves continuously, so f(Phi_hat_l) leaves the cone only where U_l turns "
-                      "singular: the estimate blew up in finite time (a finished run; replay it)",
-                      {"searched": searched, "run": _brief(data)},
-                      counterexample={"kind": "adaptive-escape", "data": _replay_data(data, s)})
-    if clocked:
-        return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE,
-                      f"the check's wall-clock safety net cut the hunt on {clocked[0]} short after {len(seen)} runs "
-                      f"(its counted budget: {s.hunt_runs} runs per scene): what it drew would depend on the machine",
-                      {"searched": searched})
-    natural = [d["laws"]["natural"] for d in seen.values() if d.get("laws")]
-    barrier = [law["note"] for law in natural if law["status"] == tracking.BARRIER]
-    if not witnesses:
-        worst = min((v["smallest_margin"]["value"] for v in scenes.values()), default=np.nan)
-        return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE,
-                      f"no Slotine-Li run with an indefinite M(q, Theta_hat) in {len(seen)} runs on "
-                      f"{', '.join(hunts)} (smallest relative lambda_min {worst}); the natural law stayed consistent "
-                      f"in all {sum(law['status'] == 'ok' for law in natural)} it finished"
-                      + (f"; {len(barrier)} natural run(s) stepped over its barrier: {barrier[0]}" if barrier else "")
-                      + (f"; {len(stiff)} of the runs not simulated (no margin): {stiff[0]}" if stiff else ""),
-                      {"searched": searched,
-                       "not_simulated": quantity(len(stiff), "count", "runs not started (ill-conditioned, no start)"),
-                       "barrier": quantity(len(barrier), "count", "natural runs that stepped over their barrier")})
-    found = {}
-    for key, data in witnesses.items():
-        path = ctx.save_counterexample(Result(
-            "APP-euclidean-escape", Verdict.HOLDS, f"{key}: a Slotine-Li run whose M(q, Theta_hat) turns indefinite",
-            counterexample={"kind": "adaptive-escape", "data": _replay_data(data, s)}))
-        found[key] = {"run": _brief(data), "figures": _escape_figures(data), "witness_file": str(path),
-                      "replay": f"inertiaproof replay {path}"}
-    key, data = next(iter(witnesses.items()))
-    e, nat = data["laws"]["euclidean"], data["laws"]["natural"]
-    evidence = {"searched": searched, "escapes": found, "replay": found[key]["replay"],
-                "escape_margin": quantity(e["margin"], "margin", "min_t,q lambda_min(M(q, Theta_hat)) / "
-                                          "max lambda_max under Slotine-Li (< 0: indefinite)"),
-                "natural_margin": quantity(nat["margin"], "margin", "the same under the natural law (> 0)")}
-    return Result("APP-euclidean-escape", Verdict.HOLDS,
-                  f"{key}: Slotine-Li's lambda_min(M(q, Theta_hat)) = {e['inf_lambda_min_M_hat']:.3g} at t = "
-                  f"{e['witness']['t']:.3g} s (min lambda_min(f(Phi_hat)) {e['min_lambda_min_f_hat']:.3g}); "
-                  f"the natural law on the same run: min lambda_min(f(Phi_hat)) {nat['min_lambda_min_f_hat']:.3g} > 0, "
-                  f"lambda(M_hat) in [{nat['inf_lambda_min_M_hat']:.3g}, {nat['sup_lambda_max_M_hat']:.3g}]; escapes "
-                  f"on {len(witnesses)} of {len(hunts)} scenes in {len(seen)} runs", evidence)
-
-
-def _replay_data(data, s):
-    return {"recipes": data["recipes"], "rtol": s.rtol, "samples_per_second": s.samples_per_second,
-            "witness_q": data["laws"]["euclidean"]["witness"]["q"]}
-
-
-def _brief(data):
-    """The run's two recipes and, per law, a flat row of what it did."""
-    keys = ("status", "balance_error", "min_lambda_min_f_hat", "inf_lambda_min_M_hat", "sup_lambda_max_M_hat",
-            "margin")
-    return {"recipes": data["recipes"],
-            "laws": {name: {**{k: law[k] for k in keys}, "witness_t": law["witness"]["t"]}
-                     for name, law in data["laws"].items()}}
-
-
-def _escape_figures(data):
-    laws = data["laws"]
-    lines = lambda key: {name: np.c_[law["series"]["t"], law["series"][key]].tolist()  # noqa: E731
-                         for name, law in laws.items()}
-    return {"f": {"series": {"title": "min_l lambda_min(f(Phi_hat_l(t))): Slotine-Li (euclidean) and natural",
-                             "x_label": "t (s)", "y_label": "lambda_min", "lines": lines("lambda_min_f_hat")}},
-            "M": {"series": {"title": "sampled inf_q lambda_min(M(q, Theta_hat(t)))", "x_label": "t (s)",
-                             "y_label": "lambda_min", "lines": lines("inf_lambda_min_M_hat")}}}
-
-
-@check("APP-euclidean-escape", needs={"chain"})
-def euclidean_escape(ctx):
-    try:
-        hunts = _scene_keys(ctx, settings_for(ctx).hunts)
-    except ValueError as exc:
-        return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE, str(exc))
-    return euclidean_escape_result(ctx, hunts)
-
-
-@replayer("adaptive-escape")
-def replay_escape(data, ctx):
-    """Simulate the saved Slotine-Li run and its natural twin again: the escape must recur at the saved
-    configuration (or a sampled one) and the natural law must stay consistent."""
-    euclidean, natural = (Recipe.from_data(r) for r in data["recipes"])
-    s = dataclasses.replace(settings_for(ctx), rtol=data["rtol"], samples_per_second=data["samples_per_second"])
-    found = escape_margin(euclidean, s, np.atleast_2d(data["witness_q"]), twin=lambda _: natural)
-    e, nat = found["laws"]["euclidean"], found["laws"]["natural"]
-    if _natural_fails(found):
-        verdict = Verdict.VIOLATED
-    else:
-        verdict = Verdict.HOLDS if e["margin"] < -found["resolution"] else Verdict.INCONCLUSIVE
-    return Result("APP-euclidean-escape", verdict,
-                  f"Slotine-Li: inf lambda_min(M_hat) {e['inf_lambda_min_M_hat']:.3g}, min lambda_min(f(Phi_hat)) "
-                  f"{e['min_lambda_min_f_hat']:.3g}; natural: min lambda_min(f(Phi_hat)) "
-                  f"{nat['min_lambda_min_f_hat']:.3g}, inf lambda_min(M_hat) {nat['inf_lambda_min_M_hat']:.3g}",
-                  {"run": _brief(found)})

@@ -167,6 +167,14 @@ def test_the_jacobian_has_the_stiff_terms_of_the_closed_loop():
     assert batch.stiffness()[0] > 1e5 and batch.stiffness()[1] < 1e3
     sparse = batch.jacobian(0.3, y)
     assert sparse.shape == (2 * batch.size,) * 2 and sparse.nnz <= 2 * batch.size ** 2
+    # with velocity_columns every qd column (C and R in qd too) is right to its differences' rounding (sqrt(eps)
+    # steps: 1e-3 of the column's size here); the analytic blocks alone are off by 46-100 % of it
+    dense, qd, size = sparse.toarray(), slice(n, 2 * n), batch.size
+    for k, analytic in enumerate(batch.jacobian_blocks(0.3, y)):
+        scale = np.abs(exact[k, :-1, qd]).max()
+        assert np.abs(dense[k * size:(k + 1) * size - 1, k * size + n:k * size + 2 * n] - exact[k, :-1, qd]).max() \
+            <= 1e-2 * scale
+        assert np.abs(analytic[:-1, qd] - exact[k, :-1, qd]).max() > 0.3 * scale
     class Leaky(adaptive.SlotineLi):  # the default linearization: differences
         linearization = adaptive.AdaptiveLaw.linearization
 

@@ -12,6 +12,7 @@ import pytest
 from inertiaproof import cli
 from inertiaproof.budget import Budget
 from inertiaproof.checks import applications as app
+from inertiaproof.checks import euclidean_escape as escape
 from inertiaproof.dynamics import motion
 from inertiaproof.model.exact import definiteness, integer_matrix, to_fractions
 from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse
@@ -80,10 +81,10 @@ def test_a_consistency_below_float_resolution_is_proved_in_rationals():
     assert app._exceeds(phi, tiny / 2) and not app._exceeds(phi, tiny) and not app._exceeds(phi, 2 * tiny)
     theta_hat = np.stack([phi, pseudo_inertia_inverse(np.diag([2.0, 1.0, 1.0, 3.0]))])[None]  # (1 sample, 2 bodies)
     lambda_min = np.linalg.eigvalsh(pseudo_inertia(theta_hat))[..., 0]
-    assert lambda_min.min() < app._resolution(2 + 4) * 3.0
-    x, how = app._proved_xi(theta_hat, lambda_min, tiny, app._resolution(2 + 4) * 3.0)
+    assert lambda_min.min() < app.eigh_resolution(2 + 4) * 3.0
+    x, how = app._proved_xi(theta_hat, lambda_min, tiny, app.eigh_resolution(2 + 4) * 3.0)
     assert x == tiny * 15 / 16 and how.startswith("1 of 2")
-    assert app._proved_xi(theta_hat, lambda_min, 4 * tiny, app._resolution(2 + 4) * 3.0) is None
+    assert app._proved_xi(theta_hat, lambda_min, 4 * tiny, app.eigh_resolution(2 + 4) * 3.0) is None
 
 
 def test_the_lower_margin_is_resolved_in_the_jacobi_scaling():
@@ -101,13 +102,13 @@ def test_the_lower_margin_is_resolved_in_the_jacobi_scaling():
     for _ in range(50):
         middle = (low + high) / 2
         low, high = (middle, high) if positive_definite(middle) else (low, middle)
-    assert 0 < low < app._resolution(3) * np.linalg.eigvalsh(mass)[-1]  # unresolved without the scaling
-    assert app._lower_margin(mass, 0.999 * low) > app._resolution(3)
-    assert app._lower_margin(mass, 1.001 * low) < -app._resolution(3)
+    assert 0 < low < app.eigh_resolution(3) * np.linalg.eigvalsh(mass)[-1]  # unresolved without the scaling
+    assert app._lower_margin(mass, 0.999 * low) > app.eigh_resolution(3)
+    assert app._lower_margin(mass, 1.001 * low) < -app.eigh_resolution(3)
 
 
 def test_euclidean_escape_is_found_saved_and_replays(app_ctx):
-    result = app.euclidean_escape_result(app_ctx, {KEY: 3})
+    result = escape.euclidean_escape_result(app_ctx, {KEY: 3})
     assert result.verdict == Verdict.HOLDS, result.summary
     euclidean, natural = (result.evidence["escapes"][KEY]["run"]["laws"][k] for k in ("euclidean", "natural"))
     assert euclidean["inf_lambda_min_M_hat"] < 0 < natural["inf_lambda_min_M_hat"]
@@ -118,12 +119,12 @@ def test_euclidean_escape_is_found_saved_and_replays(app_ctx):
 
 def test_the_escape_hunt_is_budgeted_in_runs_and_a_clock_stop_claims_nothing(app_ctx, monkeypatch):
     monkeypatch.setitem(app.SETTINGS, "ci", dataclasses.replace(app.SETTINGS["ci"], hunt_runs=0))
-    capped = app.euclidean_escape_result(app_ctx, {KEY: 3})
+    capped = escape.euclidean_escape_result(app_ctx, {KEY: 3})
     assert capped.verdict == Verdict.INCONCLUSIVE and " in 0 runs" in capped.summary
     assert capped.evidence["searched"]["runs_budget"] == 0
     monkeypatch.setitem(app.SETTINGS, "ci", dataclasses.replace(app.SETTINGS["ci"], hunt_runs=6))
     expired = dataclasses.replace(app_ctx, budget=Budget.of(0.0))
-    clocked = app.euclidean_escape_result(expired, {KEY: 3})
+    clocked = escape.euclidean_escape_result(expired, {KEY: 3})
     assert clocked.verdict == Verdict.INCONCLUSIVE and "safety net" in clocked.summary
 
 
@@ -132,13 +133,13 @@ def test_a_scene_file_seeds_its_hunts_by_its_text_not_its_path(tmp_path):
     (tmp_path / "a").mkdir()
     for name, body in (("a/s.toml", text), ("b.toml", text), ("c.toml", text + "\n# edited\n")):
         (tmp_path / name).write_text(body)
-    assert app._stream(str(tmp_path / "a/s.toml")) == app._stream(str(tmp_path / "b.toml"))
-    assert app._stream(str(tmp_path / "b.toml")) != app._stream(str(tmp_path / "c.toml"))
-    assert app._stream(KEY) == KEY
+    assert app.stream_name(str(tmp_path / "a/s.toml")) == app.stream_name(str(tmp_path / "b.toml"))
+    assert app.stream_name(str(tmp_path / "b.toml")) != app.stream_name(str(tmp_path / "c.toml"))
+    assert app.stream_name(KEY) == KEY
 
 
 def test_a_euclidean_law_passed_as_natural_is_violated(app_ctx):
-    wrong = app.euclidean_escape_result(app_ctx, {KEY: 3}, twin=lambda r: dataclasses.replace(r, law="slotine-li"))
+    wrong = escape.euclidean_escape_result(app_ctx, {KEY: 3}, twin=lambda r: dataclasses.replace(r, law="slotine-li"))
     assert wrong.verdict == Verdict.VIOLATED and "gain" in wrong.summary and " at t = " in wrong.summary
     assert _saved(wrong, app_ctx).verdict == Verdict.VIOLATED
 
@@ -267,10 +268,10 @@ def test_the_balance_verdict_follows_the_tolerance():
 def test_an_unfinished_natural_run_is_no_evidence_against_the_law():
     data = {"resolution": 1e-12, "laws": {"natural": {"status": "ok", "min_lambda_min_f_hat": -1.0,
                                                       "max_lambda_max_f_hat": 1.0, "margin": -1.0}}}
-    assert app._natural_fails(data)
+    assert escape.natural_fails(data)
     for status in ("clock", "budget", "step collapse", "barrier"):
         data["laws"]["natural"]["status"] = status
-        assert not app._natural_fails(data)
+        assert not escape.natural_fails(data)
 
 
 def test_runs_alone_share_the_counted_work_and_the_left_over_goes_to_those_the_count_stopped():
@@ -284,10 +285,11 @@ def test_runs_alone_share_the_counted_work_and_the_left_over_goes_to_those_the_c
     def simulate(spec, work):
         calls.append((spec, work))
         done = spec <= int(work)
-        return [tracking.Run(spec, 0, "ok" if done else "budget", "", 0.0, spec if done else int(work))], None
+        used = spec if done else int(work)
+        return [tracking.Run(spec, 0, "ok" if done else "budget", "", 0.0, used, work=used)], None
 
-    runs = [tracking.Run(k, 0, "budget", "", 0.0, 0) for k in need]
-    app._alone(runs, [None] * len(runs), 12_000, simulate, 1.0)
+    runs = [None] * len(need)
+    app._alone(need, runs, [None] * len(runs), 12_000, simulate, 1.0)
     assert [r.status for r in runs] == ["ok"] * 7 + ["budget"] + ["ok"] * 4
     assert sum(min(w, s) for s, w in calls) <= 12_000 and len(calls) == len(need) + 2  # 2606 and 6000 again
     first = dict(calls[:len(need)])

@@ -52,6 +52,7 @@ STOPPED = ("budget", "step collapse", "error", "nan")  # a batch the integrator 
 UNRESOLVED_MARGIN = 1e-12  # AdaptiveLaw.barrier_margin below this: the estimate is beyond float64's resolution
 RK45_MARGIN = 3  # RK45 only within a third of the budget by its stability bound: near that bound its step control
 # rejects steps (the 1e6 mass ratio's batch took 2.4 x the bound; Panda's, predicted at 0.94 of its budget, ran out)
+EPS = np.finfo(float).eps
 IMPLICIT_DEFAULT = "BDF"  # measured faster than Radau on the stiff scenes (README: stiff runs)
 KEPT = {"gre": (1.0, 1.0), "pagilla": (1.0, 0.0), "classical": (0.0, 0.0)}  # (Thetadot, Psi) each plant keeps
 
@@ -119,6 +120,7 @@ class Batch:
         self.home = np.stack([s.reference.home for s in self.specs]).astype(float)
         self.amplitude = np.array([s.reference.amplitude for s in self.specs], float)
         self.frequency = np.array([s.reference.frequency for s in self.specs], float)
+        self.rate_scale = np.maximum(self.amplitude, 0.1) * np.maximum(2 * np.pi * self.frequency, 1.0)
         self.lam = np.stack([np.broadcast_to(s.gains.lam, (self.n,)) for s in self.specs]).astype(float)
         self.kd = np.stack([np.broadcast_to(s.gains.kd, (self.n,)) for s in self.specs]).astype(float)
         kept = np.array([KEPT[s.plant] for s in self.specs])
@@ -127,6 +129,10 @@ class Batch:
         self.laws = _groups([s.law for s in self.specs])
         self.evaluations = 0
         self.jacobians = 0
+        # counted work of one Jacobian, in right-hand sides of the batch: its blocks, and the n + 1 states of
+        # velocity_columns at the cost of evaluations (evaluation_cost) of that many runs
+        self.jacobian_cost = 1 + evaluation_cost(self.n, len(self.specs) * (self.n + 1)) / evaluation_cost(
+            self.n, len(self.specs))
 
     def split(self, y):
         """(q, qd, z, W) of states y (..., B * size)."""
@@ -166,20 +172,20 @@ class Batch:
         return motion.Parameters(p.theta, self.keep_rate[:, None, None] * p.theta_dot,
                                  self.keep_psi[:, None] * p.psi, self.keep_psi[:, None] * p.psi_dot)
 
-    def controller(self, t, y):
+    def controller(self, t, y, kin=None):
         """(q, qd, z, kin, s, R) at states y: the sliding variable s = qd - qd_r and the regressors R_l(q, qd, qd_r,
-        qdd_r) (RoboticRegressor) of the controller of the module docstring."""
+        qdd_r) (RoboticRegressor) of the controller of the module docstring; ``kin`` the kinematics at q if known."""
         q, qd, z, _ = self.split(y)
-        kin = motion.kinematics(self.chain, q)
+        kin = motion.kinematics(self.chain, q) if kin is None else kin
         q_d, qd_d, qdd_d = self.reference(t)
         e, e_dot = q - q_d, qd - qd_d
         qd_r, qdd_r = qd_d - self.lam * e, qdd_d - self.lam * e_dot
         r = regressors.regressor(kin.qj, kin.dqj, kin.rotations, self.chain.gravity, qd, qd_r, qdd_r)
         return q, qd, z, kin, qd - qd_r, r
 
-    def rhs(self, t, y):
+    def rhs(self, t, y, kin=None):
         self.evaluations += 1
-        _, qd, z, kin, s, r = self.controller(t, y)
+        _, qd, z, kin, s, r = self.controller(t, y, kin)
         tau = regressors.apply_regressor(r, self.per_law("estimate", z)) - self.kd * s
         p = self.parameters(t)
         plant = self.plant_parameters(p)
@@ -189,7 +195,7 @@ class Batch:
         power = self.lyapunov_power(kin, p, plant, qd, s, z)
         return np.concatenate([qd, qdd, zdot.reshape(zdot.shape[:-2] + (-1,)), power[..., None]], -1).reshape(y.shape)
 
-    def jacobian_blocks(self, t, y):
+    def jacobian_blocks(self, t, y, kin=None):
         """Per run, d ydot / dy (B, size, size) at the state y (B * size,): the terms that make the loop stiff.
 
         In s the closed loop reads M(q, Theta) sdot = -K_D s + sum_l R_l (Phi_hat_l - Phi_l) - C s - X (module
@@ -202,7 +208,7 @@ class Batch:
         (the law's own linearization). Left out: the derivatives of M, C, G and R in q and qd, which scale with the
         motion's speed, not with K_D or the adaptation gain. For the Newton iterations of Radau and BDF (an
         approximate Jacobian costs iterations, not accuracy) and for the stiffness estimate."""
-        _, _, z, kin, s, r = self.controller(t, y)
+        _, _, z, kin, s, r = self.controller(t, y, kin)
         n, size, runs = self.n, self.size, len(self.specs)
         minv = np.linalg.inv(terms.mass_matrix(kin.qj, self.parameters(t).theta))
         g = np.einsum("...lkh,...k->...lh", r, s)
@@ -223,10 +229,32 @@ class Batch:
         out[:, zs, zs] = blocks.reshape(runs, 10 * self.bodies, 10 * self.bodies)
         return out
 
+    def velocity_columns(self, t, y, kin=None):
+        """Per run, d ydot / dqd (B, size, n) by forward differences: the n states qd + h_j e_j in one batched
+        :meth:`rhs` that reuses the kinematics at q (qd does not enter them), h_j = sqrt(eps) max(|qd_j|, the
+        reference's rate). The terms :meth:`jacobian_blocks` leaves out in qd (C, M(q, Thetadot), H and R in qd)
+        are the ones that stall Newton on a long chain: on the 24-link snake BDF took 5,584 right-hand sides and
+        403 Jacobians for one run, 1,132 and 62 with these columns."""
+        n, runs = self.n, len(self.specs)
+        state = y.reshape(runs, self.size)
+        qd = state[:, n:2 * n]
+        h = np.sqrt(EPS) * np.maximum(np.abs(qd), self.rate_scale[:, None])
+        kin = motion.kinematics(self.chain, state[:, :n]) if kin is None else kin
+        kin = motion.Kinematics(*(np.broadcast_to(a, (n + 1,) + a.shape) for a in vars(kin).values()))
+        stepped = np.repeat(state[None], n + 1, 0)
+        stepped[np.arange(1, n + 1), :, n + np.arange(n)] += h.T
+        f = self.rhs(t, stepped.reshape(n + 1, -1), kin).reshape(n + 1, runs, self.size)
+        self.evaluations -= 1  # counted in jacobian_cost
+        return np.moveaxis((f[1:] - f[0]) / h.T[:, :, None], 0, -1)
+
     def jacobian(self, t, y):
-        """:meth:`jacobian_blocks` as one sparse block-diagonal matrix (the runs are independent), for SciPy."""
+        """:meth:`jacobian_blocks` with :meth:`velocity_columns` in place of its qd columns, as one sparse
+        block-diagonal matrix (the runs are independent), for SciPy."""
         self.jacobians += 1
-        blocks = self.jacobian_blocks(t, y)
+        n = self.n
+        kin = motion.kinematics(self.chain, y.reshape(len(self.specs), self.size)[:, :n])
+        blocks = self.jacobian_blocks(t, y, kin)
+        blocks[:, n:-1, n:2 * n] = self.velocity_columns(t, y, kin)[:, n:-1]
         runs = len(blocks)
         return sparse.bsr_matrix((blocks, np.arange(runs), np.arange(runs + 1)),
                                  shape=(runs * self.size,) * 2).tocsc()
@@ -264,7 +292,7 @@ class Batch:
         q_d, qd_d, _ = self.reference(t)
         s = qd - qd_d + self.lam * (q - q_d)
         p = self.parameters(t)
-        m = terms.mass_matrix(motion.kinematics(self.chain, q).qj, p.theta)
+        m = terms.mass_matrix(self.chain.body_jacobian(q), p.theta)
         divergence = np.zeros(t.shape)
         for law, idx in self.laws:
             divergence[..., idx] = law.divergence(z[..., idx, :, :], p.theta[..., idx, :, :])
@@ -288,7 +316,7 @@ class Batch:
         the energy 1/2 K_D / Lambda |qd|^2 of a velocity error of the reference's rate."""
         y0 = self.initial_state().reshape(len(self.specs), self.size)
         q = np.maximum(self.amplitude, 0.1)[:, None] * np.ones(self.n)
-        qd = q * np.maximum(2 * np.pi * self.frequency, 1.0)[:, None]
+        qd = self.rate_scale[:, None] * np.ones(self.n)
         z = np.abs(y0[:, 2 * self.n:-1])
         z = np.maximum(z, 1e-3 * z.max(-1, keepdims=True))
         energy = 0.5 * np.sum(self.kd / self.lam * qd * qd, -1)
@@ -310,6 +338,7 @@ class Run:
     balance_error: float = np.nan
     method: str = "RK45"  # a key of SOLVERS (none: not started)
     jacobians: int = 0  # of the whole batch
+    work: float = 0.0  # counted evaluations of the whole batch (spent)
     looser_balance_error: float = np.nan  # the same run's at 10 x its rtol, when it was simulated again finer
 
     @property
@@ -329,9 +358,9 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     A key of SOLVERS ("RK45", "DOP853", "BDF", "Radau") forces a method.
 
     The decisive budget is counted, the same on every machine: ``max_evaluations`` right-hand sides of the batch,
-    each Jacobian and LU factorization counted as one; a batch past it stops as ``budget``. ``max_seconds`` is a
-    safety net only: a batch past it stops as ``clock`` (CLOCK), which depends on the machine, so callers take it
-    as no evidence either way. A batch that stops early (``budget``, ``clock``, ``nan``, ``step collapse``,
+    each LU factorization counted as one and each Jacobian as Batch.jacobian_cost; a batch past it stops as
+    ``budget``. ``max_seconds`` is a safety net only: a batch past it stops as ``clock`` (CLOCK), which depends on
+    the machine, so callers take it as no evidence either way. A batch that stops early (``budget``, ``clock``, ``nan``, ``step collapse``,
     ``error``) keeps the samples it reached. The tolerance applies to the whole state (all runs): a run alone may
     be resolved better. A run whose law's state left the law's domain (:meth:`AdaptiveLaw.outside`: the natural
     law's U_l turned indefinite, f(Phi_hat_l) through infinity) ends ``barrier``: its exact solution cannot (D <=
@@ -349,7 +378,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
         except np.linalg.LinAlgError as exc:
             y0 = np.full(len(specs) * batch.size, np.nan)
             unstartable = f"{type(exc).__name__}: {exc}"
-    start, last = time.perf_counter(), y0
+    start, last, work = time.perf_counter(), y0, 0
     if condition > MAX_CONDITION:
         status, note = "ill-conditioned", (f"not started: scaled cond(M(q0, Theta(t0))) = {condition:.1e}: forward "
                                            "dynamics keeps fewer than 6 correct digits in float64")
@@ -365,7 +394,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
         solver = SOLVERS[chosen](batch.rhs, t0, y0, t0 + horizon, rtol=rtol, atol=rtol * batch.scale(), **kw)
         t_eval = np.linspace(t0, t0 + horizon, samples)
         status, note, ys = _integrate(solver, batch, t_eval, max_evaluations, start + max_seconds)
-        last = solver.y
+        last, work = solver.y, spent(solver, batch)
     seconds = time.perf_counter() - start
     t, y = t_eval[:len(ys)], np.array(ys)
     with np.errstate(all="ignore"):
@@ -373,7 +402,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     err = np.abs(v - v[0] - batch.split(y)[3]).max(0) / np.maximum(np.abs(v).max(0), np.finfo(float).tiny)
     per_run = y.reshape(len(t), len(specs), batch.size)
     runs = [Run(spec, i, status, note, seconds, batch.evaluations, t, per_run[:, i], float(err[i]), chosen,
-                batch.jacobians) for i, spec in enumerate(specs)]
+                batch.jacobians, work) for i, spec in enumerate(specs)]
     if status in STOPPED and np.all(np.isfinite(last)):
         margins = batch.per_law("barrier_margin", batch.split(last)[2]).min(-1)
         for run in runs:
@@ -410,7 +439,8 @@ def choose_method(batch, horizon, max_evaluations, method="auto", implicit=IMPLI
 
 
 def evaluation_cost(n, runs):
-    """The counted work of one evaluation (right-hand side, Jacobian or LU factorization) of a batch of ``runs`` runs
+    """The counted work of one evaluation (right-hand side or LU factorization; a Jacobian counts
+    Batch.jacobian_cost of them) of a batch of ``runs`` runs
     on an n-joint chain: 0.5 + 0.1 n + runs (0.016 n + 0.00013 n^3) units, about a millisecond each on the machine
     it was fitted on (2 cores; ci APP batches of 12 runs: 2R 1.0-1.2 ms, Panda 2.8-2.9 ms, a 24-link snake 39 ms;
     alone 0.75, 1.3 and 7 ms; the snake's are 25% above the formula). A formula of counts, the same on every
@@ -420,8 +450,9 @@ def evaluation_cost(n, runs):
 
 
 def spent(solver, batch):
-    """The counted work of a solver so far: right-hand sides, Jacobians and LU factorizations of the batch."""
-    return batch.evaluations + batch.jacobians + getattr(solver, "nlu", 0)
+    """The counted work of a solver so far, in right-hand sides of the batch: its right-hand sides, Jacobians (each
+    Batch.jacobian_cost) and LU factorizations (each one)."""
+    return batch.evaluations + batch.jacobians * batch.jacobian_cost + getattr(solver, "nlu", 0)
 
 
 def _integrate(solver, batch, t_eval, max_evaluations, deadline):
@@ -430,11 +461,11 @@ def _integrate(solver, batch, t_eval, max_evaluations, deadline):
     with np.errstate(all="ignore"):
         while solver.status == "running":
             if spent(solver, batch) > max_evaluations:
-                return "budget", (f"stopped at t = {solver.t:.6g} after {spent(solver, batch)} counted evaluations "
+                return "budget", (f"stopped at t = {solver.t:.6g} after {spent(solver, batch):.0f} counted evaluations "
                                   f"(budget {max_evaluations}; {type(solver).__name__})"), ys
             if time.perf_counter() > deadline:
                 return CLOCK, (f"stopped at t = {solver.t:.6g} by the wall-clock safety net after "
-                               f"{spent(solver, batch)} counted evaluations (a machine-dependent stop: no "
+                               f"{spent(solver, batch):.0f} counted evaluations (a machine-dependent stop: no "
                                "evidence)"), ys
             try:
                 message = solver.step()
