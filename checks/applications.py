@@ -43,8 +43,8 @@ from inertiaproof.suite.registry import check, replayer
 
 __all__ = [
     "AppSettings", "BALANCE", "balance_verdict", "bound_case", "eigh_resolution", "estimate_bounds",
-    "estimate_bounds_result", "LEVEL", "qj_brackets", "replay_bound", "robustness", "robustness_result", "scene_keys", "settings_for",
-    "SETTINGS", "simulate_recipes", "stream_name", "study",
+    "estimate_bounds_result", "LEVEL", "qj_brackets", "replay_bound", "robustness", "robustness_result", "scene_keys",
+    "settings_for", "SETTINGS", "simulate_recipes", "stream_name", "study",
 ]
 
 EPS = np.finfo(float).eps
@@ -139,10 +139,9 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     with the scene's ``[adaptive] integrator``.
     When the batch stops early (one stiff run holds up all: the step is the whole state's), or where a batch does
     not pay (BATCH_GAIN), each run is simulated alone (:func:`_alone`), unless the batch was not started
-    (ill-conditioned: its runs share the chain); the runs
-    whose Lyapunov balance error exceeds BALANCE x rtol, or that stepped over their law's barrier, are simulated
-    again, likewise, at a tenth of the tolerance, keeping the first residual as ``looser_balance_error``
-    (balance_verdict). Returns (runs, batches) in the recipes' order."""
+    (ill-conditioned: its runs share the chain); the runs whose Lyapunov balance error exceeds BALANCE x rtol, or
+    that stepped over their law's barrier, are simulated again, likewise, at a tenth of the tolerance, keeping the
+    first residual as ``looser_balance_error`` (balance_verdict). Returns (runs, batches) in the recipes' order."""
     horizon, chain = recipes[0].run_horizon(), recipes[0].chain()
     method = recipes[0].scene_object().adaptive.integrator
     deadline = time.perf_counter() + s.max_seconds

@@ -120,7 +120,6 @@ class Batch:
         self.home = np.stack([s.reference.home for s in self.specs]).astype(float)
         self.amplitude = np.array([s.reference.amplitude for s in self.specs], float)
         self.frequency = np.array([s.reference.frequency for s in self.specs], float)
-        self.rate_scale = np.maximum(self.amplitude, 0.1) * np.maximum(2 * np.pi * self.frequency, 1.0)
         self.lam = np.stack([np.broadcast_to(s.gains.lam, (self.n,)) for s in self.specs]).astype(float)
         self.kd = np.stack([np.broadcast_to(s.gains.kd, (self.n,)) for s in self.specs]).astype(float)
         kept = np.array([KEPT[s.plant] for s in self.specs])
@@ -163,7 +162,7 @@ class Batch:
         for law, idx in self.laws:
             value = getattr(law, method)(z[..., idx, :, :], *(a[..., idx, :, :] for a in args))
             if out is None:
-                out = np.zeros(z.shape[:-3] + (len(self.specs),) + value.shape[z.ndim - 2:])
+                out = np.zeros(z.shape[:-3] + (len(self.specs),) + value.shape[z.ndim - 2:], np.result_type(z, *args))
             out[(Ellipsis, idx) + (slice(None),) * (value.ndim - z.ndim + 2)] = value
         return out
 
@@ -183,14 +182,19 @@ class Batch:
         r = regressors.regressor(kin.qj, kin.dqj, kin.rotations, self.chain.gravity, qd, qd_r, qdd_r)
         return q, qd, z, kin, qd - qd_r, r
 
-    def rhs(self, t, y, kin=None):
-        self.evaluations += 1
+    def closed_loop(self, t, y, kin=None):
+        """(qd, z, kin, s, R, Parameters, the plants' Parameters, qdd) at states y: the controller's torque on each
+        run's plant."""
         _, qd, z, kin, s, r = self.controller(t, y, kin)
         tau = regressors.apply_regressor(r, self.per_law("estimate", z)) - self.kd * s
         p = self.parameters(t)
         plant = self.plant_parameters(p)
         bias = self.forces(kin, self.chain.gravity, plant, qd, np.zeros_like(qd))
-        qdd = solve_mass(terms.mass_matrix(kin.qj, p.theta), tau - bias)
+        return qd, z, kin, s, r, p, plant, solve_mass(terms.mass_matrix(kin.qj, p.theta), tau - bias)
+
+    def rhs(self, t, y):
+        self.evaluations += 1
+        qd, z, kin, s, r, p, plant, qdd = self.closed_loop(t, y)
         zdot = self.per_law("rate", z, np.einsum("...lkh,...k->...lh", r, s))
         power = self.lyapunov_power(kin, p, plant, qd, s, z)
         return np.concatenate([qd, qdd, zdot.reshape(zdot.shape[:-2] + (-1,)), power[..., None]], -1).reshape(y.shape)
@@ -230,31 +234,35 @@ class Batch:
         return out
 
     def velocity_columns(self, t, y, kin=None):
-        """Per run, d ydot / dqd (B, size, n) by forward differences: the n states qd + h_j e_j in one batched
-        :meth:`rhs` that reuses the kinematics at q (qd does not enter them), h_j = sqrt(eps) max(|qd_j|, the
-        reference's rate). The terms :meth:`jacobian_blocks` leaves out in qd (C, M(q, Thetadot), H and R in qd)
+        """Per run, d qdd / dqd (B, n, n) by forward differences: the n states qd + h_j e_j in one batched
+        :meth:`closed_loop` that reuses the kinematics at q (qd does not enter them), h_j = sqrt(eps) max(|qd_j|, the
+        reference's rate). The terms :meth:`jacobian_blocks` leaves out there (C, M(q, Thetadot), H and R in qd)
         are the ones that stall Newton on a long chain: on the 24-link snake BDF took 5,584 right-hand sides and
-        403 Jacobians for one run, 1,132 and 62 with these columns."""
+        403 Jacobians for one run, 1,120 and 62 with these columns. For Newton's matrix, not exact: qdd is quadratic
+        in qd, and the step's truncation error is h_j/2 d^2 qdd / dqd_j^2 (on the thin rod, with its qdd of 4e4,
+        up to 9 % of the block; exact central differences or complex steps took 2n states and 1.2x, 1.4x the time on
+        the snake, with the same steps). The law's rows keep their analytic columns: differences there, against
+        micro_2r's tolerances of 1e-13 on its estimate, stalled Newton (t = 0.011 of 1.7 s in 3,000 evaluations)."""
         n, runs = self.n, len(self.specs)
         state = y.reshape(runs, self.size)
         qd = state[:, n:2 * n]
-        h = np.sqrt(EPS) * np.maximum(np.abs(qd), self.rate_scale[:, None])
+        rate = np.maximum(self.amplitude, 0.1) * np.maximum(2 * np.pi * self.frequency, 1.0)
+        h = np.sqrt(EPS) * np.maximum(np.abs(qd), rate[:, None])
         kin = motion.kinematics(self.chain, state[:, :n]) if kin is None else kin
         kin = motion.Kinematics(*(np.broadcast_to(a, (n + 1,) + a.shape) for a in vars(kin).values()))
         stepped = np.repeat(state[None], n + 1, 0)
         stepped[np.arange(1, n + 1), :, n + np.arange(n)] += h.T
-        f = self.rhs(t, stepped.reshape(n + 1, -1), kin).reshape(n + 1, runs, self.size)
-        self.evaluations -= 1  # counted in jacobian_cost
+        f = self.closed_loop(t, stepped.reshape(n + 1, -1), kin)[-1]
         return np.moveaxis((f[1:] - f[0]) / h.T[:, :, None], 0, -1)
 
     def jacobian(self, t, y):
-        """:meth:`jacobian_blocks` with :meth:`velocity_columns` in place of its qd columns, as one sparse
+        """:meth:`jacobian_blocks` with :meth:`velocity_columns` in place of its d qdd / dqd, as one sparse
         block-diagonal matrix (the runs are independent), for SciPy."""
         self.jacobians += 1
         n = self.n
         kin = motion.kinematics(self.chain, y.reshape(len(self.specs), self.size)[:, :n])
         blocks = self.jacobian_blocks(t, y, kin)
-        blocks[:, n:-1, n:2 * n] = self.velocity_columns(t, y, kin)[:, n:-1]
+        blocks[:, n:2 * n, n:2 * n] = self.velocity_columns(t, y, kin)
         runs = len(blocks)
         return sparse.bsr_matrix((blocks, np.arange(runs), np.arange(runs + 1)),
                                  shape=(runs * self.size,) * 2).tocsc()
@@ -316,7 +324,7 @@ class Batch:
         the energy 1/2 K_D / Lambda |qd|^2 of a velocity error of the reference's rate."""
         y0 = self.initial_state().reshape(len(self.specs), self.size)
         q = np.maximum(self.amplitude, 0.1)[:, None] * np.ones(self.n)
-        qd = self.rate_scale[:, None] * np.ones(self.n)
+        qd = q * np.maximum(2 * np.pi * self.frequency, 1.0)[:, None]
         z = np.abs(y0[:, 2 * self.n:-1])
         z = np.maximum(z, 1e-3 * z.max(-1, keepdims=True))
         energy = 0.5 * np.sum(self.kd / self.lam * qd * qd, -1)
@@ -360,11 +368,12 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     The decisive budget is counted, the same on every machine: ``max_evaluations`` right-hand sides of the batch,
     each LU factorization counted as one and each Jacobian as Batch.jacobian_cost; a batch past it stops as
     ``budget``. ``max_seconds`` is a safety net only: a batch past it stops as ``clock`` (CLOCK), which depends on
-    the machine, so callers take it as no evidence either way. A batch that stops early (``budget``, ``clock``, ``nan``, ``step collapse``,
-    ``error``) keeps the samples it reached. The tolerance applies to the whole state (all runs): a run alone may
-    be resolved better. A run whose law's state left the law's domain (:meth:`AdaptiveLaw.outside`: the natural
-    law's U_l turned indefinite, f(Phi_hat_l) through infinity) ends ``barrier``: its exact solution cannot (D <=
-    V(0) plus what Thetadot adds stays finite), so the integrator stepped over a pole, and the run is no evidence.
+    the machine, so callers take it as no evidence either way. A batch that stops early (``budget``, ``clock``,
+    ``nan``, ``step collapse``, ``error``) keeps the samples it reached. The tolerance applies to the whole state
+    (all runs): a run alone may be resolved better. A run whose law's state left the law's domain
+    (:meth:`AdaptiveLaw.outside`: the natural law's U_l turned indefinite, f(Phi_hat_l) through infinity) ends
+    ``barrier``: its exact solution cannot (D <= V(0) plus what Thetadot adds stays finite), so the integrator
+    stepped over a pole, and the run is no evidence.
 
     A batch is not started (only its initial sample) when M(q0, Theta(t0)) of a run has a scaled condition number
     (:mod:`inertiaproof.dynamics.forward`) above inertiaproof.sim.simulate.MAX_CONDITION (``ill-conditioned``: qdd
