@@ -79,7 +79,7 @@ SETTINGS = {
                       hunts=(("planar-2r-payload", 3),), hunt_runs=6, hunt_horizon=2.0, shrink=False,
                       ramps=(1.0, 0.1, 0.01), traverses=(1.0, 0.25), start=0.2, settle=0.5,
                       laws=("slotine-li", "natural"), samples_per_second=50, configurations=128, rtol=3e-5,
-                      work=36_000, max_seconds=90.0),
+                      work=36_000, max_seconds=180.0),
     "deep": AppSettings(scenes=(("planar-2r-payload", (10.0, 3.0, 1.0, 0.3, 0.1, 0.03, 0.01)),
                                 ("trolley-2r", (4.0, 2.0, 1.0, 0.5, 0.25, 0.1)),
                                 ("panda-payload-3kg", (1.0, 0.1, 0.01))),
@@ -126,9 +126,9 @@ def eigh_resolution(n):
 
 BATCH = 2 / 3  # of the work, a batch of several runs may spend this; if it stops early, its runs alone the rest (ci:
 # Panda's 12 runs finish as one batch in 5,375 counted BDF evaluations, 16,600 units; 12.6 s here)
-BATCH_GAIN = 3  # a batch of several runs is tried only where one of its evaluations costs at most a third of its
-# runs' alone (tracking.evaluation_cost; 12 runs: 2R 8x, Panda 5.4x, the 24-link snake 2.1x, whose runs alone took
-# 54 s here and their batch 84 s: its Jacobian's velocity columns, n + 1 states per run, are what cost)
+BATCH_JOINTS = 12  # on longer chains several runs are simulated alone, not as a batch first: a run's own work
+# outweighs what a batch shares (the 24-link snake's 12 runs took 54 s alone here and 84 s as a batch, its Jacobian's
+# n + 1 states a run costing most; Panda's, 7 joints, 26 s alone and 18 s as a batch)
 FINER = 1 / 2  # of the work, the runs simulated again at rtol / 10 may spend this more (ci: Panda's two natural-law
 # runs of the 10 ms ramp need more than 5,289 evaluations at rtol 3e-6)
 
@@ -137,8 +137,8 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     """Simulate recipes of one chain and horizon together, within _work(s, n) units of counted work
     (:func:`inertiaproof.sim.tracking.evaluation_cost`) and one wall-clock safety net ``s.max_seconds`` for it all,
     with the scene's ``[adaptive] integrator``.
-    When the batch stops early (one stiff run holds up all: the step is the whole state's), or where a batch does
-    not pay (BATCH_GAIN), each run is simulated alone (:func:`_alone`), unless the batch was not started
+    When the batch stops early (one stiff run holds up all: the step is the whole state's), or on a chain of more
+    than BATCH_JOINTS joints, each run is simulated alone (:func:`_alone`), unless the batch was not started
     (ill-conditioned: its runs share the chain); the runs whose Lyapunov balance error exceeds BALANCE x rtol, or
     that stepped over their law's barrier, are simulated again, likewise, at a tenth of the tolerance, keeping the
     first residual as ``looser_balance_error`` (balance_verdict). Returns (runs, batches) in the recipes' order."""
@@ -146,30 +146,31 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     method = recipes[0].scene_object().adaptive.integrator
     deadline = time.perf_counter() + s.max_seconds
 
-    def simulate(specs, work, rtol):
+    def simulate(specs, work, rtol, again=False):
         evaluations = max(int(work / tracking.evaluation_cost(chain.n, len(specs))), 1)
         return tracking.simulate(chain, specs, horizon, rtol=rtol, samples=_samples(s, horizon), forces=forces,
                                  max_evaluations=evaluations, max_seconds=max(deadline - time.perf_counter(), 0.0),
-                                 method=method)
+                                 method=tracking.IMPLICIT_DEFAULT if again and method == "auto" else method,
+                                 explicit_budget=max(int(evaluations * s.work / total), 1))
 
     def together_then_alone(specs, work, rtol):
         runs, batches = [None] * len(specs), [None] * len(specs)
-        if len(specs) == 1 or len(specs) * cost >= BATCH_GAIN * tracking.evaluation_cost(chain.n, len(specs)):
+        if len(specs) == 1 or chain.n <= BATCH_JOINTS:
             runs, batch = simulate(specs, work * BATCH if len(specs) > 1 else work, rtol)
             batches = [batch] * len(runs)
             if batch_finished(runs) or len(specs) == 1 or runs[0].status in tracking.NOT_STARTED:
                 return runs, batches
             work *= 1 - BATCH
-        _alone(specs, runs, batches, work, lambda spec, share: simulate([spec], share, rtol), cost)
+        _alone(specs, runs, batches, work, lambda spec, share, again: simulate([spec], share, rtol, again), cost)
         return runs, batches
 
     cost = tracking.evaluation_cost(chain.n, 1)
-    work = _work(s, chain.n)
-    runs, batches = together_then_alone([r.spec() for r in recipes], work, s.rtol)
+    total = _work(s, chain.n)  # RK45 or not is decided as on a 2R chain, by s.work: explicit_budget
+    runs, batches = together_then_alone([r.spec() for r in recipes], total, s.rtol)
     again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol
              or r.status == tracking.BARRIER]  # the barrier too: the exact solution stays clear of it
     if again:
-        finer, finer_batches = together_then_alone([runs[i].spec for i in again], work * FINER, s.rtol / 10)
+        finer, finer_batches = together_then_alone([runs[i].spec for i in again], total * FINER, s.rtol / 10)
         for i, run, batch in zip(again, finer, finer_batches):
             run.looser_balance_error = runs[i].balance_error
             runs[i], batches[i] = run, batch
@@ -185,13 +186,15 @@ def _work(s, n):
 def _alone(specs, runs, batches, work, simulate, cost):
     """Each run of ``specs`` simulated alone (into runs[i], batches[i]), in order, with an equal share of the work
     left (a run that finishes early leaves the rest of its share to those after it); then the runs the count stopped
-    once more, in order and afresh, each with all the work left, where that is more than it had. Counts only: the
-    same runs finish on every machine. ``cost``: the work of one evaluation of a run alone."""
+    once more, in order and afresh, each with all the work left, where that is more than it had, and ``again``
+    (implicitly, unless the scene fixes its integrator: a run that outgrew its explicit method's budget stiffened
+    on the way, as a natural-law estimate nearing its barrier does). Counts only: the same runs finish on every
+    machine. ``simulate(spec, share, again)``; ``cost``: the work of one evaluation of a run alone."""
     had = {}
 
-    def alone(i, share):
+    def alone(i, share, again=False):
         nonlocal work
-        (runs[i],), batches[i] = simulate(specs[i], share)
+        (runs[i],), batches[i] = simulate(specs[i], share, again)
         had[i] = share
         work -= min(share, runs[i].work * cost)
 
@@ -199,7 +202,7 @@ def _alone(specs, runs, batches, work, simulate, cost):
         alone(k, work / (len(specs) - k))
     for i in [i for i, r in enumerate(runs) if r.status == "budget"]:
         if work > had[i]:
-            alone(i, work)
+            alone(i, work, again=True)
 
 
 def balance_verdict(run, rtol):

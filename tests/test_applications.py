@@ -282,8 +282,9 @@ def test_runs_alone_share_the_counted_work_and_the_left_over_goes_to_those_the_c
     need = [422, 1058, 446, 2606, 428, 620, 542, 6000, 446, 728, 410, 578]
     calls = []
 
-    def simulate(spec, work):
+    def simulate(spec, work, again):
         calls.append((spec, work))
+        assert again == (len(calls) > len(need))  # the second pass is implicit
         done = spec <= int(work)
         used = spec if done else int(work)
         return [tracking.Run(spec, 0, "ok" if done else "budget", "", 0.0, used, work=used)], None

@@ -120,6 +120,7 @@ class Batch:
         self.home = np.stack([s.reference.home for s in self.specs]).astype(float)
         self.amplitude = np.array([s.reference.amplitude for s in self.specs], float)
         self.frequency = np.array([s.reference.frequency for s in self.specs], float)
+        self.rate = np.maximum(self.amplitude, 0.1) * np.maximum(2 * np.pi * self.frequency, 1.0)  # of q_d, a scale
         self.lam = np.stack([np.broadcast_to(s.gains.lam, (self.n,)) for s in self.specs]).astype(float)
         self.kd = np.stack([np.broadcast_to(s.gains.kd, (self.n,)) for s in self.specs]).astype(float)
         kept = np.array([KEPT[s.plant] for s in self.specs])
@@ -162,7 +163,7 @@ class Batch:
         for law, idx in self.laws:
             value = getattr(law, method)(z[..., idx, :, :], *(a[..., idx, :, :] for a in args))
             if out is None:
-                out = np.zeros(z.shape[:-3] + (len(self.specs),) + value.shape[z.ndim - 2:], np.result_type(z, *args))
+                out = np.zeros(z.shape[:-3] + (len(self.specs),) + value.shape[z.ndim - 2:])
             out[(Ellipsis, idx) + (slice(None),) * (value.ndim - z.ndim + 2)] = value
         return out
 
@@ -240,14 +241,13 @@ class Batch:
         are the ones that stall Newton on a long chain: on the 24-link snake BDF took 5,584 right-hand sides and
         403 Jacobians for one run, 1,120 and 62 with these columns. For Newton's matrix, not exact: qdd is quadratic
         in qd, and the step's truncation error is h_j/2 d^2 qdd / dqd_j^2 (on the thin rod, with its qdd of 4e4,
-        up to 9 % of the block; exact central differences or complex steps took 2n states and 1.2x, 1.4x the time on
+        up to 11 % of the block; exact central differences or complex steps took 2n states and 1.2x, 1.4x the time on
         the snake, with the same steps). The law's rows keep their analytic columns: differences there, against
         micro_2r's tolerances of 1e-13 on its estimate, stalled Newton (t = 0.011 of 1.7 s in 3,000 evaluations)."""
         n, runs = self.n, len(self.specs)
         state = y.reshape(runs, self.size)
         qd = state[:, n:2 * n]
-        rate = np.maximum(self.amplitude, 0.1) * np.maximum(2 * np.pi * self.frequency, 1.0)
-        h = np.sqrt(EPS) * np.maximum(np.abs(qd), rate[:, None])
+        h = np.sqrt(EPS) * np.maximum(np.abs(qd), self.rate[:, None])
         kin = motion.kinematics(self.chain, state[:, :n]) if kin is None else kin
         kin = motion.Kinematics(*(np.broadcast_to(a, (n + 1,) + a.shape) for a in vars(kin).values()))
         stepped = np.repeat(state[None], n + 1, 0)
@@ -324,7 +324,7 @@ class Batch:
         the energy 1/2 K_D / Lambda |qd|^2 of a velocity error of the reference's rate."""
         y0 = self.initial_state().reshape(len(self.specs), self.size)
         q = np.maximum(self.amplitude, 0.1)[:, None] * np.ones(self.n)
-        qd = q * np.maximum(2 * np.pi * self.frequency, 1.0)[:, None]
+        qd = self.rate[:, None] * np.ones(self.n)
         z = np.abs(y0[:, 2 * self.n:-1])
         z = np.maximum(z, 1e-3 * z.max(-1, keepdims=True))
         energy = 0.5 * np.sum(self.kd / self.lam * qd * qd, -1)
@@ -355,14 +355,14 @@ class Run:
 
 
 def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=50_000, max_seconds=60.0,
-             forces=motion.generalized_forces, method="auto", implicit=IMPLICIT_DEFAULT):
+             forces=motion.generalized_forces, method="auto", implicit=IMPLICIT_DEFAULT, explicit_budget=None):
     """Integrate the runs together over [t0, t0 + horizon] (t0 of the first run's trajectory); returns (runs, batch).
 
     ``method`` "auto" takes RK45 unless the batch is stiff: the spectral radius rho of its Jacobian at the start
     (:meth:`Batch.stiffness`, damping and adaptation) keeps RK45 to steps h <= 3.3 / rho, about 6 horizon rho / 3.3
-    evaluations (:func:`inertiaproof.sim.simulate.least_evaluations`); more than ``max_evaluations`` / RK45_MARGIN
-    and the batch is integrated with the implicit method ``implicit`` (BDF or Radau) and the Jacobian of
-    :meth:`Batch.jacobian` (block diagonal).
+    evaluations (:func:`inertiaproof.sim.simulate.least_evaluations`); more than ``explicit_budget`` (default
+    ``max_evaluations``) / RK45_MARGIN and the batch is integrated with the implicit method ``implicit`` (BDF or
+    Radau) and the Jacobian of :meth:`Batch.jacobian` (block diagonal).
     A key of SOLVERS ("RK45", "DOP853", "BDF", "Radau") forces a method.
 
     The decisive budget is counted, the same on every machine: ``max_evaluations`` right-hand sides of the batch,
@@ -398,7 +398,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
                                     "for a body whose mass lies on a line or plane")
         ys, t_eval, chosen = [y0], np.array([t0]), "none"
     else:
-        chosen = choose_method(batch, horizon, max_evaluations, method, implicit)
+        chosen = choose_method(batch, horizon, explicit_budget or max_evaluations, method, implicit)
         kw = dict(jac=batch.jacobian) if chosen in IMPLICIT else {}
         solver = SOLVERS[chosen](batch.rhs, t0, y0, t0 + horizon, rtol=rtol, atol=rtol * batch.scale(), **kw)
         t_eval = np.linspace(t0, t0 + horizon, samples)
@@ -449,12 +449,12 @@ def choose_method(batch, horizon, max_evaluations, method="auto", implicit=IMPLI
 
 def evaluation_cost(n, runs):
     """The counted work of one evaluation (right-hand side or LU factorization; a Jacobian counts
-    Batch.jacobian_cost of them) of a batch of ``runs`` runs
-    on an n-joint chain: 0.5 + 0.1 n + runs (0.016 n + 0.00013 n^3) units, about a millisecond each on the machine
-    it was fitted on (2 cores; ci APP batches of 12 runs: 2R 1.0-1.2 ms, Panda 2.8-2.9 ms, a 24-link snake 39 ms;
-    alone 0.75, 1.3 and 7 ms; the snake's are 25% above the formula). A formula of counts, the same on every
-    machine: budgets in these units let the count, not the clock, stop a run wherever the machine is no more than a
-    few times slower."""
+    Batch.jacobian_cost of them) of a batch of ``runs`` runs on an n-joint chain: 0.5 + 0.1 n + runs (0.016 n +
+    0.00013 n^3) units, about a millisecond each on the machine it was fitted on (2 cores; ci APP batches of 12
+    runs: 2R 1.0-1.2 ms, Panda 2.8-2.9 ms, a 24-link snake 39 ms; alone 0.75, 1.3 and 7 ms; measured again on
+    2026-11-28 after faster kinematics: 1.0, 1.8 and 19.9 ms, alone 0.66, 0.87 and 2.3 ms, so the formula now
+    counts the snake's evaluations at twice their time). A formula of counts, the same on every machine: budgets in these units let the count, not
+    the clock, stop a run wherever the machine is no more than a few times slower."""
     return 0.5 + 0.1 * n + runs * (0.016 * n + 0.00013 * n**3)
 
 

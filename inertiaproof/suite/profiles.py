@@ -24,9 +24,10 @@ class Profile:
     audit_refine_s: float = 0.05  # an audit's bracket budget per chain (rounds of boxes, a count) with the default
     # --bounds arms: below PIVOT_MIN_S, so no pivot ladders: M(q) certified nonsingular, the lower side loose
     audit_full_refine_s: float = 0.5  # the same with --bounds all: the pivot ladders run (lower sides within 2x)
-    check_s: float = 90.0  # seconds one check may run (inertiaproof.budget): then it ends with what it has (a safety
-    # net: about twice what the counted budgets of a scene's slowest checks take here, stiff_mass_ratio_1e6's loading
-    # study 41 s, an APP study up to 48,000 units)
+    check_s: float = 180.0  # seconds one check may run (inertiaproof.budget): then it ends with what it has (a safety
+    # net: about three times what the counted budgets of a scene's slowest checks take here, the 24-link snake's APP
+    # study 57 s, stiff_mass_ratio_1e6's loading study 41 s, so that they end at their counts on a machine twice as
+    # slow, as beside two CPU hogs: bench/cpu_hog.py)
     run_s: float = 300.0  # seconds a whole run may take: a check started late gets only what is left
     memory_mb: int = 4096  # memory one check may add to the process (its address space)
     shard_examples: int = 100  # a hunt splits into shards of at most this many examples (tasks for the workers)
