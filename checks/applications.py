@@ -134,7 +134,7 @@ FINER = 1 / 2  # of the work, the runs simulated again at rtol / 10 may spend th
 
 
 def simulate_recipes(recipes, s, forces=motion.generalized_forces):
-    """Simulate recipes of one chain and horizon together, within _work(s, n) units of counted work
+    """Simulate recipes of one chain and horizon together, within ``_work(s, n)`` units of counted work
     (:func:`inertiaproof.sim.tracking.evaluation_cost`) and one wall-clock safety net ``s.max_seconds`` for it all,
     with the scene's ``[adaptive] integrator``.
     When the batch stops early (one stiff run holds up all: the step is the whole state's), or on a chain of more
@@ -154,11 +154,14 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
                                  explicit_budget=max(int(evaluations * s.work / total), 1))
 
     def together_then_alone(specs, work, rtol):
+        if len(specs) == 1:
+            runs, batch = simulate(specs, work, rtol)
+            return runs, [batch]
         runs, batches = [None] * len(specs), [None] * len(specs)
-        if len(specs) == 1 or chain.n <= BATCH_JOINTS:
-            runs, batch = simulate(specs, work * BATCH if len(specs) > 1 else work, rtol)
+        if chain.n <= BATCH_JOINTS:
+            runs, batch = simulate(specs, work * BATCH, rtol)
             batches = [batch] * len(runs)
-            if batch_finished(runs) or len(specs) == 1 or runs[0].status in tracking.NOT_STARTED:
+            if batch_finished(runs) or runs[0].status in tracking.NOT_STARTED:
                 return runs, batches
             work *= 1 - BATCH
         _alone(specs, runs, batches, work, lambda spec, share, again: simulate([spec], share, rtol, again), cost)
@@ -186,8 +189,8 @@ def _work(s, n):
 def _alone(specs, runs, batches, work, simulate, cost):
     """Each run of ``specs`` simulated alone (into runs[i], batches[i]), in order, with an equal share of the work
     left (a run that finishes early leaves the rest of its share to those after it); then the runs the count stopped
-    once more, in order and afresh, each with all the work left, where that is more than it had, and ``again``
-    (implicitly, unless the scene fixes its integrator: a run that outgrew its explicit method's budget stiffened
+    once more, in order and afresh, each with all the work left where that is more than it had, ``again``: with the
+    implicit method unless the scene fixes its integrator (a run that outgrew an explicit method's budget stiffened
     on the way, as a natural-law estimate nearing its barrier does). Counts only: the same runs finish on every
     machine. ``simulate(spec, share, again)``; ``cost``: the work of one evaluation of a run alone."""
     had = {}
