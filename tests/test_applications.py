@@ -297,6 +297,33 @@ def test_runs_alone_share_the_counted_work_and_the_left_over_goes_to_those_the_c
     assert first[422] == 1000 and first[1058] > 1000  # the first run's unused share went to the rest
 
 
+def test_a_long_chain_simulates_its_runs_alone_and_judges_rk45_on_the_2r_count(monkeypatch):
+    """A chain of more than BATCH_JOINTS joints skips the batch: the 24-link snake's runs go alone at once, with 7x
+    the 2R work, and RK45 or not is judged on the 2R count (explicit_budget); the 2R arm's runs go as a batch first,
+    on its own count."""
+    from inertiaproof.sim.recipe import Recipe
+
+    calls = []
+
+    def simulate(chain, specs, horizon, **kw):
+        calls.append((len(specs), kw["max_evaluations"], kw["explicit_budget"], kw["method"]))
+        return [tracking.Run(spec, i, "budget", "", 0.0, kw["max_evaluations"], work=kw["max_evaluations"])
+                for i, spec in enumerate(specs)], None
+
+    monkeypatch.setattr(tracking, "simulate", simulate)
+    s = app.SETTINGS["ci"]
+    for key, batched in ((str(Path(__file__).parents[1] / "scenes" / "many_links_24.toml"), False), (KEY, True)):
+        calls.clear()
+        recipes = [Recipe(key, law, "gre", horizon=1.0, timing=(0.2, 0.1)) for law in ("slotine-li", "natural")]
+        app.simulate_recipes(recipes, s)
+        n = recipes[0].chain().n
+        assert [c[0] for c in calls] == ([2] if batched else []) + [1, 1]  # the second pass: nothing left
+        ratio = tracking.evaluation_cost(n, 1) / tracking.evaluation_cost(2, 1)
+        assert (ratio > 6.9) == (not batched)
+        for size, evaluations, explicit, method in calls:
+            assert explicit == max(int(evaluations / max(ratio, 1.0)), 1) and method == "auto"
+
+
 def test_a_studys_runs_end_the_same_on_a_machine_three_times_slower(monkeypatch):
     """simulate_recipes budgets in counted work: with the wall clock running three times as fast (a machine three
     times slower, as under CPU hogs) the same runs finish, or stop at the count after the same evaluations (a work
