@@ -145,6 +145,8 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     horizon, chain = recipes[0].run_horizon(), recipes[0].chain()
     method = recipes[0].scene_object().adaptive.integrator
     deadline = time.perf_counter() + s.max_seconds
+    cost = tracking.evaluation_cost(chain.n, 1)
+    total = _work(s, chain.n)  # RK45 or not is decided as on a 2R chain, by s.work: explicit_budget
 
     def simulate(specs, work, rtol, again=False):
         evaluations = max(int(work / tracking.evaluation_cost(chain.n, len(specs))), 1)
@@ -167,8 +169,6 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
         _alone(specs, runs, batches, work, lambda spec, share, again: simulate([spec], share, rtol, again), cost)
         return runs, batches
 
-    cost = tracking.evaluation_cost(chain.n, 1)
-    total = _work(s, chain.n)  # RK45 or not is decided as on a 2R chain, by s.work: explicit_budget
     runs, batches = together_then_alone([r.spec() for r in recipes], total, s.rtol)
     again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol
              or r.status == tracking.BARRIER]  # the barrier too: the exact solution stays clear of it

@@ -301,8 +301,6 @@ def test_a_long_chain_simulates_its_runs_alone_and_judges_rk45_on_the_2r_count(m
     """A chain of more than BATCH_JOINTS joints skips the batch: the 24-link snake's runs go alone at once, with 7x
     the 2R work, and RK45 or not is judged on the 2R count (explicit_budget); the 2R arm's runs go as a batch first,
     on its own count."""
-    from inertiaproof.sim.recipe import Recipe
-
     calls = []
 
     def simulate(chain, specs, horizon, **kw):

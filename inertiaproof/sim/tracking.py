@@ -120,7 +120,7 @@ class Batch:
         self.home = np.stack([s.reference.home for s in self.specs]).astype(float)
         self.amplitude = np.array([s.reference.amplitude for s in self.specs], float)
         self.frequency = np.array([s.reference.frequency for s in self.specs], float)
-        self.rate = np.maximum(self.amplitude, 0.1) * np.maximum(2 * np.pi * self.frequency, 1.0)  # of q_d, a scale
+        self.qd_scale = np.maximum(self.amplitude, 0.1) * np.maximum(2 * np.pi * self.frequency, 1.0)  # q_d's rate
         self.lam = np.stack([np.broadcast_to(s.gains.lam, (self.n,)) for s in self.specs]).astype(float)
         self.kd = np.stack([np.broadcast_to(s.gains.kd, (self.n,)) for s in self.specs]).astype(float)
         kept = np.array([KEPT[s.plant] for s in self.specs])
@@ -247,7 +247,7 @@ class Batch:
         n, runs = self.n, len(self.specs)
         state = y.reshape(runs, self.size)
         qd = state[:, n:2 * n]
-        h = np.sqrt(EPS) * np.maximum(np.abs(qd), self.rate[:, None])
+        h = np.sqrt(EPS) * np.maximum(np.abs(qd), self.qd_scale[:, None])
         kin = motion.kinematics(self.chain, state[:, :n]) if kin is None else kin
         kin = motion.Kinematics(*(np.broadcast_to(a, (n + 1,) + a.shape) for a in vars(kin).values()))
         stepped = np.repeat(state[None], n + 1, 0)
@@ -324,7 +324,7 @@ class Batch:
         the energy 1/2 K_D / Lambda |qd|^2 of a velocity error of the reference's rate."""
         y0 = self.initial_state().reshape(len(self.specs), self.size)
         q = np.maximum(self.amplitude, 0.1)[:, None] * np.ones(self.n)
-        qd = self.rate[:, None] * np.ones(self.n)
+        qd = self.qd_scale[:, None] * np.ones(self.n)
         z = np.abs(y0[:, 2 * self.n:-1])
         z = np.maximum(z, 1e-3 * z.max(-1, keepdims=True))
         energy = 0.5 * np.sum(self.kd / self.lam * qd * qd, -1)
@@ -452,9 +452,9 @@ def evaluation_cost(n, runs):
     Batch.jacobian_cost of them) of a batch of ``runs`` runs on an n-joint chain: 0.5 + 0.1 n + runs (0.016 n +
     0.00013 n^3) units, about a millisecond each on the machine it was fitted on (2 cores; ci APP batches of 12
     runs: 2R 1.0-1.2 ms, Panda 2.8-2.9 ms, a 24-link snake 39 ms; alone 0.75, 1.3 and 7 ms; measured again on
-    2026-11-28 after faster kinematics: 1.0, 1.8 and 19.9 ms, alone 0.66, 0.87 and 2.3 ms, so the formula now
-    counts the snake's evaluations at twice their time). A formula of counts, the same on every machine: budgets in these units let the count, not
-    the clock, stop a run wherever the machine is no more than a few times slower."""
+    2026-11-28: 1.0, 1.8 and 19.9 ms, alone 0.66, 0.87 and 2.3 ms, so the formula now counts the snake's
+    evaluations at twice their time). A formula of counts, the same on every machine: budgets in these units let
+    the count, not the clock, stop a run wherever the machine is no more than a few times slower."""
     return 0.5 + 0.1 * n + runs * (0.016 * n + 0.00013 * n**3)
 
 
