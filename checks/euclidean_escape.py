@@ -79,15 +79,20 @@ def natural_fails(data):
     return law["status"] == "ok" and lost
 
 
-def euclidean_escape_result(ctx, hunts, twin=natural_twin):
+def euclidean_escape_result(ctx, hunts, twin=natural_twin, elsewhere=None):
     """One hunt per scene of ``hunts`` ({scene: Hypothesis examples, None: the profile's}), each simulating at most
     the profile's ``hunt_runs`` runs. ``twin`` gives the law compared with Slotine-Li (a test passes a wrong one).
+    ``elsewhere`` (the same form) is hunted only if ``hunts`` found no escape: that Slotine-Li *may* leave the
+    consistent set is existential, one replayable run on any chain proves it; that the natural law cannot is read
+    off every run of both.
     The check's wall-clock budget is a safety net: once it strikes no run starts, and a hunt it cut short is
     INCONCLUSIVE (only a finished run that breaks the natural law stays evidence)."""
     s = settings_for(ctx)
     phases = (Phase.explicit, Phase.reuse, Phase.generate, Phase.target) + ((Phase.shrink,) if s.shrink else ())
     seen, failures, scenes, witnesses, stiff, clocked = {}, [], {}, {}, [], []
-    for key, examples in hunts.items():
+    for key, examples in [*hunts.items(), *(elsewhere or {}).items()]:
+        if key not in hunts and (witnesses or failures or clocked):
+            break
         name = stream_name(key)
         q_samples = estimates.configurations(scene_of(key).chain, s.configurations, ctx.rng(f"{name}:APP escape q"))
         runs = []
@@ -142,7 +147,7 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
         worst = min((v["smallest_margin"]["value"] for v in scenes.values()), default=np.nan)
         return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE,
                       f"no Slotine-Li run with an indefinite M(q, Theta_hat) in {len(seen)} runs on "
-                      f"{', '.join(hunts)} (smallest relative lambda_min {worst}); the natural law stayed consistent "
+                      f"{', '.join(scenes)} (smallest relative lambda_min {worst}); the natural law stayed consistent "
                       f"in all {sum(law['status'] == 'ok' for law in natural)} it finished"
                       + (f"; {len(barrier)} natural run(s) stepped over its barrier: {barrier[0]}" if barrier else "")
                       + (f"; {len(stiff)} of the runs not simulated (no margin): {stiff[0]}" if stiff else ""),
@@ -158,16 +163,19 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin):
                       "replay": f"inertiaproof replay {path}"}
     key, data = next(iter(witnesses.items()))
     e, nat = data["laws"]["euclidean"], data["laws"]["natural"]
+    home = "" if key in hunts else (
+        f"no escape on {', '.join(hunts)} in {sum(scenes[k]['runs'] for k in hunts)} runs (smallest relative "
+        f"lambda_min {min(scenes[k]['smallest_margin']['value'] for k in hunts):.3g}); the law may escape: ")
     evidence = {"searched": searched, "escapes": found, "replay": found[key]["replay"],
                 "escape_margin": quantity(e["margin"], "margin", "min_t,q lambda_min(M(q, Theta_hat)) / "
                                           "max lambda_max under Slotine-Li (< 0: indefinite)"),
                 "natural_margin": quantity(nat["margin"], "margin", "the same under the natural law (> 0)")}
     return Result("APP-euclidean-escape", Verdict.HOLDS,
-                  f"{key}: Slotine-Li's lambda_min(M(q, Theta_hat)) = {e['inf_lambda_min_M_hat']:.3g} at t = "
+                  f"{home}{key}: Slotine-Li's lambda_min(M(q, Theta_hat)) = {e['inf_lambda_min_M_hat']:.3g} at t = "
                   f"{e['witness']['t']:.3g} s (min lambda_min(f(Phi_hat)) {e['min_lambda_min_f_hat']:.3g}); "
                   f"the natural law on the same run: min lambda_min(f(Phi_hat)) {nat['min_lambda_min_f_hat']:.3g} > 0, "
                   f"lambda(M_hat) in [{nat['inf_lambda_min_M_hat']:.3g}, {nat['sup_lambda_max_M_hat']:.3g}]; escapes "
-                  f"on {len(witnesses)} of {len(hunts)} scenes in {len(seen)} runs", evidence)
+                  f"on {len(witnesses)} of {len(scenes)} scenes in {len(seen)} runs", evidence)
 
 
 def _replay_data(data, s):
@@ -196,11 +204,12 @@ def _escape_figures(data):
 
 @check("APP-euclidean-escape", needs={"chain"})
 def euclidean_escape(ctx):
+    built_in = settings_for(ctx).hunts
     try:
-        hunts = scene_keys(ctx, settings_for(ctx).hunts)
+        hunts = scene_keys(ctx, built_in)
     except ValueError as exc:
         return Result("APP-euclidean-escape", Verdict.INCONCLUSIVE, str(exc))
-    return euclidean_escape_result(ctx, hunts)
+    return euclidean_escape_result(ctx, hunts, elsewhere=None if ctx.scene is None else dict(built_in))
 
 
 @replayer("adaptive-escape")

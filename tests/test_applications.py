@@ -117,6 +117,23 @@ def test_euclidean_escape_is_found_saved_and_replays(app_ctx):
     assert replayed.verdict == Verdict.HOLDS, replayed.summary
 
 
+def test_a_scene_without_an_escape_borrows_the_built_in_witness(app_ctx):
+    """That Slotine-Li may escape is existential: a scene whose own runs keep M_hat definite is hunted first, then the
+    built-in scene's witness proves the claim; the natural law is read off the runs of both."""
+    scene = str(SCENES / "sphere_counterexample.toml")
+    alone = escape.euclidean_escape_result(app_ctx, {scene: 3})
+    assert alone.verdict == Verdict.INCONCLUSIVE, alone.summary
+    result = escape.euclidean_escape_result(app_ctx, {scene: 3}, elsewhere={KEY: 3})
+    assert result.verdict == Verdict.HOLDS, result.summary
+    assert result.summary.startswith(f"no escape on {scene} in ") and list(result.evidence["escapes"]) == [KEY]
+    assert list(result.evidence["searched"]["scenes"]) == [scene, KEY]
+    found = escape.euclidean_escape_result(app_ctx, {KEY: 3}, elsewhere={scene: 3})
+    assert list(found.evidence["searched"]["scenes"]) == [KEY]  # a witness at home: nothing hunted elsewhere
+    wrong = escape.euclidean_escape_result(app_ctx, {scene: 3}, elsewhere={KEY: 3},
+                                           twin=lambda r: dataclasses.replace(r, law="slotine-li"))
+    assert wrong.verdict == Verdict.VIOLATED
+
+
 def test_the_escape_hunt_is_budgeted_in_runs_and_a_clock_stop_claims_nothing(app_ctx, monkeypatch):
     monkeypatch.setitem(app.SETTINGS, "ci", dataclasses.replace(app.SETTINGS["ci"], hunt_runs=0))
     capped = escape.euclidean_escape_result(app_ctx, {KEY: 3})
