@@ -260,8 +260,9 @@ def test_a_run_stopped_by_the_clock_is_inconclusive_and_a_finished_unbalanced_ru
     assert all(note.endswith("no evidence)") for note in clocked.evidence["notes"][:2])
 
 
-def _run(status, balance, looser=np.nan):
-    return tracking.Run(None, 0, status, "", 1.0, 100, balance_error=balance, looser_balance_error=looser)
+def _run(status, balance, looser=np.nan, second_opinion=""):
+    return tracking.Run(None, 0, status, "", 1.0, 100, balance_error=balance, looser_balance_error=looser,
+                        second_opinion=second_opinion)
 
 
 def test_the_balance_verdict_follows_the_tolerance():
@@ -271,8 +272,8 @@ def test_the_balance_verdict_follows_the_tolerance():
     rtol = 3e-5
     assert app.balance_verdict(_run("ok", 0.02), rtol)[0] == Verdict.HOLDS
     assert app.balance_verdict(_run("ok", 0.099, 1.31), rtol)[0] == Verdict.HOLDS
-    assert app.balance_verdict(_run("ok", 0.5, 0.6), rtol)[0] == Verdict.VIOLATED
-    assert app.balance_verdict(_run("ok", 0.5), rtol)[0] == Verdict.VIOLATED  # never simulated finer: level
+    assert app.balance_verdict(_run("ok", 0.5, 0.6, "BDF's 5.1e-01"), rtol)[0] == Verdict.VIOLATED
+    assert app.balance_verdict(_run("ok", 0.5, 0.6), rtol)[0] == Verdict.INCONCLUSIVE  # one method alone: unconfirmed
     for status in ("clock", "budget", "nan", tracking.BARRIER):
         assert app.balance_verdict(_run(status, 0.5, 0.6), rtol)[0] == Verdict.INCONCLUSIVE
     assert app.balance_verdict(_run("budget", 0.5, 0.6), rtol)[1].startswith("simulated again at rtol 3e-06")
@@ -280,6 +281,27 @@ def test_the_balance_verdict_follows_the_tolerance():
     # a run past its law's barrier ends its batch (alone it would again): no split of the batch for it
     assert app.batch_finished([_run("ok", 0.0), _run(tracking.BARRIER, 0.0)])
     assert not app.batch_finished([_run("ok", 0.0), _run("clock", 0.0)])
+
+
+@pytest.mark.parametrize("radau, verdict", [(0.02, Verdict.HOLDS), (0.25, Verdict.VIOLATED)])
+def test_a_level_residual_is_claimed_only_when_a_second_method_finds_it_too(monkeypatch, radau, verdict):
+    """Measured on trolley_2r's natural run (gre, 0.25 s traverse): BDF's residual goes 0.27 -> 0.24 from rtol 3e-5
+    to 3e-6, level, where Radau's falls to 0.020: BDF did not converge, the plant is right. The study asks Radau
+    (SECOND_OPINION) before it claims a level residual; here a stand-in integrator returns those residuals."""
+    calls = []
+
+    def stand_in(chain, specs, horizon, *, rtol, method, **kw):
+        method = "BDF" if method == "auto" else method
+        calls.append(method)
+        error = {"BDF": 0.27 if rtol > 1e-5 else 0.24, "Radau": radau}[method]
+        return [tracking.Run(specs[0], 0, "ok", "", 0.1, 10, balance_error=error, method=method, work=10)], None
+
+    monkeypatch.setattr(tracking, "simulate", stand_in)
+    s = app.SETTINGS["ci"]
+    (run,), _ = app.simulate_recipes([Recipe("trolley-2r", "natural", "gre", horizon=1.7, timing=(0.2, 0.25))], s)
+    assert calls == ["BDF", "BDF", "Radau"] and run.method == "Radau" and run.second_opinion == "BDF's 2.40e-01"
+    assert run.looser_balance_error == 0.27
+    assert app.balance_verdict(run, s.rtol)[0] == verdict
 
 
 def test_an_unfinished_natural_run_is_no_evidence_against_the_law():

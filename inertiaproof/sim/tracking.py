@@ -15,7 +15,9 @@ and of H), Prop2 and the law's divergence,
 
 with X the plant's terms beyond Eq. (1) (gre: (M(q, Thetadot) + H) qd + J^T Q^T Psidot; pagilla: M(q, Thetadot) qd;
 classical: 0), assembled here from inertiaproof.dynamics.terms independently of the plant's inverse dynamics.
-A run integrates the right-hand side as W; max |V - V(0) - W| / max |V| is its Lyapunov balance error.
+A run integrates the right-hand side as W; max |V - V(0) - W| / max(max |V|, rtol E) is its Lyapunov balance
+error, with E the energy scale of W's absolute tolerance (:meth:`Batch.scale`): a run whose V stays at the
+round-off of that scale (no load yet, Theta_hat(0) = Theta) has nothing to balance.
 
 Runs on one chain are integrated together (one state vector, batched NumPy; RK45, or BDF / Radau with a block-diagonal
 Jacobian when the batch is stiff, or the method the scene asks for); each keeps its own trajectory, law, gains,
@@ -348,6 +350,7 @@ class Run:
     jacobians: int = 0  # of the whole batch
     work: float = 0.0  # counted evaluations of the whole batch (spent)
     looser_balance_error: float = np.nan  # the same run's at 10 x its rtol, when it was simulated again finer
+    second_opinion: str = ""  # another method's residual at this rtol, when it was level too
 
     @property
     def finished(self):
@@ -387,7 +390,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
         except np.linalg.LinAlgError as exc:
             y0 = np.full(len(specs) * batch.size, np.nan)
             unstartable = f"{type(exc).__name__}: {exc}"
-    start, last, work = time.perf_counter(), y0, 0
+    start, last, work, floor = time.perf_counter(), y0, 0, np.finfo(float).tiny
     if condition > MAX_CONDITION:
         status, note = "ill-conditioned", (f"not started: scaled cond(M(q0, Theta(t0))) = {condition:.1e}: forward "
                                            "dynamics keeps fewer than 6 correct digits in float64")
@@ -400,7 +403,9 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     else:
         chosen = choose_method(batch, horizon, explicit_budget or max_evaluations, method, implicit)
         kw = dict(jac=batch.jacobian) if chosen in IMPLICIT else {}
-        solver = SOLVERS[chosen](batch.rhs, t0, y0, t0 + horizon, rtol=rtol, atol=rtol * batch.scale(), **kw)
+        atol = rtol * batch.scale()
+        floor = atol.reshape(len(specs), batch.size)[:, -1]  # W's absolute tolerance
+        solver = SOLVERS[chosen](batch.rhs, t0, y0, t0 + horizon, rtol=rtol, atol=atol, **kw)
         t_eval = np.linspace(t0, t0 + horizon, samples)
         status, note, ys = _integrate(solver, batch, t_eval, max_evaluations, start + max_seconds)
         last, work = solver.y, spent(solver, batch)
@@ -408,7 +413,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     t, y = t_eval[:len(ys)], np.array(ys)
     with np.errstate(all="ignore"):
         v = batch.lyapunov(t, y)
-    err = np.abs(v - v[0] - batch.split(y)[3]).max(0) / np.maximum(np.abs(v).max(0), np.finfo(float).tiny)
+    err = np.abs(v - v[0] - batch.split(y)[3]).max(0) / np.maximum(np.abs(v).max(0), floor)
     per_run = y.reshape(len(t), len(specs), batch.size)
     runs = [Run(spec, i, status, note, seconds, batch.evaluations, t, per_run[:, i], float(err[i]), chosen,
                 batch.jacobians, work) for i, spec in enumerate(specs)]
