@@ -236,6 +236,18 @@ def test_a_batch_with_a_numerically_singular_mass_matrix_is_not_started():
     assert run.status not in tracking.NOT_STARTED and len(run.t) > 1
 
 
+def test_a_run_stopped_by_its_budget_names_the_mode_it_could_not_follow():
+    """extreme_lengths.toml's natural-law runs (gain 10 on a 1e5 kg, 1 km link) stop within 4 ms of ci's count:
+    their adaptation loop rings at 1.1e5 rad/s by then, where the closed loop's spectral radius was 2.6e3 /s at the
+    start. A run the count stopped says what it could not follow."""
+    extreme = Recipe(str(SCENES / "extreme_lengths.toml"), "natural", horizon=0.05)
+    (run,), _ = tracking.simulate(extreme.chain(), [extreme.spec()], 0.05, samples=3, max_evaluations=2_000)
+    assert run.status == "budget" and "the closed loop's fastest mode was then an oscillation of " in run.note
+    frequency = float(run.note.split("an oscillation of ")[1].split(" rad/s")[0])
+    start = float(run.note.split("spectral radius ")[1].split(" /s")[0])
+    assert frequency > 1e4 > start
+
+
 def test_a_natural_law_that_cannot_start_is_not_started_with_the_reason():
     """A body whose estimated mass lies on a line (here: none at all) has a singular f(Phi_hat(0)): the natural law's
     mirror f(Phi_hat)^-1 does not exist. The batch says so (status "no start") instead of raising LinAlgError."""

@@ -184,6 +184,18 @@ def test_a_level_balance_with_runs_stopped_by_the_clock_is_inconclusive_not_viol
         assert ("wall clock" in st.balance_verdict()[3]) == (status == simulate.CLOCK)
 
 
+def test_a_run_stopped_by_its_budget_names_the_mode_it_could_not_follow():
+    """extreme_lengths.toml: its millimetre link swings under the kilometre link's accelerations at ~1.7e3 rad/s,
+    which the gains' estimate about home (10 rad/s) does not see; a run the count stops says so."""
+    scene = load_scene(SCENES / "extreme_lengths.toml")
+    system = simulate.System(scene.chain, scene.trajectory, controller(scene.chain, scene.trajectory, scene.control))
+    run = simulate.simulate(system, 1.0, "DOP853", 1e-7, max_evaluations=3_000)
+    assert run.status == "budget" and "fastest mode was then an oscillation of " in run.note
+    frequency = float(run.note.split("an oscillation of ")[1].split(" rad/s")[0])
+    gains = simulate.fastest_rate(scene.chain, scene.trajectory, system.control, (0.0, 1.0))
+    assert 1e3 < frequency < 1e4 and frequency > 100 * gains
+
+
 def test_a_run_past_its_seconds_is_clock_and_past_its_evaluations_budget():
     scene = robots.BUILTIN["planar-2r-payload"]()
     system = simulate.System(scene.chain, scene.trajectory, controller(scene.chain, scene.trajectory, scene.control))

@@ -26,12 +26,13 @@ from inertiaproof.dynamics import energy, motion, terms
 from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 __all__ = [
-    "accelerations", "balance_error", "CLOCK", "conditioning", "EXPLICIT", "fastest_rate", "least_evaluations",
-    "MAX_CONDITION", "METHODS", "Run", "simulate", "System",
+    "accelerations", "balance_error", "CLOCK", "conditioning", "EXPLICIT", "fastest_mode", "fastest_rate",
+    "least_evaluations", "MAX_CONDITION", "METHODS", "mode_in_words", "Run", "simulate", "System",
 ]
 
 METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
 _SOLVERS = {"RK45": RK45, "DOP853": DOP853, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
+EPS = np.finfo(float).eps
 CLOCK = "clock"  # status of a run stopped by the wall-clock safety net: machine-dependent, no evidence either way
 EXPLICIT = {"RK45": (3.3, 6), "DOP853": (6.0, 12)}  # real stability interval (h |lambda|), right-hand sides per step
 
@@ -204,8 +205,12 @@ def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evalu
             return Run(method, rtol, CLOCK, time.perf_counter() - start, 0, system.evaluations,
                        f"stopped by the wall-clock safety net ({max_seconds:g} s) after {system.evaluations} "
                        "right-hand-side evaluations (a machine-dependent stop: no evidence)", **counts())
+        solver = solvers[0] if solvers else None
+        mode = ("" if solver is None or not np.all(np.isfinite(solver.y)) else
+                f" at t = {solver.t:.4g}; the closed loop's fastest mode was then "
+                f"{mode_in_words(fastest_mode(system, solver.t, solver.y, scale))}")
         return Run(method, rtol, "budget", time.perf_counter() - start, 0, system.evaluations,
-                   f"stopped after {system.evaluations} right-hand-side evaluations (budget {max_evaluations})",
+                   f"stopped after {system.evaluations} right-hand-side evaluations (budget {max_evaluations}){mode}",
                    **counts())
     except (np.linalg.LinAlgError, ValueError, FloatingPointError) as exc:
         return Run(method, rtol, "error", time.perf_counter() - start, 0, system.evaluations,
@@ -225,6 +230,28 @@ def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evalu
     run = Run(method, rtol, "ok", seconds, steps, system.evaluations, t=t_eval, y=y, **counts())
     run.balance_error = balance_error(system, sol.t, sol.y.T)
     return run
+
+
+def fastest_mode(system, t, y, scale):
+    """The eigenvalue of largest modulus of d(qd, qdd) / d(q, qd) at the state y, by central differences of steps
+    sqrt(eps) x max(|y_i|, scale_i) (one vectorized right-hand side): the mode a solver must follow, or step over if
+    it decays."""
+    n2 = 2 * system.chain.n
+    h = np.sqrt(EPS) * np.maximum(np.abs(y[:n2]), scale[:n2])
+    steps = np.zeros((len(y), n2))
+    steps[np.arange(n2), np.arange(n2)] = h
+    with np.errstate(all="ignore"):
+        f = system.rhs(t, np.concatenate([y[:, None] + steps, y[:, None] - steps], 1))
+        eigenvalues = np.linalg.eigvals((f[:n2, :n2] - f[:n2, n2:]) / (2 * h))
+    return eigenvalues[np.abs(eigenvalues).argmax()]
+
+
+def mode_in_words(eigenvalue):
+    """An eigenvalue of a closed loop's Jacobian in words."""
+    rate, frequency = eigenvalue.real, abs(eigenvalue.imag)
+    if frequency > abs(rate):
+        return f"an oscillation of {frequency:.2g} rad/s, {'growing' if rate > 0 else 'decaying'} at {abs(rate):.2g} /s"
+    return f"{'growing' if rate > 0 else 'decaying'} at {abs(rate):.2g} /s"
 
 
 def _state_scale(system, y0):

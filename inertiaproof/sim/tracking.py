@@ -38,7 +38,7 @@ from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 from .adaptive import make_law
 from .control import controller, reference_motion
-from .simulate import CLOCK, MAX_CONDITION, least_evaluations
+from .simulate import CLOCK, MAX_CONDITION, least_evaluations, mode_in_words
 
 __all__ = ["BARRIER", "CLOCK", "choose_method", "evaluation_cost", "IMPLICIT", "IMPLICIT_DEFAULT", "NOT_STARTED",
            "PLANTS", "Batch", "Gains", "Reference", "Run", "RunSpec", "scene_specs", "simulate", "SOLVERS", "spent"]
@@ -257,14 +257,26 @@ class Batch:
         f = self.closed_loop(t, stepped.reshape(n + 1, -1), kin)[-1]
         return np.moveaxis((f[1:] - f[0]) / h.T[:, :, None], 0, -1)
 
-    def jacobian(self, t, y):
-        """:meth:`jacobian_blocks` with :meth:`velocity_columns` in place of its d qdd / dqd, as one sparse
-        block-diagonal matrix (the runs are independent), for SciPy."""
-        self.jacobians += 1
+    def newton_blocks(self, t, y):
+        """:meth:`jacobian_blocks` with :meth:`velocity_columns` in place of its d qdd / dqd (B, size, size)."""
         n = self.n
         kin = motion.kinematics(self.chain, y.reshape(len(self.specs), self.size)[:, :n])
         blocks = self.jacobian_blocks(t, y, kin)
         blocks[:, n:2 * n, n:2 * n] = self.velocity_columns(t, y, kin)
+        return blocks
+
+    def fastest_modes(self, t, y):
+        """Per run, the eigenvalue of largest modulus of :meth:`newton_blocks` at the state y (the derivatives in q
+        of M, C, G and R left out): the mode a solver must follow, or step over if it decays."""
+        with np.errstate(all="ignore"):
+            eigenvalues = np.linalg.eigvals(self.newton_blocks(t, y))
+        return eigenvalues[np.arange(len(eigenvalues)), np.abs(eigenvalues).argmax(-1)]
+
+    def jacobian(self, t, y):
+        """:meth:`jacobian_blocks` with :meth:`velocity_columns` in place of its d qdd / dqd, as one sparse
+        block-diagonal matrix (the runs are independent), for SciPy."""
+        self.jacobians += 1
+        blocks = self.newton_blocks(t, y)
         runs = len(blocks)
         return sparse.bsr_matrix((blocks, np.arange(runs), np.arange(runs + 1)),
                                  shape=(runs * self.size,) * 2).tocsc()
@@ -425,6 +437,11 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
                 run.note += (f"; the {run.spec.law.name} law's state was then {margin:.1e} of its size from its "
                              "barrier, where float64 no longer resolves the estimate: its exact solution stays off "
                              "the barrier (D <= V is finite), but comes closer than the float64 integration can follow")
+    if status == "budget" and np.all(np.isfinite(last)) and len(specs) * batch.size ** 2 * 8 <= MAX_JACOBIAN_BYTES:
+        modes, start_rate = batch.fastest_modes(solver.t, last), batch.stiffness()
+        for run in runs:
+            run.note += (f"; the closed loop's fastest mode was then {mode_in_words(modes[run.index])} (spectral radius "
+                         f"{start_rate[run.index]:.2g} /s at the start)")
     z = batch.split(y)[2]
     for run in runs:
         crossed = np.flatnonzero(run.spec.law.outside(z[:, run.index]).any(-1)) if run.finished else []
