@@ -144,9 +144,11 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     than BATCH_JOINTS joints, each run is simulated alone (:func:`_alone`), unless the batch was not started
     (ill-conditioned: its runs share the chain); the runs whose Lyapunov balance error exceeds BALANCE x rtol, or
     that stepped over their law's barrier, are simulated again, likewise, at a tenth of the tolerance, keeping the
-    first residual as ``looser_balance_error`` (balance_verdict); a residual that stays level is simulated at that
-    tolerance once more with the SECOND_OPINION method, largest first and alone, within another FINER of the work
-    (``second_opinion`` names the first method's): one integrator's failure to converge is no wrong plant.
+    first residual as ``looser_balance_error`` (balance_verdict), alone at once if the batch did not finish the
+    first time or one of them crossed its barrier (nearing it again, it would hold up the batch); a residual that
+    stays level is simulated at that tolerance once more with the SECOND_OPINION method, largest first and alone,
+    within another FINER of the work (``second_opinion`` names the first method's): one integrator's failure to
+    converge is no wrong plant.
     Returns (runs, batches) in the recipes' order."""
     horizon, chain = recipes[0].run_horizon(), recipes[0].chain()
     method = recipes[0].scene_object().adaptive.integrator
@@ -161,12 +163,12 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
                                  method=how or (tracking.IMPLICIT_DEFAULT if again and method == "auto" else method),
                                  explicit_budget=max(int(evaluations * s.work / total), 1))
 
-    def together_then_alone(specs, work, rtol):
+    def together_then_alone(specs, work, rtol, together=True):
         if len(specs) == 1:
             runs, batch = simulate(specs, work, rtol)
             return runs, [batch]
         runs, batches = [None] * len(specs), [None] * len(specs)
-        if chain.n <= BATCH_JOINTS:
+        if together and chain.n <= BATCH_JOINTS:
             runs, batch = simulate(specs, work * BATCH, rtol)
             batches = [batch] * len(runs)
             if batch_finished(runs) or runs[0].status in tracking.NOT_STARTED:
@@ -179,7 +181,9 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol
              or r.status == tracking.BARRIER]  # the barrier too: the exact solution stays clear of it
     if again:
-        finer, finer_batches = together_then_alone([runs[i].spec for i in again], total * FINER, s.rtol / 10)
+        finer, finer_batches = together_then_alone([runs[i].spec for i in again], total * FINER, s.rtol / 10,
+                                                   together=all(b is batches[0] for b in batches) and not any(
+                                                       runs[i].status == tracking.BARRIER for i in again))
         for i, run, batch in zip(again, finer, finer_batches):
             run.looser_balance_error = runs[i].balance_error
             runs[i], batches[i] = run, batch

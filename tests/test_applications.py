@@ -304,6 +304,25 @@ def test_a_level_residual_is_claimed_only_when_a_second_method_finds_it_too(monk
     assert app.balance_verdict(run, s.rtol)[0] == verdict
 
 
+def test_runs_that_crossed_their_barrier_are_simulated_finer_alone(monkeypatch):
+    """passenger_platform: its batch finished, one natural run past its barrier; simulated finer, that run nears the
+    barrier again and collapses, so a batch of it and the other finer run would stop both: the finer runs go alone
+    (the other one then finishes). A stand-in integrator records how the runs are grouped."""
+    sizes, barrier = [], []
+
+    def stand_in(chain, specs, horizon, *, rtol, method, **kw):
+        sizes.append((len(specs), rtol < 1e-5))
+        barrier.append(barrier[0] if barrier else specs[-1])  # the first batch's second run
+        return [tracking.Run(spec, i, tracking.BARRIER if spec is barrier[0] else "ok", "", 0.1, 10,
+                             balance_error=0.05 if rtol > 1e-5 else 1e-4, method="BDF", work=10)
+                for i, spec in enumerate(specs)], None
+
+    monkeypatch.setattr(tracking, "simulate", stand_in)
+    recipes = [Recipe("trolley-2r", "natural", "gre", horizon=1.7, timing=(0.2, d)) for d in (1.0, 0.25)]
+    app.simulate_recipes(recipes, app.SETTINGS["ci"])
+    assert sizes == [(2, False), (1, True), (1, True)]
+
+
 def test_an_unfinished_natural_run_is_no_evidence_against_the_law():
     data = {"resolution": 1e-12, "laws": {"natural": {"status": "ok", "min_lambda_min_f_hat": -1.0,
                                                       "max_lambda_max_f_hat": 1.0, "margin": -1.0}}}
