@@ -206,9 +206,9 @@ def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evalu
                        f"stopped by the wall-clock safety net ({max_seconds:g} s) after {system.evaluations} "
                        "right-hand-side evaluations (a machine-dependent stop: no evidence)", **counts())
         solver = solvers[0] if solvers else None
-        mode = ("" if solver is None or not np.all(np.isfinite(solver.y)) else
-                f" at t = {solver.t:.4g}; the closed loop's fastest mode was then "
-                f"{mode_in_words(fastest_mode(system, solver.t, solver.y, scale))}")
+        found = np.nan if solver is None else fastest_mode(system, solver.t, solver.y, scale)
+        mode = (f" at t = {solver.t:.4g}; the closed loop's fastest mode was then {mode_in_words(found)}"
+                if np.isfinite(found) else "")
         return Run(method, rtol, "budget", time.perf_counter() - start, 0, system.evaluations,
                    f"stopped after {system.evaluations} right-hand-side evaluations (budget {max_evaluations}){mode}",
                    **counts())
@@ -235,14 +235,17 @@ def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evalu
 def fastest_mode(system, t, y, scale):
     """The eigenvalue of largest modulus of d(qd, qdd) / d(q, qd) at the state y, by central differences of steps
     sqrt(eps) x max(|y_i|, scale_i) (one vectorized right-hand side): the mode a solver must follow, or step over if
-    it decays."""
+    it decays; nan where it cannot be had (a state or derivative not finite)."""
     n2 = 2 * system.chain.n
     h = np.sqrt(EPS) * np.maximum(np.abs(y[:n2]), scale[:n2])
     steps = np.zeros((len(y), n2))
     steps[np.arange(n2), np.arange(n2)] = h
     with np.errstate(all="ignore"):
         f = system.rhs(t, np.concatenate([y[:, None] + steps, y[:, None] - steps], 1))
-        eigenvalues = np.linalg.eigvals((f[:n2, :n2] - f[:n2, n2:]) / (2 * h))
+        jacobian = (f[:n2, :n2] - f[:n2, n2:]) / (2 * h)
+    if not np.all(np.isfinite(jacobian)):
+        return complex(np.nan)
+    eigenvalues = np.linalg.eigvals(jacobian)
     return eigenvalues[np.abs(eigenvalues).argmax()]
 
 

@@ -267,10 +267,14 @@ class Batch:
 
     def fastest_modes(self, t, y):
         """Per run, the eigenvalue of largest modulus of :meth:`newton_blocks` at the state y (the derivatives in q
-        of M, C, G and R left out): the mode a solver must follow, or step over if it decays."""
+        of M, C, G and R left out): the mode a solver must follow, or step over if it decays; nan for a run whose
+        blocks are not finite."""
         with np.errstate(all="ignore"):
-            eigenvalues = np.linalg.eigvals(self.newton_blocks(t, y))
-        return eigenvalues[np.arange(len(eigenvalues)), np.abs(eigenvalues).argmax(-1)]
+            blocks = self.newton_blocks(t, y)
+        finite = np.isfinite(blocks).all((-2, -1))
+        eigenvalues = np.linalg.eigvals(np.where(finite[:, None, None], blocks, 0.0))
+        modes = eigenvalues[np.arange(len(eigenvalues)), np.abs(eigenvalues).argmax(-1)]
+        return np.where(finite, modes, np.nan)
 
     def jacobian(self, t, y):
         """:meth:`jacobian_blocks` with :meth:`velocity_columns` in place of its d qdd / dqd, as one sparse
@@ -439,7 +443,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
                              "the barrier (D <= V is finite), but comes closer than the float64 integration can follow")
     if status == "budget" and np.all(np.isfinite(last)) and len(specs) * batch.size ** 2 * 8 <= MAX_JACOBIAN_BYTES:
         modes, start_rate = batch.fastest_modes(solver.t, last), batch.stiffness()
-        for run in runs:
+        for run in [run for run in runs if np.isfinite(modes[run.index])]:
             run.note += (f"; the closed loop's fastest mode was then {mode_in_words(modes[run.index])} (spectral radius "
                          f"{start_rate[run.index]:.2g} /s at the start)")
     z = batch.split(y)[2]
