@@ -148,11 +148,12 @@ def available_cores():
 
 
 def share_cores(parts):
-    """From now on this process uses 1/``parts`` of the cores in its thread pools and in BLAS (at least one)."""
+    """From now on this process uses 1/``parts`` of the cores in its thread pools (at least one); BLAS keeps one
+    thread (inertiaproof.cli.main)."""
     from threadpoolctl import threadpool_limits
 
     _SHARE[:] = [max(1, available_cores() // parts)]
-    threadpool_limits(_SHARE[0])
+    threadpool_limits(_SHARE[0], user_api="openmp")
 
 
 _SHARE = []

@@ -161,3 +161,17 @@ def test_a_flat_solid_in_a_scene_is_a_one_line_error(tmp_path, capsys):
     assert cli.main(["run", "--scene", str(scene), "--out", str(tmp_path), "--quiet"]) == 2
     err = capsys.readouterr().err.strip()
     assert "body[1].solid.dims" in err and "coplanar" in err and "\n" not in err
+
+
+def test_the_command_loads_blas_with_one_thread():
+    """BLAS rounds by its thread count at load (extreme_lengths' Radau reference stopped at t = 0.076 with two
+    threads, 0.077 with one): the command loads it with one on any machine, unless the user says otherwise."""
+    import os
+    import subprocess
+    import sys
+
+    probe = ("import inertiaproof.cli, numpy; from threadpoolctl import threadpool_info; "
+             "print(sorted({i['num_threads'] for i in threadpool_info() if i['user_api'] == 'blas'}))")
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")}
+    out = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[1]"

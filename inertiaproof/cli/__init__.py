@@ -13,6 +13,12 @@ hands results to ``inertiaproof.report``.
 
 from __future__ import annotations
 
+import os
+
+for _threads in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):  # before NumPy loads BLAS: one thread on any machine,
+    os.environ.setdefault(_threads, "1")  # so its sums round alike and a run that a count stops stops at the same
+    # point (extreme_lengths' Radau reference: t = 0.076 loaded with two threads, 0.077 with one, whatever the limit)
+
 import argparse
 import importlib
 import sys
