@@ -184,6 +184,18 @@ def test_a_level_balance_with_runs_stopped_by_the_clock_is_inconclusive_not_viol
         assert ("wall clock" in st.balance_verdict()[3]) == (status == simulate.CLOCK)
 
 
+def test_the_fastest_eigenvalue_of_a_damped_oscillator():
+    """x'' + 2 zeta omega x' + omega^2 x = 0 has eigenvalues -zeta omega +- i omega sqrt(1 - zeta^2)."""
+    omega, zeta = 300.0, 0.01
+    a = np.array([[0.0, 1.0], [-omega ** 2, -2 * zeta * omega]])
+    found = simulate.fastest_eigenvalue(lambda states: states @ a.T, np.array([0.1, -2.0]), np.ones(2))
+    assert abs(found.real + zeta * omega) < 1e-6 * omega
+    assert abs(abs(found.imag) - omega * np.sqrt(1 - zeta ** 2)) < 1e-6 * omega
+    assert simulate.mode_in_words(found) == "an oscillation of 3e+02 rad/s, decaying at 3 /s"
+    assert simulate.mode_in_words(complex(50.0, 1.0)) == "growing at 50 /s"
+    assert np.isnan(simulate.fastest_eigenvalue(lambda states: states * np.nan, np.ones(2), np.ones(2)))
+
+
 def test_a_run_stopped_by_its_budget_names_the_mode_it_could_not_follow():
     """extreme_lengths.toml: its millimetre link swings under the kilometre link's accelerations at ~1.7e3 rad/s,
     which the gains' estimate about home (10 rad/s) does not see; a run the count stops says so."""

@@ -111,6 +111,7 @@ class Solution:
     captures: dict = field(default_factory=dict)  # Pieces -> (2n,)
     scale: np.ndarray = None  # per-component scale of the motion over the window (for relative errors)
     equation_quarter_steps: np.ndarray = None  # (RoboticEquation) with steps / 4 (the observed order)
+    mode: complex = complex(np.nan)  # the fastest eigenvalue of (RoboticEquation)'s closed loop at b
     scheme: fixedstep.Scheme = fixedstep.RK4
     work: fixedstep.Work = field(default_factory=fixedstep.Work)  # counts over every model
 
@@ -209,6 +210,9 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
     tiny = np.finfo(float).tiny
     out.scale = np.concatenate([np.full(n, max(span[:n].max(), np.abs(qd0).max() * (b - a), tiny)),
                                 np.full(n, max(np.abs(equation[n:]).max(), np.abs(qd0).max(), tiny))])
+    ff_end = pd.feedforward(np.array(b))
+    out.mode = simulate.fastest_eigenvalue(lambda states: np.stack([equation_rhs(b, s, ff_end) for s in states]),
+                                           equation, out.scale)
     return out
 
 
@@ -380,6 +384,10 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
             break
         counts = counts[1:] + (counts[-1] * 2,)
         progress(f"{why}; refining to K = {counts[-1]}")
+    if floor > MAX_FLOOR and np.isfinite(sol.mode):
+        h = (window[1] - window[0]) / need
+        why += (f"; at the window's end the equation's fastest mode is {simulate.mode_in_words(sol.mode)}: "
+                f"{need} steps of {h:.2g} s take |lambda| h = {abs(sol.mode) * h:.2g} each")
     return CaptureStudy(
         window, need, counts, rate, floor, at_rest, fine,
         [d(sol.captures[Pieces(k, "start", "rest")]) for k in fine],

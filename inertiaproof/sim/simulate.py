@@ -26,7 +26,7 @@ from inertiaproof.dynamics import energy, motion, terms
 from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 __all__ = [
-    "accelerations", "balance_error", "CLOCK", "conditioning", "EXPLICIT", "fastest_mode", "fastest_rate",
+    "accelerations", "balance_error", "CLOCK", "conditioning", "EXPLICIT", "fastest_eigenvalue", "fastest_mode", "fastest_rate",
     "least_evaluations", "MAX_CONDITION", "METHODS", "mode_in_words", "Run", "simulate", "System",
 ]
 
@@ -232,21 +232,28 @@ def simulate(system, horizon, method="DOP853", rtol=1e-8, samples=101, max_evalu
     return run
 
 
-def fastest_mode(system, t, y, scale):
-    """The eigenvalue of largest modulus of d(qd, qdd) / d(q, qd) at the state y, by central differences of steps
-    sqrt(eps) x max(|y_i|, scale_i) (one vectorized right-hand side): the mode a solver must follow, or step over if
-    it decays; nan where it cannot be had (a state or derivative not finite)."""
-    n2 = 2 * system.chain.n
-    h = np.sqrt(EPS) * np.maximum(np.abs(y[:n2]), scale[:n2])
-    steps = np.zeros((len(y), n2))
-    steps[np.arange(n2), np.arange(n2)] = h
+def fastest_eigenvalue(rhs, y, scale):
+    """The eigenvalue of largest modulus of d rhs / d y at y, by central differences of steps sqrt(eps) x
+    max(|y_i|, scale_i); ``rhs`` maps states (k, m) to their derivatives (k, m). The mode a solver must follow, or
+    step over if it decays; nan where it cannot be had (a state or derivative not finite)."""
+    m = len(y)
+    h = np.sqrt(EPS) * np.maximum(np.abs(y), scale)
     with np.errstate(all="ignore"):
-        f = system.rhs(t, np.concatenate([y[:, None] + steps, y[:, None] - steps], 1))
-        jacobian = (f[:n2, :n2] - f[:n2, n2:]) / (2 * h)
+        f = rhs(np.concatenate([y + np.diag(h), y - np.diag(h)]))
+        jacobian = (f[:m] - f[m:]) / (2 * h[:, None])  # row i: d rhs / d y_i
     if not np.all(np.isfinite(jacobian)):
         return complex(np.nan)
     eigenvalues = np.linalg.eigvals(jacobian)
     return eigenvalues[np.abs(eigenvalues).argmax()]
+
+
+def fastest_mode(system, t, y, scale):
+    """:func:`fastest_eigenvalue` of d(qd, qdd) / d(q, qd) of the closed loop at the state y (one vectorized
+    right-hand side; W left as it is)."""
+    n2 = 2 * system.chain.n
+    return fastest_eigenvalue(
+        lambda states: system.rhs(t, np.concatenate([states, np.broadcast_to(y[n2:], (len(states), len(y) - n2))],
+                                                    1).T).T[:, :n2], y[:n2], scale[:n2])
 
 
 def mode_in_words(eigenvalue):
