@@ -26,8 +26,8 @@ from inertiaproof.dynamics import energy, motion, terms
 from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 __all__ = [
-    "accelerations", "balance_error", "CLOCK", "conditioning", "EXPLICIT", "fastest_eigenvalue", "fastest_mode", "fastest_rate",
-    "least_evaluations", "MAX_CONDITION", "METHODS", "mode_in_words", "Run", "simulate", "System",
+    "accelerations", "balance_error", "CLOCK", "conditioning", "EXPLICIT", "fastest_eigenvalue", "fastest_mode",
+    "fastest_rate", "least_evaluations", "MAX_CONDITION", "METHODS", "mode_in_words", "Run", "simulate", "System",
 ]
 
 METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
@@ -250,10 +250,13 @@ def fastest_eigenvalue(rhs, y, scale):
 def fastest_mode(system, t, y, scale):
     """:func:`fastest_eigenvalue` of d(qd, qdd) / d(q, qd) of the closed loop at the state y (one vectorized
     right-hand side; W left as it is)."""
-    n2 = 2 * system.chain.n
-    return fastest_eigenvalue(
-        lambda states: system.rhs(t, np.concatenate([states, np.broadcast_to(y[n2:], (len(states), len(y) - n2))],
-                                                    1).T).T[:, :n2], y[:n2], scale[:n2])
+    n2, rest = 2 * system.chain.n, y[2 * system.chain.n:]
+
+    def rhs(states):
+        full = np.concatenate([states, np.broadcast_to(rest, (len(states), len(rest)))], 1)
+        return system.rhs(t, full.T).T[:, :n2]
+
+    return fastest_eigenvalue(rhs, y[:n2], scale[:n2])
 
 
 def mode_in_words(eigenvalue):

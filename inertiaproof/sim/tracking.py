@@ -444,8 +444,8 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     if status == "budget" and np.all(np.isfinite(last)) and len(specs) * batch.size ** 2 * 8 <= MAX_JACOBIAN_BYTES:
         modes, start_rate = batch.fastest_modes(solver.t, last), batch.stiffness()
         for run in [run for run in runs if np.isfinite(modes[run.index])]:
-            run.note += (f"; the closed loop's fastest mode was then {mode_in_words(modes[run.index])} (spectral radius "
-                         f"{start_rate[run.index]:.2g} /s at the start)")
+            run.note += (f"; the closed loop's fastest mode was then {mode_in_words(modes[run.index])} (spectral "
+                         f"radius {start_rate[run.index]:.2g} /s at the start)")
     z = batch.split(y)[2]
     for run in runs:
         crossed = np.flatnonzero(run.spec.law.outside(z[:, run.index]).any(-1)) if run.finished else []
