@@ -190,7 +190,9 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     work = total * FINER
     for i in sorted(again, key=lambda i: -runs[i].balance_error):
         first = runs[i]
-        if work <= 0 or not level(first, s.rtol):
+        if work <= 0:
+            break
+        if not level(first, s.rtol):
             continue
         (run,), batches[i] = simulate([first.spec], work, s.rtol / 10, how=SECOND_OPINION[first.method])
         work -= run.work * cost

@@ -38,7 +38,7 @@ from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 from .adaptive import make_law
 from .control import controller, reference_motion
-from .simulate import CLOCK, MAX_CONDITION, least_evaluations, mode_in_words
+from .simulate import CLOCK, EPS, MAX_CONDITION, least_evaluations, mode_in_words
 
 __all__ = ["BARRIER", "CLOCK", "choose_method", "evaluation_cost", "IMPLICIT", "IMPLICIT_DEFAULT", "NOT_STARTED",
            "PLANTS", "Batch", "Gains", "Reference", "Run", "RunSpec", "scene_specs", "simulate", "SOLVERS", "spent"]
@@ -54,7 +54,6 @@ STOPPED = ("budget", "step collapse", "error", "nan")  # a batch the integrator 
 UNRESOLVED_MARGIN = 1e-12  # AdaptiveLaw.barrier_margin below this: the estimate is beyond float64's resolution
 RK45_MARGIN = 3  # RK45 only within a third of the budget by its stability bound: near that bound its step control
 # rejects steps (the 1e6 mass ratio's batch took 2.4 x the bound; Panda's, predicted at 0.94 of its budget, ran out)
-EPS = np.finfo(float).eps
 IMPLICIT_DEFAULT = "BDF"  # measured faster than Radau on the stiff scenes (README: stiff runs)
 KEPT = {"gre": (1.0, 1.0), "pagilla": (1.0, 0.0), "classical": (0.0, 0.0)}  # (Thetadot, Psi) each plant keeps
 
@@ -135,6 +134,11 @@ class Batch:
         # velocity_columns at the cost of evaluations (evaluation_cost) of that many runs
         self.jacobian_cost = 1 + evaluation_cost(self.n, len(self.specs) * (self.n + 1)) / evaluation_cost(
             self.n, len(self.specs))
+
+    @property
+    def jacobian_bytes(self):
+        """The dense blocks of one Jacobian of the batch, in bytes (MAX_JACOBIAN_BYTES)."""
+        return len(self.specs) * self.size ** 2 * 8
 
     def split(self, y):
         """(q, qd, z, W) of states y (..., B * size)."""
@@ -441,11 +445,12 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
                 run.note += (f"; the {run.spec.law.name} law's state was then {margin:.1e} of its size from its "
                              "barrier, where float64 no longer resolves the estimate: its exact solution stays off "
                              "the barrier (D <= V is finite), but comes closer than the float64 integration can follow")
-    if status == "budget" and np.all(np.isfinite(last)) and len(specs) * batch.size ** 2 * 8 <= MAX_JACOBIAN_BYTES:
+    if status == "budget" and np.all(np.isfinite(last)) and batch.jacobian_bytes <= MAX_JACOBIAN_BYTES:
         modes, start_rate = batch.fastest_modes(solver.t, last), batch.stiffness()
-        for run in [run for run in runs if np.isfinite(modes[run.index])]:
-            run.note += (f"; the closed loop's fastest mode was then {mode_in_words(modes[run.index])} (spectral "
-                         f"radius {start_rate[run.index]:.2g} /s at the start)")
+        for run in runs:
+            if np.isfinite(modes[run.index]):
+                    run.note += (f"; the closed loop's fastest mode was then {mode_in_words(modes[run.index])} "
+                             f"(spectral radius {start_rate[run.index]:.2g} /s at the start)")
     z = batch.split(y)[2]
     for run in runs:
         crossed = np.flatnonzero(run.spec.law.outside(z[:, run.index]).any(-1)) if run.finished else []
@@ -467,7 +472,7 @@ def choose_method(batch, horizon, max_evaluations, method="auto", implicit=IMPLI
         return method
     if implicit not in IMPLICIT:
         raise ValueError(f"implicit must be one of {IMPLICIT}, not {implicit!r}")
-    if len(batch.specs) * batch.size ** 2 * 8 > MAX_JACOBIAN_BYTES:  # the Jacobian would not fit: explicit
+    if batch.jacobian_bytes > MAX_JACOBIAN_BYTES:  # the Jacobian would not fit: explicit
         return "RK45"
     need = least_evaluations("RK45", float(batch.stiffness(horizon).max()), horizon)
     return implicit if not need * RK45_MARGIN <= max_evaluations else "RK45"
