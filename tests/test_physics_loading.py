@@ -6,12 +6,13 @@ from inertiaproof.checks import physics
 
 from inertiaproof.result import Verdict
 from inertiaproof.scene import robots
+from inertiaproof.scene.format import load_scene
 from inertiaproof.sim import capture, fixedstep
 from inertiaproof.sim.control import controller
 from inertiaproof.suite.context import Context
 from inertiaproof.suite.profiles import PROFILES
 from inertiaproof.suite.registry import REPLAYERS
-from tests.test_physics_internal import _perturbed
+from tests.test_physics_internal import SCENES, _perturbed
 
 
 @pytest.fixture(scope="module")
@@ -138,3 +139,15 @@ def test_stiffness_chooses_the_implicit_scheme():
     assert capture.refined_steps(128, 12.0, 2.99, 3, 2048) == 512  # 12x lower floor at order 3: two doublings
     assert capture.refined_steps(128, 1e6, 3.0, 3, 2048) == 2048  # never beyond max_steps
     assert capture.refined_steps(128, 1.5, np.nan, 3, 2048) == 256
+
+
+def test_a_floor_left_high_at_the_step_cap_ends_the_study_and_names_the_mode():
+    """extreme_lengths' millimetre link rings at ~2.7e3 rad/s, which 256 RK4 steps over the 0.4 s window do not
+    resolve: the floor stays above MAX_FLOOR at the cap, so more pieces cannot help and K is not refined (in ci
+    three K refinements of 2,048 steps took 50 s, all INCONCLUSIVE); the reason names the unresolved mode."""
+    scene = load_scene(SCENES / "extreme_lengths.toml")
+    control = controller(scene.chain, scene.trajectory, scene.control)
+    cs = capture.study(scene.chain, scene.trajectory, control, (4, 8, 16), 64, horizon=scene.horizon(), max_steps=256)
+    assert cs.verdict == Verdict.INCONCLUSIVE and cs.floor > capture.MAX_FLOOR
+    assert [counts for _, counts in cs.history] == [(4, 8, 16)] * len(cs.history) and cs.history[-1][0] == 256
+    assert "nothing can be compared" in cs.why and "fastest mode" in cs.why and "|lambda| h" in cs.why

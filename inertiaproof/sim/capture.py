@@ -329,8 +329,8 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
     the fastest closed-loop mode needs more than ``max_steps`` of it (then Radau IIA, :func:`scheme_for`). The steps
     double until the integration floor lies FLOOR_BELOW under the smallest error (or an implicit step's Newton
     iterations did not converge); K doubles while the order is unsettled or between the bands of convergence and
-    levelling off. Every limit is a count (steps, pieces, Newton iterations), except the wall-clock safety net
-    ``budget``."""
+    levelling off, but not once the floor is above MAX_FLOOR with the steps at ``max_steps``. Every limit is a
+    count (steps, pieces, Newton iterations), except the wall-clock safety net ``budget``."""
     window = mass_window(trajectory, horizon)
     rate = simulate.fastest_rate(chain, trajectory, control, window)
     condition = simulate.conditioning(chain, trajectory, control, window)
@@ -380,7 +380,8 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
             progress(f"integration floor {floor:.1e} too close to the errors; {steps} steps")
             continue
         verdict, order, why, settled = convergence_verdict(counts, at_rest, floor)
-        if (settled and verdict != Verdict.INCONCLUSIVE) or counts[-1] * 2 > max_count:
+        if ((settled and verdict != Verdict.INCONCLUSIVE) or counts[-1] * 2 > max_count
+                or floor > MAX_FLOOR and 2 * need > max_steps):  # more pieces leave a capped floor where it is
             break
         counts = counts[1:] + (counts[-1] * 2,)
         progress(f"{why}; refining to K = {counts[-1]}")
