@@ -1,6 +1,9 @@
 import os
 
-import pytest
+for _threads in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):  # BLAS as the command loads it (inertiaproof.cli):
+    os.environ.setdefault(_threads, "1")  # one thread, so the tests see the command's rounding
+
+import pytest  # noqa: E402
 from hypothesis import HealthCheck, settings
 
 from inertiaproof.suite.context import Context

@@ -142,7 +142,7 @@ def test_stiffness_chooses_the_implicit_scheme():
 
 
 def test_a_floor_left_high_at_the_step_cap_ends_the_study_and_names_the_mode():
-    """extreme_lengths' millimetre link rings at ~2.7e3 rad/s, which 256 RK4 steps over the 0.4 s window do not
+    """extreme_lengths' millimetre link moves at 2.6-2.7e3 /s, which 256 RK4 steps over the 0.4 s window do not
     resolve: the floor stays above MAX_FLOOR at the cap, so more pieces cannot help and K is not refined (in ci
     three K refinements of 2,048 steps took 50 s, all INCONCLUSIVE); the reason names the unresolved mode."""
     scene = load_scene(SCENES / "extreme_lengths.toml")
