@@ -283,8 +283,44 @@ def test_a_run_stopped_at_its_barrier_says_float64_cannot_follow():
     (run,), _ = tracking.simulate(recipe.chain(), [recipe.spec()], 0.4, samples=21, rtol=3e-6,
                                   max_evaluations=20_000)
     assert run.status == "step collapse" and run.t[-1] < 0.1
-    assert "from its barrier" in run.note and "float64" in run.note
+    assert "from its barrier" in run.note and "lets it come as near as" in run.note and "cannot follow" in run.note
     assert not adaptive.SlotineLi(1.0).barrier_margin(np.zeros((2, 10))).min() < np.inf
+
+
+@settings(max_examples=100)
+@given(st.integers(0, 2**32 - 1))
+def test_the_divergence_bounds_the_natural_laws_margin(seed):
+    """NaturalAdaptation.margin_floor: every U_l whose divergence from Phi_l is D has barrier_margin at least
+    margin_floor(D) (random f(Phi_l) and U_l over six decades of scale; U_l = f(Phi_l)^-1, whose margin is
+    1 / cond(f(Phi_l)) at D = 0), and the floor is tight to the roots: with f(Phi_l) = 1 and U_l = diag(mu, 1, 1,
+    1) it is mu / mu_hi."""
+    rng = np.random.default_rng(seed)
+    law = adaptive.NaturalAdaptation(rng.uniform(0.1, 10.0))
+    a, b = rng.normal(size=(2, 4, 4))
+    theta = adaptive.f_inverse(a @ a.T + 0.1 * np.eye(4))[None]
+    z = adaptive.f_inverse(b @ b.T * 10.0 ** rng.uniform(-3, 3) + 1e-6 * np.eye(4))[None]
+    assert law.barrier_margin(z)[0] >= law.margin_floor(law.divergence(z, theta), theta)[0] >= 0
+    exact = adaptive.f_inverse(np.linalg.inv(a @ a.T + 0.1 * np.eye(4)))[None]  # U_l = f(Phi_l)^-1: D = 0
+    assert law.barrier_margin(exact)[0] >= law.margin_floor(law.divergence(exact, theta), theta)[0] * (1 - 1e-9)
+    mu = 10.0 ** rng.uniform(-8, 0)
+    unit, z = adaptive.f_inverse(np.eye(4))[None], adaptive.f_inverse(np.diag([mu, 1.0, 1.0, 1.0]))[None]
+    g = mu - np.log(mu) - 1.0
+    grid = np.geomspace(1.0, 4 * g + 4, 200_001)
+    mu_hi = grid[np.argmax(grid - np.log(grid) - 1.0 >= g)]  # the larger root on a grid of relative spacing 2e-5
+    assert law.margin_floor(law.divergence(z, unit), unit)[0] == pytest.approx(mu / mu_hi, rel=1e-4)
+
+
+def test_a_run_near_its_barrier_is_named_drifted_where_the_divergence_keeps_it_off():
+    """The stop note of a run nearer its barrier than float64 resolves: where D <= V(0) + W keeps the exact solution
+    farther off than UNRESOLVED_MARGIN, the integration drifted there; where not, float64 cannot follow."""
+    law = adaptive.NaturalAdaptation(10.0)
+    run = type("Run", (), {"spec": type("Spec", (), {"law": law})()})()
+    theta = adaptive.f_inverse(np.eye(4))[None]
+    drifted = tracking._near_barrier(run, 1e-15, 0.1, theta)
+    assert "drifted" in drifted and "float64" not in drifted
+    beyond = tracking._near_barrier(run, 1e-15, 35.0, theta)
+    assert "cannot follow" in beyond and "drifted" not in beyond
+    assert "cannot follow" in tracking._near_barrier(run, 1e-15, np.inf, theta)
 
 
 def test_rk45_is_taken_only_well_inside_its_budget():

@@ -20,6 +20,7 @@ integration) has a default by finite differences.
 from __future__ import annotations
 
 import numpy as np
+from scipy.optimize import brentq
 
 from inertiaproof.model.inertia import pseudo_inertia
 
@@ -30,6 +31,7 @@ F_MATRIX = pseudo_inertia(np.eye(10)).reshape(10, 16).T  # vec(f(x)) = F x: f of
 ADJOINT_INVERSE = np.linalg.inv(F_MATRIX.T @ F_MATRIX)  # f^{-*}(g) = f((F^T F)^{-1} g)
 F_PSEUDO_INVERSE = ADJOINT_INVERSE @ F_MATRIX.T  # x = F^+ vec(f(x))
 SQRT_EPS = np.sqrt(np.finfo(float).eps)
+MARGIN_ROOT_SLACK = 1e-9  # NaturalAdaptation.margin_floor's roots, rounded outwards (bisection stops within 2e-12)
 
 
 def f_map(x):
@@ -83,6 +85,11 @@ class AdaptiveLaw:
     def barrier_margin(self, z):
         """How far (..., N) the state is from the law's barrier, relative to its own size (default: inf, none)."""
         return np.full(np.shape(z)[:-1], np.inf)
+
+    def margin_floor(self, bound, theta):
+        """A lower bound (..., N) on :meth:`barrier_margin` of every state whose divergence from ``theta`` (..., N, 10)
+        is at most ``bound`` (...) (default: 0, none known)."""
+        return np.zeros(np.shape(theta)[:-1])
 
     def linearization(self, z, g):
         """(d estimate/dz, d rate/dz, d rate/dg) at (z, g), per body (..., N, 10, 10) with [..., i, k] = d out_i /
@@ -179,6 +186,18 @@ class NaturalAdaptation(AdaptiveLaw):
         float64 resolves."""
         eigenvalues = np.linalg.eigvalsh(self.mirror(z))
         return eigenvalues[..., 0] / np.abs(eigenvalues).max(-1)
+
+    def margin_floor(self, bound, theta):
+        """mu_lo / mu_hi / cond(f(Phi_l)) (..., N) for D <= ``bound``: body l's term of gamma D, a sum of
+        mu - log mu - 1 over the eigenvalues mu of f(Phi_l) U_l, each >= 0, keeps each mu within the two roots of
+        mu - log mu - 1 = gamma D; and lambda_min(U_l) >= mu_lo / lambda_max(f(Phi_l)), lambda_max(U_l) <= mu_hi /
+        lambda_min(f(Phi_l)). The roots by bisection, each rounded outwards by MARGIN_ROOT_SLACK."""
+        g = self.gain * np.maximum(np.asarray(bound, float), 0.0)  # D >= 0: a negative bound is rounding
+        log_lo = -np.vectorize(lambda g: brentq(lambda u: np.expm1(-u) + u - g, 0.0, g + 2.0))(g) - MARGIN_ROOT_SLACK
+        log_hi = np.log(np.vectorize(lambda g: brentq(lambda m: m - np.log(m) - 1.0 - g, 1.0, 2.0 * g + 3.0))(g)
+                        + MARGIN_ROOT_SLACK)
+        eigenvalues = np.linalg.eigvalsh(f_map(np.asarray(theta, float)))
+        return np.exp(log_lo - log_hi)[..., None] * eigenvalues[..., 0] / eigenvalues[..., -1]
 
     def linearization(self, z, g):
         """Closed forms: d f^-1(U^-1) = -f^-1(U^-1 f(dz) U^-1) (finite differences lose it when U is as

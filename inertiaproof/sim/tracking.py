@@ -438,13 +438,13 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     runs = [Run(spec, i, status, note, seconds, batch.evaluations, t, per_run[:, i], float(err[i]), chosen,
                 batch.jacobians, work) for i, spec in enumerate(specs)]
     if status in STOPPED and np.all(np.isfinite(last)):
-        margins = batch.per_law("barrier_margin", batch.split(last)[2]).min(-1)
+        with np.errstate(all="ignore"):
+            margins = batch.per_law("barrier_margin", batch.split(last)[2]).min(-1)
+            bound = v[0] + batch.split(last)[3]  # V at the stop by the power balance: V(0) + W
         for run in runs:
-            margin = margins[run.index]
-            if margin < UNRESOLVED_MARGIN:
-                run.note += (f"; the {run.spec.law.name} law's state was then {margin:.1e} of its size from its "
-                             "barrier, where float64 no longer resolves the estimate: its exact solution stays off "
-                             "the barrier (D <= V is finite), but comes closer than the float64 integration can follow")
+            if margins[run.index] < UNRESOLVED_MARGIN:
+                run.note += _near_barrier(run, margins[run.index], bound[run.index],
+                                          batch.parameters(solver.t).theta[run.index])
     if status == "budget" and np.all(np.isfinite(last)) and batch.jacobian_bytes <= MAX_JACOBIAN_BYTES:
         modes, start_rate = batch.fastest_modes(solver.t, last), batch.stiffness()
         for run in runs:
@@ -460,6 +460,21 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
                 f"{t[crossed[0]]:.4g} s, across a barrier where its divergence D is infinite; D <= V stays finite "
                 "along the exact solution, so the integrator stepped over it: no evidence either way")
     return runs, batch
+
+
+def _near_barrier(run, margin, bound, theta):
+    """What a run stopped ``margin`` (< UNRESOLVED_MARGIN) of its size from its law's barrier says: whether D <= V =
+    V(0) + W = ``bound`` at the stop (W: the power integrated along the run) keeps the state off the barrier by more
+    than float64 resolves (AdaptiveLaw.margin_floor at the stop's Theta): then the integration drifted there;
+    else it is beyond float64."""
+    law = run.spec.law
+    floor = float(law.margin_floor(bound, theta).min()) if np.isfinite(bound) and bound >= 0 else 0.0
+    near = f"; the {law.name} law's state was then {margin:.1e} of its size from its barrier"
+    if floor >= UNRESOLVED_MARGIN:
+        return (f"{near}, but D <= V(0) + W = {bound:.3g} (W: the power integrated along the run) keeps it at least "
+                f"{floor:.1e} of its size from there: the integration drifted (integration error)")
+    return (f"{near}, where float64 no longer resolves the estimate: D <= V(0) + W = {bound:.3g} (W: the power "
+            f"integrated along the run) lets it come as near as {floor:.1e} of its size, which float64 cannot follow")
 
 
 def choose_method(batch, horizon, max_evaluations, method="auto", implicit=IMPLICIT_DEFAULT):
