@@ -468,7 +468,7 @@ def _near_barrier(run, margin, bound, theta):
     than float64 resolves (AdaptiveLaw.margin_floor at the stop's Theta): then the integration drifted there;
     else it is beyond float64."""
     law = run.spec.law
-    floor = float(law.margin_floor(bound, theta).min()) if np.isfinite(bound) and bound >= 0 else 0.0
+    floor = float(law.margin_floor(bound, theta).min()) if np.isfinite(bound) else 0.0
     near = f"; the {law.name} law's state was then {margin:.1e} of its size from its barrier"
     if floor >= UNRESOLVED_MARGIN:
         return (f"{near}, but D <= V(0) + W = {bound:.3g} (W: the power integrated along the run) keeps it at least "
