@@ -4,11 +4,11 @@
     python bench/sundials.py [--scenes NAME ...] [--tolerances 1e-4 1e-6 1e-8] [--out bench/results/stiff]
 
 The closed loop of each scene (the stability study's system, inertiaproof.sim.simulate.System) is integrated
-with each method at each tolerance, with the same absolute tolerances (the study's state scale) and the same
-Jacobian: forward differences in one vectorized right-hand side (what solve_ivp does for Radau and BDF; CVODE gets
-it as its ``jacfn``). Per run: the median wall time of ``--repeats`` runs, right-hand-side calls (a Jacobian
-is one call), Jacobians, the error max_t |q - q_ref| / sweep against SciPy's Radau at rtol 1e-10, and the
-power-balance residual. ``many_links_24`` runs over 0.3 s, as in bench/work_precision.py.
+with each method at each tolerance, with the same absolute tolerances (the study's state scale) and a Jacobian of
+the same kind: forward differences in one vectorized right-hand side (solve_ivp's own for Radau and BDF; CVODE gets
+such a one, :func:`forward_jacobian`, as its ``jacfn``). Per run: the median wall time of ``--repeats`` runs,
+right-hand-side calls (a Jacobian is one call), Jacobians, the error max_t |q - q_ref| / sweep against SciPy's
+Radau at rtol 1e-10, and the power-balance residual. ``many_links_24`` runs over 0.3 s, as in bench/work_precision.py.
 
 Then the adaptive runs, where the APP studies spend their time: per scene the natural law on its generalized
 equation with the ci study's fastest payload ramp (0.01 s), alone, at the study's rtol 3e-5 and at 3e-6
