@@ -25,6 +25,7 @@ import json
 import statistics
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -109,8 +110,7 @@ def bench(name, tolerances, repeats):
                                                                max_seconds=1800, atol_scale=scale), repeats)
                 status, t, y, calls, jacobians = run.status, run.t, run.y, run.evaluations, run.jacobians
             finished = status == "ok" and reference.finished
-            error = study.trajectory_error(simulate.Run(method, rtol, status, seconds, 0, 0, y=y), reference, n) \
-                if finished else None
+            error = study.trajectory_error(SimpleNamespace(y=y), reference, n) if finished else None
             balance = simulate.balance_error(system, t, y) if status == "ok" else None
             rows.append({"scene": name, "horizon": horizon, "method": method, "rtol": rtol, "status": status,
                          "seconds": seconds, "rhs_calls": int(calls), "jacobians": int(jacobians), "error": error,
@@ -136,11 +136,6 @@ def adaptive_bench(name, repeats):
                                     max_evaluations=max_evaluations, max_seconds=1800)
         return runs[0].status, runs[0].t, runs[0].y, runs[0].evaluations, runs[0].jacobians
 
-    def balance(t, y, rtol):
-        v = batch.lyapunov(t, y)
-        floor = (rtol * batch.scale())[-1]
-        return float((np.abs(v - v[0] - batch.split(y)[3]).max(0) / np.maximum(np.abs(v).max(0), floor))[0])
-
     for reference_method, reference_rtol in REFERENCES:
         status, _, reference, _, _ = scipy_run(reference_method, reference_rtol, REFERENCE_WORK)
         if status == "ok":
@@ -155,12 +150,12 @@ def adaptive_bench(name, repeats):
             else:
                 seconds, (status, t, y, calls, jacobians) = timed(lambda: scipy_run(method, rtol), repeats)
             ok = status == "ok" and len(t) == len(t_eval)
-            q, q_ref = (np.asarray(a)[:, :batch.n] for a in (y, reference))
-            error = float(np.abs(q - q_ref).max() / np.ptp(q_ref, axis=0).max()) if ok and len(q_ref) == len(
-                t_eval) else None
+            error = study.trajectory_error(SimpleNamespace(y=np.asarray(y)), SimpleNamespace(y=np.asarray(reference)),
+                                           batch.n) if ok and len(reference) == len(t_eval) else None
+            balance = float(batch.balance_errors(t, np.asarray(y), (rtol * batch.scale())[-1])[1][0]) if ok else None
             rows.append({"scene": name, "horizon": horizon, "method": method, "rtol": rtol, "status": status,
                          "seconds": seconds, "rhs_calls": int(calls), "jacobians": int(jacobians), "error": error,
-                         "balance_error": balance(t, np.asarray(y), rtol) if ok else None,
+                         "balance_error": balance,
                          "reference": f"{reference_method} {reference_rtol:g}"})
             print(f"{name} natural {method:5s} rtol {rtol:g}: {status}, {seconds:.2f} s, {calls} rhs calls, "
                   f"{jacobians} Jacobians, error {error if error is None else f'{error:.1e}'}", flush=True)

@@ -1,9 +1,7 @@
 import os
 
-for _threads in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):  # BLAS as the command loads it (inertiaproof.cli):
-    os.environ.setdefault(_threads, "1")  # one thread, so the tests see the command's rounding
-
-import pytest  # noqa: E402
+import inertiaproof.cli  # noqa: F401  (first: BLAS loads with one thread, as the command has it, and rounds alike)
+import pytest
 from hypothesis import HealthCheck, settings
 
 from inertiaproof.suite.context import Context

@@ -193,11 +193,11 @@ class NaturalAdaptation(AdaptiveLaw):
         mu - log mu - 1 = gamma D; and lambda_min(U_l) >= mu_lo / lambda_max(f(Phi_l)), lambda_max(U_l) <= mu_hi /
         lambda_min(f(Phi_l)). The roots by bisection, each rounded outwards by MARGIN_ROOT_SLACK."""
         g = self.gain * np.maximum(np.asarray(bound, float), 0.0)  # D >= 0: a negative bound is rounding
-        log_lo = -np.vectorize(lambda g: brentq(lambda u: np.expm1(-u) + u - g, 0.0, g + 2.0))(g) - MARGIN_ROOT_SLACK
-        log_hi = np.log(np.vectorize(lambda g: brentq(lambda m: m - np.log(m) - 1.0 - g, 1.0, 2.0 * g + 3.0))(g)
-                        + MARGIN_ROOT_SLACK)
+        minus_log_lo = np.vectorize(lambda x: brentq(lambda u: np.expm1(-u) + u - x, 0.0, x + 2.0))  # mu = e^-u
+        hi = np.vectorize(lambda x: brentq(lambda m: m - np.log(m) - 1.0 - x, 1.0, 2.0 * x + 3.0))
+        log_ratio = -minus_log_lo(g) - MARGIN_ROOT_SLACK - np.log(hi(g) + MARGIN_ROOT_SLACK)
         eigenvalues = np.linalg.eigvalsh(f_map(np.asarray(theta, float)))
-        return np.exp(log_lo - log_hi)[..., None] * eigenvalues[..., 0] / eigenvalues[..., -1]
+        return np.exp(log_ratio)[..., None] * eigenvalues[..., 0] / eigenvalues[..., -1]
 
     def linearization(self, z, g):
         """Closed forms: d f^-1(U^-1) = -f^-1(U^-1 f(dz) U^-1) (finite differences lose it when U is as

@@ -26,7 +26,8 @@ from inertiaproof.dynamics import energy, motion, terms
 from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 __all__ = [
-    "accelerations", "balance_error", "CLOCK", "conditioning", "EXPLICIT", "fastest_eigenvalue", "fastest_mode",
+    "accelerations", "balance_error", "CLOCK", "conditioning", "dominant_eigenvalue", "EXPLICIT", "fastest_eigenvalue",
+    "fastest_mode",
     "fastest_rate", "least_evaluations", "MAX_CONDITION", "METHODS", "mode_in_words", "Run", "simulate", "System",
 ]
 
@@ -241,10 +242,15 @@ def fastest_eigenvalue(rhs, y, scale):
     with np.errstate(all="ignore"):
         f = rhs(np.concatenate([y + np.diag(h), y - np.diag(h)]))
         jacobian = (f[:m] - f[m:]) / (2 * h[:, None])  # row i: d rhs / d y_i
-    if not np.all(np.isfinite(jacobian)):
-        return complex(np.nan)
-    eigenvalues = np.linalg.eigvals(jacobian)
-    return eigenvalues[np.abs(eigenvalues).argmax()]
+    return complex(dominant_eigenvalue(jacobian))
+
+
+def dominant_eigenvalue(matrices):
+    """The eigenvalue of largest modulus of each square matrix (..., m, m); nan for one not finite."""
+    finite = np.isfinite(matrices).all((-2, -1))
+    eigenvalues = np.linalg.eigvals(np.where(finite[..., None, None], matrices, 0.0))
+    dominant = np.take_along_axis(eigenvalues, np.abs(eigenvalues).argmax(-1)[..., None], -1)[..., 0]
+    return np.where(finite, dominant, np.nan)
 
 
 def fastest_mode(system, t, y, scale):

@@ -38,7 +38,7 @@ from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 from .adaptive import make_law
 from .control import controller, reference_motion
-from .simulate import CLOCK, EPS, MAX_CONDITION, least_evaluations, mode_in_words
+from .simulate import CLOCK, EPS, MAX_CONDITION, dominant_eigenvalue, least_evaluations, mode_in_words
 
 __all__ = ["BARRIER", "CLOCK", "choose_method", "evaluation_cost", "IMPLICIT", "IMPLICIT_DEFAULT", "NOT_STARTED",
            "PLANTS", "Batch", "Gains", "Reference", "Run", "RunSpec", "scene_specs", "simulate", "SOLVERS", "spent"]
@@ -274,11 +274,7 @@ class Batch:
         of M, C, G and R left out): the mode a solver must follow, or step over if it decays; nan for a run whose
         blocks are not finite."""
         with np.errstate(all="ignore"):
-            blocks = self.newton_blocks(t, y)
-        finite = np.isfinite(blocks).all((-2, -1))
-        eigenvalues = np.linalg.eigvals(np.where(finite[:, None, None], blocks, 0.0))
-        modes = eigenvalues[np.arange(len(eigenvalues)), np.abs(eigenvalues).argmax(-1)]
-        return np.where(finite, modes, np.nan)
+            return dominant_eigenvalue(self.newton_blocks(t, y))
 
     def jacobian(self, t, y):
         """:meth:`jacobian_blocks` with :meth:`velocity_columns` in place of its d qdd / dqd, as one sparse
@@ -314,6 +310,13 @@ class Batch:
         rate_part = 0.5 * np.einsum("...i,...ij,...j->...", s, m_rate, s)
         divergence_part = np.sum(self.per_law("divergence_gradient", z, p.theta) * p.theta_dot, axis=(-2, -1))
         return -np.sum(self.kd * s * s, -1) - np.sum(s * extra, -1) + rate_part + divergence_part
+
+    def balance_errors(self, t, y, floor):
+        """(V (T, B), each run's Lyapunov balance error max_t |V - V(0) - W| / max(max_t |V|, floor) (B,)) at states
+        y (T, B * size) and times t (T,) (module docstring; ``floor``: W's absolute tolerance)."""
+        with np.errstate(all="ignore"):
+            v = self.lyapunov(t, y)
+            return v, np.abs(v - v[0] - self.split(y)[3]).max(0) / np.maximum(np.abs(v).max(0), floor)
 
     def lyapunov(self, t, y):
         """V = 1/2 s^T M(q, Theta) s + D at states y (T, B * size) and times t (T,): (T, B)."""
@@ -431,9 +434,7 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
         last, work = solver.y, spent(solver, batch)
     seconds = time.perf_counter() - start
     t, y = t_eval[:len(ys)], np.array(ys)
-    with np.errstate(all="ignore"):
-        v = batch.lyapunov(t, y)
-    err = np.abs(v - v[0] - batch.split(y)[3]).max(0) / np.maximum(np.abs(v).max(0), floor)
+    v, err = batch.balance_errors(t, y, floor)
     per_run = y.reshape(len(t), len(specs), batch.size)
     runs = [Run(spec, i, status, note, seconds, batch.evaluations, t, per_run[:, i], float(err[i]), chosen,
                 batch.jacobians, work) for i, spec in enumerate(specs)]
@@ -441,15 +442,15 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
         with np.errstate(all="ignore"):
             margins = batch.per_law("barrier_margin", batch.split(last)[2]).min(-1)
             bound = v[0] + batch.split(last)[3]  # V at the stop by the power balance: V(0) + W
+        theta = batch.parameters(solver.t).theta
         for run in runs:
             if margins[run.index] < UNRESOLVED_MARGIN:
-                run.note += _near_barrier(run, margins[run.index], bound[run.index],
-                                          batch.parameters(solver.t).theta[run.index])
+                run.note += _near_barrier(run, margins[run.index], bound[run.index], theta[run.index])
     if status == "budget" and np.all(np.isfinite(last)) and batch.jacobian_bytes <= MAX_JACOBIAN_BYTES:
         modes, start_rate = batch.fastest_modes(solver.t, last), batch.stiffness()
         for run in runs:
             if np.isfinite(modes[run.index]):
-                    run.note += (f"; the closed loop's fastest mode was then {mode_in_words(modes[run.index])} "
+                run.note += (f"; the closed loop's fastest mode was then {mode_in_words(modes[run.index])} "
                              f"(spectral radius {start_rate[run.index]:.2g} /s at the start)")
     z = batch.split(y)[2]
     for run in runs:
