@@ -163,9 +163,10 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
                                  method=how or (tracking.IMPLICIT_DEFAULT if again and method == "auto" else method),
                                  explicit_budget=max(int(evaluations * s.work / total), 1))
 
-    def together_then_alone(specs, work, rtol, together=True):
+    def together_then_alone(specs, work, rtol, together=True, methods=None):
+        methods = methods or [None] * len(specs)
         if len(specs) == 1:
-            runs, batch = simulate(specs, work, rtol)
+            runs, batch = simulate(specs, work, rtol, how=methods[0])
             return runs, [batch]
         runs, batches = [None] * len(specs), [None] * len(specs)
         if together and chain.n <= BATCH_JOINTS:
@@ -173,17 +174,19 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
             batches = [batch] * len(runs)
             if batch_finished(runs) or runs[0].status in tracking.NOT_STARTED:
                 return runs, batches
-            work *= 1 - BATCH
-        _alone(specs, runs, batches, work, lambda spec, share, again: simulate([spec], share, rtol, again), cost)
+            work -= runs[0].work * tracking.evaluation_cost(chain.n, len(specs))  # what the batch left, the runs alone
+        _alone(runs, batches, work, lambda i, share, again: simulate([specs[i]], share, rtol, again, methods[i]), cost)
         return runs, batches
 
     runs, batches = together_then_alone([r.spec() for r in recipes], total, s.rtol)
     again = [i for i, r in enumerate(runs) if r.finished and r.balance_error > BALANCE * s.rtol
              or r.status == tracking.BARRIER]  # the barrier too: the exact solution stays clear of it
     if again:
-        finer, finer_batches = together_then_alone([runs[i].spec for i in again], total * FINER, s.rtol / 10,
-                                                   together=all(b is batches[0] for b in batches) and not any(
-                                                       runs[i].status == tracking.BARRIER for i in again))
+        crossed = any(runs[i].status == tracking.BARRIER for i in again)
+        finer, finer_batches = together_then_alone(
+            [runs[i].spec for i in again], total * FINER, s.rtol / 10,
+            together=all(b is batches[0] for b in batches) and not crossed,
+            methods=[runs[i].method if runs[i].method in tracking.IMPLICIT else None for i in again])
         for i, run, batch in zip(again, finer, finer_batches):
             run.looser_balance_error = runs[i].balance_error
             runs[i], batches[i] = run, batch
@@ -210,23 +213,23 @@ def _work(s, n):
     return s.work * max(tracking.evaluation_cost(n, 1) / tracking.evaluation_cost(2, 1), 1.0)
 
 
-def _alone(specs, runs, batches, work, simulate, cost):
-    """Each run of ``specs`` simulated alone (into runs[i], batches[i]), in order, with an equal share of the work
+def _alone(runs, batches, work, simulate, cost):
+    """Each run simulated alone (into runs[i], batches[i]), in order, with an equal share of the work
     left (a run that finishes early leaves the rest of its share to those after it); then the runs the count stopped
     once more, in order and afresh, each with all the work left where that is more than it had, ``again``: with the
     implicit method unless the scene fixes its integrator (a run that outgrew an explicit method's budget stiffened
     on the way, as a natural-law estimate nearing its barrier does). Counts only: the same runs finish on every
-    machine. ``simulate(spec, share, again)``; ``cost``: the work of one evaluation of a run alone."""
+    machine. ``simulate(i, share, again)`` simulates run i; ``cost``: the work of one evaluation of a run alone."""
     had = {}
 
     def alone(i, share, again=False):
         nonlocal work
-        (runs[i],), batches[i] = simulate(specs[i], share, again)
+        (runs[i],), batches[i] = simulate(i, share, again)
         had[i] = share
         work -= min(share, runs[i].work * cost)
 
-    for k in range(len(specs)):
-        alone(k, work / (len(specs) - k))
+    for k in range(len(runs)):
+        alone(k, work / (len(runs) - k))
     for i in [i for i, r in enumerate(runs) if r.status == "budget"]:
         if work > had[i]:
             alone(i, work, again=True)

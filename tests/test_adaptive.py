@@ -331,3 +331,22 @@ def test_rk45_is_taken_only_well_inside_its_budget():
     need = simulate.least_evaluations("RK45", float(batch.stiffness(1.7).max()), 1.7)
     assert tracking.choose_method(batch, 1.7, int(need / 0.94)) == "BDF"
     assert tracking.choose_method(batch, 1.7, int(need * tracking.RK45_MARGIN) + 1) == "RK45"
+
+
+def test_an_explicit_batch_a_run_stiffens_in_stops_where_it_does():
+    """trolley_2r: the natural run of the 0.25 s traverse stiffens near t = 0.43 (a mode of 1e4-1e6 rad/s). A batch
+    of it and a Slotine-Li run, RK45 by its stiffness at the start (63 /s), stops there at its first look
+    (tracking._stiffened), with most of its count left for the runs alone. The natural run alone, which holds up no
+    other, and the batch with RK45 forced by the caller go on to their count. Without the look the batch spends
+    its 20,000."""
+    runs = [Recipe(str(SCENES / "trolley_2r.toml"), law, horizon=1.7, timing=(0.2, d))
+            for law, d in (("slotine-li", 1.0), ("natural", 0.25))]
+    kw = dict(samples=86, rtol=3e-5, max_evaluations=20_000)
+    batch_runs, batch = tracking.simulate(runs[0].chain(), [r.spec() for r in runs], 1.7, **kw)
+    assert all(r.status == "budget" for r in batch_runs) and "run 1 of the batch stiffened" in batch_runs[0].note
+    assert tracking.spent(None, batch) < 2 * tracking.STIFFENING_CHECK and batch_runs[0].t[-1] < 0.5
+    forced = dict(kw, max_evaluations=1_500, method="RK45")
+    batch_runs, batch = tracking.simulate(runs[0].chain(), [r.spec() for r in runs], 1.7, **forced)
+    assert "stiffened" not in batch_runs[0].note and tracking.spent(None, batch) > 1_500
+    (alone,), batch = tracking.simulate(runs[1].chain(), [runs[1].spec()], 0.5, **dict(kw, max_evaluations=3_000))
+    assert alone.status == "budget" and "stiffened" not in alone.note and tracking.spent(None, batch) > 3_000

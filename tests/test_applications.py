@@ -340,7 +340,8 @@ def test_runs_alone_share_the_counted_work_and_the_left_over_goes_to_those_the_c
     need = [422, 1058, 446, 2606, 428, 620, 542, 6000, 446, 728, 410, 578]
     calls = []
 
-    def simulate(spec, work, again):
+    def simulate(i, work, again):
+        spec = need[i]
         calls.append((spec, work))
         assert again == (len(calls) > len(need))  # the second pass is implicit
         done = spec <= int(work)
@@ -348,7 +349,7 @@ def test_runs_alone_share_the_counted_work_and_the_left_over_goes_to_those_the_c
         return [tracking.Run(spec, 0, "ok" if done else "budget", "", 0.0, used, work=used)], None
 
     runs = [None] * len(need)
-    app._alone(need, runs, [None] * len(runs), 12_000, simulate, 1.0)
+    app._alone(runs, [None] * len(runs), 12_000, simulate, 1.0)
     assert [r.status for r in runs] == ["ok"] * 7 + ["budget"] + ["ok"] * 4
     assert sum(min(w, s) for s, w in calls) <= 12_000 and len(calls) == len(need) + 2  # 2606 and 6000 again
     first = dict(calls[:len(need)])
@@ -402,3 +403,31 @@ def test_a_studys_runs_end_the_same_on_a_machine_three_times_slower(monkeypatch)
     monkeypatch.setattr(tracking, "time", slow)
     assert outcomes() == idle
     assert {r[0] for r in idle[600]} == {"budget"} and {r[0] for r in idle[900]} == {"ok"}, idle
+
+
+def test_the_runs_alone_get_what_the_batch_left_and_a_finer_run_keeps_its_implicit_method(monkeypatch):
+    """trolley_2r (ci): its batch of 12 stops early (a run stiffened: tracking._stiffened); the runs alone share the
+    rest of the study's work, not only the 1 - BATCH kept back for them. The natural run that needed BDF alone is
+    simulated finer with BDF again, not with RK45 chosen afresh from the stiffness at its start. A stand-in
+    integrator records the budgets and methods."""
+    s = app.SETTINGS["ci"]
+    recipes = [Recipe("trolley-2r", law, plant, horizon=1.7, timing=(0.2, d))
+               for d in (1.0, 0.25) for plant in tracking.PLANTS for law in s.laws]
+    specs = [r.spec() for r in recipes]
+    stiff = specs[-3]  # natural, gre, 0.25 s
+    calls = []
+
+    def stand_in(chain, runs, horizon, *, rtol, method, max_evaluations, **kw):
+        calls.append((len(runs), method, rtol, max_evaluations))
+        if len(runs) > 1:
+            return [tracking.Run(spec, i, "budget", "", 0.1, 400, work=400) for i, spec in enumerate(runs)], None
+        slow = runs[0] is stiff and method == "auto"
+        return [tracking.Run(runs[0], 0, "budget" if slow else "ok", "", 0.1, 100, method=method,
+                             balance_error=0.27 if runs[0] is stiff else 0.0, work=100)], None
+
+    monkeypatch.setattr(tracking, "simulate", stand_in)
+    monkeypatch.setattr(Recipe, "spec", lambda self: specs[recipes.index(self)])
+    app.simulate_recipes(recipes, s)
+    share = (s.work - 400 * tracking.evaluation_cost(2, 12)) / 12 / tracking.evaluation_cost(2, 1)
+    assert calls[0][0] == 12 and abs(calls[1][3] - int(share)) <= 1  # not (1 - BATCH) s.work / 12
+    assert [c[1:3] for c in calls[13:15]] == [("BDF", s.rtol), ("BDF", s.rtol / 10)]  # alone again, then finer

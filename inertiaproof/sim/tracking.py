@@ -38,7 +38,7 @@ from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 from .adaptive import make_law
 from .control import controller, reference_motion
-from .simulate import CLOCK, EPS, MAX_CONDITION, dominant_eigenvalue, least_evaluations, mode_in_words
+from .simulate import CLOCK, EPS, EXPLICIT, MAX_CONDITION, dominant_eigenvalue, least_evaluations, mode_in_words
 
 __all__ = ["BARRIER", "CLOCK", "choose_method", "evaluation_cost", "IMPLICIT", "IMPLICIT_DEFAULT", "NOT_STARTED",
            "PLANTS", "Batch", "Gains", "Reference", "Run", "RunSpec", "scene_specs", "simulate", "SOLVERS", "spent"]
@@ -54,6 +54,7 @@ STOPPED = ("budget", "step collapse", "error", "nan")  # a batch the integrator 
 UNRESOLVED_MARGIN = 1e-12  # AdaptiveLaw.barrier_margin below this: the estimate is beyond float64's resolution
 RK45_MARGIN = 3  # RK45 only within a third of the budget by its stability bound: near that bound its step control
 # rejects steps (the 1e6 mass ratio's batch took 2.4 x the bound; Panda's, predicted at 0.94 of its budget, ran out)
+STIFFENING_CHECK = 512  # counted evaluations of an explicit batch at which _stiffened first looks (then at 2x, 4x, ...)
 IMPLICIT_DEFAULT = "BDF"  # measured faster than Radau on the stiff scenes (README: stiff runs)
 KEPT = {"gre": (1.0, 1.0), "pagilla": (1.0, 0.0), "classical": (0.0, 0.0)}  # (Thetadot, Psi) each plant keeps
 
@@ -430,7 +431,8 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
         floor = atol.reshape(len(specs), batch.size)[:, -1]  # W's absolute tolerance
         solver = SOLVERS[chosen](batch.rhs, t0, y0, t0 + horizon, rtol=rtol, atol=atol, **kw)
         t_eval = np.linspace(t0, t0 + horizon, samples)
-        status, note, ys = _integrate(solver, batch, t_eval, max_evaluations, start + max_seconds)
+        watch = method == "auto" and chosen in EXPLICIT and len(specs) > 1
+        status, note, ys = _integrate(solver, batch, t_eval, max_evaluations, start + max_seconds, watch)
         last, work = solver.y, spent(solver, batch)
     seconds = time.perf_counter() - start
     t, y = t_eval[:len(ys)], np.array(ys)
@@ -505,20 +507,45 @@ def evaluation_cost(n, runs):
     return 0.5 + 0.1 * n + runs * (0.016 * n + 0.00013 * n**3)
 
 
+def _stiffened(solver, batch, end, max_evaluations):
+    """Why an explicit batch stops now, or "": a run's fastest mode at the state reached
+    (:meth:`Batch.fastest_modes`) asks the method for more evaluations over the rest of the horizon than the budget
+    has left (least_evaluations: its stability bound alone; steps for accuracy come on top). Its runs go on alone
+    (checks.applications.simulate_recipes), the stiff one with an implicit method, instead of all of them stepping
+    at its pace until the budget ends (trolley_2r: a batch of 12 spent all its 21,888 counted evaluations to reach
+    t = 0.68 of 1.7 s). A count, not the clock: the same on every machine. A look counts as a Jacobian."""
+    batch.jacobians += 1
+    modes = np.nan_to_num(batch.fastest_modes(solver.t, solver.y))
+    i = int(np.argmax(np.abs(modes)))
+    need = least_evaluations(type(solver).__name__, abs(modes[i]), end - solver.t)
+    if need <= max_evaluations - spent(solver, batch):
+        return ""
+    return (f"stopped at t = {solver.t:.6g} after {spent(solver, batch):.0f} counted evaluations (budget "
+            f"{max_evaluations}; {type(solver).__name__}): run {i} of the batch stiffened, its fastest mode "
+            f"({mode_in_words(modes[i])}) would take {need:.3g} more evaluations to the end")
+
+
 def spent(solver, batch):
     """The counted work of a solver so far, in right-hand sides of the batch: its right-hand sides, Jacobians (each
     Batch.jacobian_cost) and LU factorizations (each one)."""
     return batch.evaluations + batch.jacobians * batch.jacobian_cost + getattr(solver, "nlu", 0)
 
 
-def _integrate(solver, batch, t_eval, max_evaluations, deadline):
-    """Step ``solver`` to its end, sampling at ``t_eval``: (status, note, samples reached)."""
-    ys, reached = [solver.y.copy()], 1
+def _integrate(solver, batch, t_eval, max_evaluations, deadline, watch=False):
+    """Step ``solver`` to its end, sampling at ``t_eval``: (status, note, samples reached). With ``watch`` (an
+    explicit method chosen for a batch of several runs) the batch is looked at each time its count doubles from
+    STIFFENING_CHECK: a run that stiffened on the way stops it (:func:`_stiffened`)."""
+    ys, reached, check = [solver.y.copy()], 1, STIFFENING_CHECK
     with np.errstate(all="ignore"):
         while solver.status == "running":
             if spent(solver, batch) > max_evaluations:
                 return "budget", (f"stopped at t = {solver.t:.6g} after {spent(solver, batch):.0f} counted evaluations "
                                   f"(budget {max_evaluations}; {type(solver).__name__})"), ys
+            if watch and spent(solver, batch) > check:
+                check *= 2
+                stiffened = _stiffened(solver, batch, t_eval[-1], max_evaluations)
+                if stiffened:
+                    return "budget", stiffened, ys
             if time.perf_counter() > deadline:
                 return CLOCK, (f"stopped at t = {solver.t:.6g} by the wall-clock safety net after "
                                f"{spent(solver, batch):.0f} counted evaluations (a machine-dependent stop: no "
