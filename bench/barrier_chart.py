@@ -110,7 +110,7 @@ def chart_row(scene, method, budget, chart):
                                       max_evaluations=budget, max_seconds=900.0)
     seconds = time.perf_counter() - start
     v, _ = batch.balance_errors(run.t, run.y, 0.0)
-    w, z = batch.split(run.y)[3][:, 0], batch.split(run.y)[2][:, 0]
+    _, _, z, w = (part[:, 0] for part in batch.split(run.y))
     drift = {f"{t:g}": float(v[k, 0] - v[0, 0] - w[k]) for t in PROBES
              for k in [int(np.searchsorted(run.t, t - 1e-9))] if k < len(run.t)}
     return {"scene": scene, "chart": chart, "method": method, "status": run.status, "t_reached": float(run.t[-1]),

@@ -414,7 +414,7 @@ def test_the_runs_alone_get_what_the_batch_left_and_a_finer_run_keeps_its_implic
     recipes = [Recipe("trolley-2r", law, plant, horizon=1.7, timing=(0.2, d))
                for d in (1.0, 0.25) for plant in tracking.PLANTS for law in s.laws]
     specs = [r.spec() for r in recipes]
-    stiff = specs[-3]  # natural, gre, 0.25 s
+    stiff = specs[recipes.index(Recipe("trolley-2r", "natural", "gre", horizon=1.7, timing=(0.2, 0.25)))]
     calls = []
 
     def stand_in(chain, runs, horizon, *, rtol, method, max_evaluations, **kw):

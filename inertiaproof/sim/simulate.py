@@ -27,8 +27,8 @@ from inertiaproof.dynamics.forward import scaled_condition, solve_mass
 
 __all__ = [
     "accelerations", "balance_error", "CLOCK", "conditioning", "dominant_eigenvalue", "EXPLICIT", "fastest_eigenvalue",
-    "fastest_mode",
-    "fastest_rate", "least_evaluations", "MAX_CONDITION", "METHODS", "mode_in_words", "Run", "simulate", "System",
+    "fastest_mode", "fastest_rate", "least_evaluations", "MAX_CONDITION", "METHODS", "mode_in_words", "Run",
+    "simulate", "System",
 ]
 
 METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")

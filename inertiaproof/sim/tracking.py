@@ -520,9 +520,14 @@ def _stiffened(solver, batch, end, max_evaluations):
     need = least_evaluations(type(solver).__name__, abs(modes[i]), end - solver.t)
     if need <= max_evaluations - spent(solver, batch):
         return ""
-    return (f"stopped at t = {solver.t:.6g} after {spent(solver, batch):.0f} counted evaluations (budget "
-            f"{max_evaluations}; {type(solver).__name__}): run {i} of the batch stiffened, its fastest mode "
+    return (f"{_budget_stop(solver, batch, max_evaluations)}: run {i} of the batch stiffened, its fastest mode "
             f"({mode_in_words(modes[i])}) would take {need:.3g} more evaluations to the end")
+
+
+def _budget_stop(solver, batch, max_evaluations):
+    """Where and after how much counted work the count stopped ``solver``."""
+    return (f"stopped at t = {solver.t:.6g} after {spent(solver, batch):.0f} counted evaluations "
+            f"(budget {max_evaluations}; {type(solver).__name__})")
 
 
 def spent(solver, batch):
@@ -539,8 +544,7 @@ def _integrate(solver, batch, t_eval, max_evaluations, deadline, watch=False):
     with np.errstate(all="ignore"):
         while solver.status == "running":
             if spent(solver, batch) > max_evaluations:
-                return "budget", (f"stopped at t = {solver.t:.6g} after {spent(solver, batch):.0f} counted evaluations "
-                                  f"(budget {max_evaluations}; {type(solver).__name__})"), ys
+                return "budget", _budget_stop(solver, batch, max_evaluations), ys
             if watch and spent(solver, batch) > check:
                 check *= 2
                 stiffened = _stiffened(solver, batch, t_eval[-1], max_evaluations)
