@@ -139,7 +139,7 @@ SECOND_OPINION = {"BDF": "Radau", "RK45": "Radau", "DOP853": "Radau", "Radau": "
 def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     """Simulate recipes of one chain and horizon together, within ``_work(s, n)`` units of counted work
     (:func:`inertiaproof.sim.tracking.evaluation_cost`) and one wall-clock safety net ``s.max_seconds`` for it all,
-    with the scene's ``[adaptive] integrator``.
+    with the scene's ``[adaptive] integrator``; its ``[adaptive] work``, if larger, replaces ``s.work``.
     When the batch stops early (one stiff run holds up all: the step is the whole state's), or on a chain of more
     than BATCH_JOINTS joints, each run is simulated alone (:func:`_alone`), unless the batch was not started
     (ill-conditioned: its runs share the chain); the runs whose Lyapunov balance error exceeds BALANCE x rtol, or
@@ -150,8 +150,8 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     within another FINER of the work (``second_opinion`` names the first method's): one integrator's failure to
     converge is no wrong plant.
     Returns (runs, batches) in the recipes' order."""
-    horizon, chain = recipes[0].run_horizon(), recipes[0].chain()
-    method = recipes[0].scene_object().adaptive.integrator
+    horizon, chain, adaptive = recipes[0].run_horizon(), recipes[0].chain(), recipes[0].scene_object().adaptive
+    method, s = adaptive.integrator, dataclasses.replace(s, work=max(s.work, adaptive.work))
     deadline = time.perf_counter() + s.max_seconds
     cost = tracking.evaluation_cost(chain.n, 1)
     total = _work(s, chain.n)  # RK45 or not is decided as on a 2R chain, by s.work: explicit_budget

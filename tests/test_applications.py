@@ -234,6 +234,30 @@ def test_the_adaptive_table_of_a_scene():
     assert scene.adaptive.integrator == "auto" and INTEGRATORS == ("auto",) + tuple(tracking.SOLVERS)
     with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.integrator: must be one of auto, RK45, DOP853"):
         parse_scene(text.replace("estimate = 1.0", "estimate = 1.0\nintegrator = \"Euler\""), "panda.toml")
+    assert scene.adaptive.work == 0.0
+    with pytest.raises(SceneError, match=r"panda.toml:\d+: adaptive.work: must be >= 0"):
+        parse_scene(text.replace("estimate = 1.0", "estimate = 1.0\nwork = -5"), "panda.toml")
+
+
+def test_a_scene_may_give_its_runs_more_counted_work(monkeypatch, tmp_path, capsys):
+    """trolley_2r.toml asks for 150,000 units ([adaptive] work): the study's batch gets BATCH of that, not of the
+    profile's 36,000; a profile that gives more keeps its own. A gains file has no such key."""
+    budgets = []
+
+    def stand_in(chain, runs, horizon, *, max_evaluations, **kw):
+        budgets.append(max_evaluations * tracking.evaluation_cost(chain.n, len(runs)))
+        return [tracking.Run(spec, i, "ok", "", 0.1, 100, work=100) for i, spec in enumerate(runs)], None
+
+    monkeypatch.setattr(tracking, "simulate", stand_in)
+    recipes = [Recipe(str(SCENES / "trolley_2r.toml"), law, horizon=0.5) for law in ("slotine-li", "natural")]
+    for work, expected in ((36_000, 150_000), (1_500_000, 1_500_000)):
+        app.simulate_recipes(recipes, dataclasses.replace(app.SETTINGS["ci"], work=work))
+        assert abs(budgets.pop() - app.BATCH * expected) < 2
+    gains = tmp_path / "gains.toml"
+    gains.write_text("work = 1000\n")
+    code = cli.main(["adapt", "--scene", str(SCENES / "trolley_2r.toml"), "--law", "natural", "--gains", str(gains),
+                     "--out", str(tmp_path)])
+    assert code == 2 and "work: unknown key" in capsys.readouterr().err
 
 
 def test_the_scene_chooses_the_integrator_of_its_runs():

@@ -25,7 +25,8 @@ def configure(parser):
     parser.add_argument("--symbolic", action="store_true", help="with --scene: also derive its equations symbolically")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--budget", type=float, metavar="SECONDS",
-                        help="seconds one check may run (default: the profile's, 45 in ci); then it ends INCONCLUSIVE")
+                        help=f"seconds one check may run (default: the profile's, {PROFILES['ci'].check_s:g} in "
+                             "ci); then it ends INCONCLUSIVE")
     parser.add_argument("--out", default="out", metavar="DIR", help="where results.json and data files go (default: out)")
     parser.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
     parser.add_argument("--report", action="store_true", help="also write the HTML/LaTeX report into --out")

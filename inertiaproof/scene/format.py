@@ -73,13 +73,16 @@ class AdaptiveSettings:
     """Adaptive tracking of the scene's reference (inertiaproof.sim.tracking, ``inertiaproof adapt``): the sliding
     variable s = e' + lam e (lam in 1/s), K_D = kd diag(M(home, Theta(t0))) (kd in 1/s), the adaptation gain of
     each law by name, the initial estimate Theta_hat(0) = estimate Theta(t0) (one factor, or one per body), and the
-    integrator of the runs (``method`` of inertiaproof.sim.tracking.simulate)."""
+    integrator of the runs (``method`` of inertiaproof.sim.tracking.simulate) and the counted work the APP checks'
+    study of the scene may spend at least (``work`` of checks.applications.AppSettings: a scene whose runs need
+    more than the profile gives says so; 0: the profile's)."""
 
     lam: float = 5.0
     kd: float = 10.0
     gamma: tuple = (("natural", 10.0), ("slotine-li", 1.0))  # (law name, gain) pairs
     estimate: tuple = (1.0,)
     integrator: str = "auto"
+    work: float = 0.0
 
     def gain(self, law):
         return dict(self.gamma).get(law)
@@ -447,8 +450,8 @@ def _control(r, table, joints):
     )
 
 
-def _adaptive(r, table, path, bodies, defaults=AdaptiveSettings()):
-    r.keys(table, path, {"lambda", "kd", "gamma", "estimate", "integrator"})
+def _adaptive(r, table, path, bodies, defaults=AdaptiveSettings(), scene=True):
+    r.keys(table, path, {"lambda", "kd", "gamma", "estimate", "integrator"} | ({"work"} if scene else set()))
     gamma = dict(defaults.gamma)
     for law in r.table(table, path, "gamma", required=False) or {}:
         gamma[law] = r.number(table["gamma"], path + ("gamma",), law, positive=True)
@@ -464,11 +467,13 @@ def _adaptive(r, table, path, bodies, defaults=AdaptiveSettings()):
         r.error(path + ("integrator",), f"must be one of {', '.join(INTEGRATORS)}, got {integrator!r}")
     return AdaptiveSettings(lam=r.number(table, path, "lambda", defaults.lam, positive=True),
                             kd=r.number(table, path, "kd", defaults.kd, positive=True),
-                            gamma=tuple(sorted(gamma.items())), estimate=estimate, integrator=integrator)
+                            gamma=tuple(sorted(gamma.items())), estimate=estimate, integrator=integrator,
+                            work=r.number(table, path, "work", defaults.work, nonnegative=True))
 
 
 def load_gains(path, scene):
-    """The scene's :class:`AdaptiveSettings` with the keys of a gains file (those of ``[adaptive]``) replaced."""
+    """The scene's :class:`AdaptiveSettings` with the keys of a gains file (those of ``[adaptive]`` but the study's
+    ``work``) replaced."""
     path = Path(path)
     try:
         text = path.read_text()
@@ -477,7 +482,7 @@ def load_gains(path, scene):
         raise SceneError(f"{path}: cannot read gains file: {exc.strerror}") from None
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML: {exc}") from None
-    return _adaptive(_Reader(text, str(path)), data, (), scene.trajectory.bodies, scene.adaptive)
+    return _adaptive(_Reader(text, str(path)), data, (), scene.trajectory.bodies, scene.adaptive, scene=False)
 
 
 def _check_trajectory(r, trajectory):

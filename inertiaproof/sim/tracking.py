@@ -54,6 +54,7 @@ STOPPED = ("budget", "step collapse", "error", "nan")  # a batch the integrator 
 UNRESOLVED_MARGIN = 1e-12  # AdaptiveLaw.barrier_margin below this: the estimate is beyond float64's resolution
 RK45_MARGIN = 3  # RK45 only within a third of the budget by its stability bound: near that bound its step control
 # rejects steps (the 1e6 mass ratio's batch took 2.4 x the bound; Panda's, predicted at 0.94 of its budget, ran out)
+STIFFENED = "stiffened"  # _integrate's stop when _stiffened finds the explicit method will not do (simulate: budget)
 STIFFENING_CHECK = 512  # counted evaluations of an explicit batch at which _stiffened first looks (then at 2x, 4x, ...)
 IMPLICIT_DEFAULT = "BDF"  # measured faster than Radau on the stiff scenes (README: stiff runs)
 KEPT = {"gre": (1.0, 1.0), "pagilla": (1.0, 0.0), "classical": (0.0, 0.0)}  # (Thetadot, Psi) each plant keeps
@@ -389,7 +390,9 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
     (:meth:`Batch.stiffness`, damping and adaptation) keeps RK45 to steps h <= 3.3 / rho, about 6 horizon rho / 3.3
     evaluations (:func:`inertiaproof.sim.simulate.least_evaluations`); more than ``explicit_budget`` (default
     ``max_evaluations``) / RK45_MARGIN and the batch is integrated with the implicit method ``implicit`` (BDF or
-    Radau) and the Jacobian of :meth:`Batch.jacobian` (block diagonal).
+    Radau) and the Jacobian of :meth:`Batch.jacobian` (block diagonal). A run that stiffens on the way
+    (:func:`_stiffened`) stops a batch of several as ``budget`` (its runs go on alone); a run alone starts again
+    with ``implicit`` within what its count has left (its note says why; its ``work`` counts both).
     A key of SOLVERS ("RK45", "DOP853", "BDF", "Radau") forces a method.
 
     The decisive budget is counted, the same on every machine: ``max_evaluations`` right-hand sides of the batch,
@@ -431,9 +434,18 @@ def simulate(chain, specs, horizon, *, samples=201, rtol=1e-6, max_evaluations=5
         floor = atol.reshape(len(specs), batch.size)[:, -1]  # W's absolute tolerance
         solver = SOLVERS[chosen](batch.rhs, t0, y0, t0 + horizon, rtol=rtol, atol=atol, **kw)
         t_eval = np.linspace(t0, t0 + horizon, samples)
-        watch = method == "auto" and chosen in EXPLICIT and len(specs) > 1
+        watch = method == "auto" and chosen in EXPLICIT and batch.jacobian_bytes <= MAX_JACOBIAN_BYTES
         status, note, ys = _integrate(solver, batch, t_eval, max_evaluations, start + max_seconds, watch)
         last, work = solver.y, spent(solver, batch)
+        if status == STIFFENED and len(specs) == 1:
+            (run,), batch = simulate(chain, specs, horizon, samples=samples, rtol=rtol, forces=forces,
+                                     max_evaluations=max(int(max_evaluations - work), 1), method=implicit,
+                                     max_seconds=max(start + max_seconds - time.perf_counter(), 0.0))
+            run.work, run.seconds = run.work + work, time.perf_counter() - start
+            run.note = "; ".join(part for part in (run.note, f"{chosen} first: {note}, so {implicit} from the start")
+                                 if part)
+            return [run], batch
+        status = "budget" if status == STIFFENED else status
     seconds = time.perf_counter() - start
     t, y = t_eval[:len(ys)], np.array(ys)
     v, err = batch.balance_errors(t, y, floor)
@@ -510,17 +522,20 @@ def evaluation_cost(n, runs):
 def _stiffened(solver, batch, end, max_evaluations):
     """Why an explicit batch stops now, or "": a run's fastest mode at the state reached
     (:meth:`Batch.fastest_modes`) asks the method for more evaluations over the rest of the horizon than the budget
-    has left (least_evaluations: its stability bound alone; steps for accuracy come on top). Its runs go on alone
-    (checks.applications.simulate_recipes), the stiff one with an implicit method, instead of all of them stepping
-    at its pace until the budget ends (trolley_2r: a batch of 12 spent all its 21,888 counted evaluations to reach
-    t = 0.68 of 1.7 s). A count, not the clock: the same on every machine. A look counts as a Jacobian."""
+    has left (least_evaluations: its stability bound alone; steps for accuracy come on top). A batch's runs go on
+    alone (checks.applications.simulate_recipes) instead of all of them stepping at the stiff one's pace until the
+    budget ends (trolley_2r: a batch of 12 spent all its 21,888 counted evaluations to reach t = 0.68 of 1.7 s); a
+    run alone starts again with an implicit method (simulate; trolley's natural run of the 0.25 s traverse spent
+    31,355 RK45 evaluations, 26 s, before BDF took it). A count, not the clock: the same on every machine. A look
+    counts as a Jacobian."""
     batch.jacobians += 1
     modes = np.nan_to_num(batch.fastest_modes(solver.t, solver.y))
     i = int(np.argmax(np.abs(modes)))
     need = least_evaluations(type(solver).__name__, abs(modes[i]), end - solver.t)
     if need <= max_evaluations - spent(solver, batch):
         return ""
-    return (f"{_budget_stop(solver, batch, max_evaluations)}: run {i} of the batch stiffened, its fastest mode "
+    who = f"run {i} of the batch" if len(modes) > 1 else "the run"
+    return (f"{_budget_stop(solver, batch, max_evaluations)}: {who} stiffened, its fastest mode "
             f"({mode_in_words(modes[i])}) would take {need:.3g} more evaluations to the end")
 
 
@@ -538,8 +553,8 @@ def spent(solver, batch):
 
 def _integrate(solver, batch, t_eval, max_evaluations, deadline, watch=False):
     """Step ``solver`` to its end, sampling at ``t_eval``: (status, note, samples reached). With ``watch`` (an
-    explicit method chosen for a batch of several runs) the batch is looked at each time its count doubles from
-    STIFFENING_CHECK: a run that stiffened on the way stops it (:func:`_stiffened`)."""
+    explicit method chosen by "auto") the batch is looked at each time its count doubles from STIFFENING_CHECK: a
+    run that stiffened on the way stops it as STIFFENED (:func:`_stiffened`)."""
     ys, reached, check = [solver.y.copy()], 1, STIFFENING_CHECK
     with np.errstate(all="ignore"):
         while solver.status == "running":
@@ -549,7 +564,7 @@ def _integrate(solver, batch, t_eval, max_evaluations, deadline, watch=False):
                 check *= 2
                 stiffened = _stiffened(solver, batch, t_eval[-1], max_evaluations)
                 if stiffened:
-                    return "budget", stiffened, ys
+                    return STIFFENED, stiffened, ys
             if time.perf_counter() > deadline:
                 return CLOCK, (f"stopped at t = {solver.t:.6g} by the wall-clock safety net after "
                                f"{spent(solver, batch):.0f} counted evaluations (a machine-dependent stop: no "
