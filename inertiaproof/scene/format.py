@@ -450,8 +450,8 @@ def _control(r, table, joints):
     )
 
 
-def _adaptive(r, table, path, bodies, defaults=AdaptiveSettings(), scene=True):
-    r.keys(table, path, {"lambda", "kd", "gamma", "estimate", "integrator"} | ({"work"} if scene else set()))
+def _adaptive(r, table, path, bodies, defaults=AdaptiveSettings(), gains_file=False):
+    r.keys(table, path, {"lambda", "kd", "gamma", "estimate", "integrator"} | (set() if gains_file else {"work"}))
     gamma = dict(defaults.gamma)
     for law in r.table(table, path, "gamma", required=False) or {}:
         gamma[law] = r.number(table["gamma"], path + ("gamma",), law, positive=True)
@@ -482,7 +482,7 @@ def load_gains(path, scene):
         raise SceneError(f"{path}: cannot read gains file: {exc.strerror}") from None
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML: {exc}") from None
-    return _adaptive(_Reader(text, str(path)), data, (), scene.trajectory.bodies, scene.adaptive, scene=False)
+    return _adaptive(_Reader(text, str(path)), data, (), scene.trajectory.bodies, scene.adaptive, gains_file=True)
 
 
 def _check_trajectory(r, trajectory):
