@@ -63,20 +63,16 @@ def rate_case(ctx, scene, k=1.0):
     step = key_step_evidence()
     s_squared = bracket_certificate(sigma)  # of sup lambda_max((QJ)^T QJ) <= S^2
     paper, paper_certificate = paper_product(
-        "upper", formulas.chi(mu["certified"], sigma.upper, traj.bodies), ("sqrt", 69 * traj.bodies),
-        [(mu.get("certificate"), 1), (s_squared, 1)],
-        "chi = sqrt(69 N) max_l sup_t sigma_max(f(Phidot_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}")
+        "upper", formulas.chi(mu["certified"], sigma.upper, traj.bodies), "chi", [mu.get("certificate"), s_squared])
     paper_observed = formulas.chi(mu["observed"], sigma.lower, traj.bodies)
     certified = sharpest(min, [
         (lhs.upper, bracket_certificate(lhs), "certified upper side of sup sigma_max(M(q, Thetadot)) by branch and "
                                               "bound"),
-        (*paper_product("upper", formulas.chi_z(zdot["certified"], sigma.upper), 1,
-                        [(zdot.get("certificate"), 1), (s_squared, 1)],
-                        "max_l sup_t sigma_max(Z(Phidot_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}"),
+        (*paper_product("upper", formulas.chi_z(zdot["certified"], sigma.upper), "chi_z",
+                        [zdot.get("certificate"), s_squared]),
          "max_l sup_t sigma_max(Z(Phidot_l)) S^2 (block-diagonal Z: no sqrt(N))"),
-        (*paper_product("upper", formulas.chi_sharp(mu["certified"], sigma.upper), formulas.KEY_STEP_UPPER,
-                        [(mu.get("certificate"), 1), (s_squared, 1)],
-                        "2 max_l sup_t sigma_max(f(Phidot_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}"),
+        (*paper_product("upper", formulas.chi_sharp(mu["certified"], sigma.upper), "chi_sharp",
+                        [mu.get("certificate"), s_squared]),
          "2 mu S^2: the sharp factor 2 of the key step, no sqrt(N)")])
     constants = constants_evidence("upper", "chi = sqrt(69 N) max_l sup_t sigma_max(f(Phidot_l)) sup_q sigma_max(QJ)^2",
                                    paper, paper_observed, certified["value"], certified["how"], lhs.observed,
@@ -106,8 +102,8 @@ def acceleration_case(ctx, scene, k=1.0):
     sigma = cached(ctx, scene, "sigma", lambda: jacobian_sup(chain, **kw(ctx, scene, "sigma")))
     psi = lumped_velocity_bounds(traj)["psi_dot"]
     paper, certificate = paper_product(  # sigma.upper's certificate claims lambda_max((QJ)^T QJ) <= S^2: power 1/2
-        "upper", formulas.acceleration(psi["certified"], sigma.upper), 1,
-        [(psi.get("certificate"), 1), (bracket_certificate(sigma), "1/2")], "dPsi* sup_q sigma_max(QJ) <= {bound}")
+        "upper", formulas.acceleration(psi["certified"], sigma.upper), "eq_acc",
+        [psi.get("certificate"), bracket_certificate(sigma)])
     paper_observed = formulas.acceleration(psi["observed"], sigma.lower)
 
     def value(q, t):
@@ -146,17 +142,15 @@ def lumped_velocity_case(ctx, scene, k=1.0):
                              compute_uv=False)[..., 0]
 
     sharp, sharp_certificate = paper_product(
-        "upper", formulas.lumped_velocity_sharp(psi["certified"], rss.upper), 1,
-        [(psi.get("certificate"), 1), (bracket_certificate(rss), 1)],
-        "Psi* sup_q (sum_p sigma_max(Y_p)^2)^(1/2) <= {bound}")
+        "upper", formulas.lumped_velocity_sharp(psi["certified"], rss.upper), "thm5_sharp",
+        [psi.get("certificate"), bracket_certificate(rss)])
     lhs, t_worst = time_and_configuration_bracket(
         value, ctx, scene, "sup sigma_max(H(q, Psi))",
         "certified side: Psi* (certified) times sup_q (sum_p sigma_max(Y_p)^2)^(1/2) (Cauchy-Schwarz at fixed q)",
         sharp, sharp_certificate)
     paper, certificate = paper_product(
-        "upper", formulas.lumped_velocity(psi["certified"], worst.upper, rows), ("sqrt", rows),
-        [(psi.get("certificate"), 1), (bracket_certificate(worst), 1)],
-        "sqrt(6N) Psi* max_p sup_q sigma_max(Y_p) <= {bound}")
+        "upper", formulas.lumped_velocity(psi["certified"], worst.upper, rows), "thm5",
+        [psi.get("certificate"), bracket_certificate(worst)])
     paper_observed = formulas.lumped_velocity(psi["observed"], worst.lower, rows)
     constants = constants_evidence(
         "upper", "sqrt(6N) Psi* max_p sup_q sigma_max(Y_p)", paper, paper_observed, sharp,

@@ -11,10 +11,10 @@ import pytest
 
 from inertiaproof import cli
 
-REJECTED = {  # file: what its one-line error names
-    "bicycle/bike.urdf": "joint 'handlebar_to_frontwheel': <origin> attribute xyz=\"0.07, 0, -0.69\" is not a number",
-    "biped/biped2d_pybullet.urdf": "joint 'torso_to_rightleg': <limit> attribute lower=\"-1.57.\" is not a number",
-    "torus_deform.urdf": "robot 'torus' has no <link> elements",
+REJECTED = {  # file: what its one-line error names, and its line
+    "bicycle/bike.urdf": "joint 'handlebar_to_frontwheel': <origin> attribute xyz=\"0.07, 0, -0.69\" is not a number (line 103)",
+    "biped/biped2d_pybullet.urdf": "joint 'torso_to_rightleg': <limit> attribute lower=\"-1.57.\" is not a number (line 112)",
+    "torus_deform.urdf": "robot 'torus' has no <link> elements (line 2)",
 }
 
 

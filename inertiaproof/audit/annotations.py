@@ -1,13 +1,15 @@
 """The audit document as CI annotations: SARIF 2.1.0 and GitHub Actions workflow commands.
 
 One rule per kind of finding: a link or body that is inconsistent or
-degenerate, each sign of an authoring mistake, a chain whose M(q) can become
-singular, and a file that cannot be read. A finding sits on the element of
+degenerate, an ``<inertial>`` that urdfdom reads past (one result per error
+in it, on the element at fault), each sign of an authoring mistake, a chain
+whose M(q) can become singular, and a file that cannot be read (at the line
+of the error where the reader has one). A finding sits on the element of
 the link's inertia (URDF ``<inertia>``, MJCF ``<inertial>``, or the
 ``<body>`` whose inertia MuJoCo computed from geoms) at the line and column
 the reader found; a repair comes as a SARIF fix that replaces that element's
 text. Levels: ``error`` for what the exit status counts (a moving link or a
-body that is not consistent, an unreadable file), ``warning`` for the same
+body that is not consistent, a problem in an inertial, an unreadable file), ``warning`` for the same
 on a link that does not move and for a chain whose M(q) can become singular,
 ``note`` for the signs.
 """
@@ -28,6 +30,10 @@ RULES = {
     "body-not-consistent": "A body (a link and the links fixed to it) as the mass matrix sees it is not consistent.",
     "singular-mass-matrix": "The chain's mass matrix M(q) can become singular or indefinite.",
     "unreadable": "The file cannot be read.",
+    "missing-inertia": "An <inertial> has a <mass> and no <inertia>: urdfdom logs an error and Pinocchio loads the "
+                       "link as a point mass.",
+    "malformed-inertial": "An <inertial> urdfdom cannot parse (a missing element or attribute, a value that is not a "
+                          "finite number): urdfdom logs an error and reads the link as far as it got.",
     "negative_mass": "Sign of an authoring mistake: negative mass.",
     "massless_with_inertia": "Sign of an authoring mistake: a massless link with an inertia.",
     "point_mass": "Sign of an authoring mistake: a positive mass with an all-zero inertia.",
@@ -63,8 +69,11 @@ def findings(doc):
 def _findings(doc):
     for path, f in doc["files"].items():
         if f["status"] != "ok":
-            yield "unreadable", "error", path, None, f["error"], None
+            yield "unreadable", "error", path, f.get("location"), f["error"], None
             continue
+        for problem in f.get("problems", ()):
+            yield (problem["kind"].replace("_", "-"), "error", path, problem["location"],
+                   problem["message"], f["links"][problem["link"]])
         for name, link in f["links"].items():
             where = link["location"]
             if link["verdict"] != "consistent" and not link["massless_frame"]:
@@ -98,7 +107,7 @@ def sarif_log(doc, version="0"):
                   "locations": [{"physicalLocation": physical}]}
         if link is not None:
             result["properties"] = {"engines": link["engines"], "triangle_slack_rel": link["triangle_slack_rel"]}
-            fix = _fix(link["repair"])
+            fix = _fix(link["repair"]) if rule == link["verdict"] else None  # the verdict's result carries the fix
             if fix is not None:
                 result["fixes"] = [fix]
         results.append(result)

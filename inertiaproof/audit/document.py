@@ -14,8 +14,11 @@ eigenvalue extremes of M(q) over the file's joint limits
 (:func:`chain_bounds`) and whether M(q) can become singular
 (:mod:`inertiaproof.bounds.singular`).
 
-Exit status: 0 every moving link and every body is consistent; 1 some is not;
-2 some input could not be read (the others are still audited). A link moves
+Exit status: 0 every moving link and every body is consistent; 1 some is not,
+or some URDF ``<inertial>`` has a problem that urdfdom reads past (``problems``,
+each with its line: :class:`inertiaproof.audit.urdf.Problem`); 2 some input
+could not be read (the others are still audited; its ``location`` is the line
+of the error, where the reader has one). A link moves
 when a movable joint moves it; a massless frame (no mass, no inertia) is not
 a body and is not judged, but a body made only of massless frames is. The
 counts (``counts``, ``not_judged``, ``body_counts`` per file; ``summary``)
@@ -37,7 +40,7 @@ from inertiaproof.errors import InputError
 from inertiaproof.model.consistency import CONSISTENT, LABELS, physical_consistency
 from inertiaproof.result import quantity
 
-from .engines import MJ_MINVAL, engine_column
+from .engines import MJ_MINVAL, engine_column, unread_column
 from .kinematic_tree import LEFT_OUT, kinematic_tree
 from .mistakes import diagnose, entries
 from .mjcf import is_mjcf, read_mjcf
@@ -121,6 +124,9 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
 
     link_out, judged = {}, []
     engine_moving = {j.child for j in robot.joints if j.type in LEFT_OUT}
+    unread = {}  # link -> whether an element or attribute of its <inertial> is missing
+    for problem in robot.problems:
+        unread[problem.link] = unread.get(problem.link, False) or problem.missing
     for k, link in enumerate(links):
         role, anchor = tree.role(link.name)
         source = robot.sources.get(link.name)
@@ -134,7 +140,8 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
             "mass": written[k].mass, "com": written[k].com.tolist(), "inertia": entries(written[k].inertia)}
         entry["signs"] = signs[k]
         entry["hypotheses_tested"] = tested[k]
-        entry["engines"] = None if written[k] is None or joint_frame else engine_column(
+        entry["engines"] = unread_column(unread[link.name]) if link.name in unread else \
+            None if written[k] is None or joint_frame else engine_column(
             mass[k], inertia[k], fmt=robot.format, moving=role == "body" or link.name in engine_moving,
             rescued=_rescued(tree.groups[anchor], link.name, links), lumped=role == "merged",
             full=source is None or source.kind in ("urdf", "fullinertia"), compiler=robot.compiler,
@@ -177,6 +184,8 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
         "robot": robot.name,
         "format": robot.format,
         "warnings": list(robot.warnings),
+        "problems": [{"link": p.link, "kind": p.kind, "message": p.message, "reads": p.reads,
+                      "location": _region(robot.path, p.span, p.expanded)} for p in robot.problems],
         "serial_arm": arm,
         "consistent": not not_consistent,
         "not_consistent": not_consistent,
@@ -246,11 +255,17 @@ def _independent(joints):
 
 def _location(source):
     """Where the link's inertia element stands: file, line, and column and end where the markup was paired."""
-    if source is None or source.span is None:
+    return None if source is None else _region(source.path, source.span, source.expanded)
+
+
+def _region(path, span, expanded=None, line=None):
+    """{"path", ["expanded",] "startLine", ...} of a span (or of a ``line`` alone) in a file, or None.
+
+    ``expanded``: the lines are those of the text it names (e.g. what `xacro FILE` prints), not of the file."""
+    if span is None and line is None:
         return None
-    if source.expanded:  # lines of the expanded text (e.g. what `xacro FILE` prints), not of the file
-        return {"path": source.path, "expanded": source.expanded, **source.span.region()}
-    return {"path": source.path, **source.span.region()}
+    region = span.region() if span is not None else {"startLine": line}
+    return {"path": str(path), **({"expanded": expanded} if expanded else {}), **region}
 
 
 def _rescued(group, name, links):
@@ -365,15 +380,18 @@ def _audit_one(path, options):
     try:
         return audit_robot(read_robot(path, xacro_args), **options)
     except InputError as exc:
-        return {"status": "error", "error": str(exc)}
+        where = _region(path, None, getattr(exc, "expanded", None), getattr(exc, "line", None))
+        return {"status": "error", "error": str(exc), **({"location": where} if where else {})}
     except MemoryError:
         return {"status": "error", "error": f"{path}: out of memory: the audit needs more than its memory budget"}
 
 
 def exit_status(files):
+    """2 some file cannot be read; 1 some moving link or body is not consistent, or some file has a problem that
+    the engines read past (:class:`.urdf.Problem`); else 0."""
     if any(f["status"] == "error" for f in files.values()):
         return 2
-    return 0 if all(f["consistent"] for f in files.values()) else 1
+    return 0 if all(f["consistent"] and not f.get("problems") for f in files.values()) else 1
 
 
 def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s, versions):
@@ -398,6 +416,7 @@ def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s, v
             "links_not_judged": {kind: sum(f["not_judged"][kind] for f in ok) for kind in NOT_JUDGED_LINKS},
             "bodies": {label: sum(f["body_counts"][label] for f in ok) for label in (*LABELS, "not_judged")},
             "moving_not_consistent": sum(len(f["not_consistent"]) for f in ok),
+            "problems": sum(len(f.get("problems", ())) for f in ok),
             "signs": signs,
             "exit_status": exit_status(files),
         },

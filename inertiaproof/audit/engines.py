@@ -32,13 +32,34 @@ tolerances, slightly inconsistent ones.
   "A link named X has invalid inertia." and gz-sim does not load the model; a
   URDF link with mass <= 0 is dropped with its joint ("not modeled in sdf")
   unless a fixed joint lumps it into its parent.
+
+A URDF ``<inertial>`` that urdfdom cannot parse (:class:`.urdf.Problem`) gets
+:func:`unread_column` instead, from what the engines installed here do with
+such a file (observed with MuJoCo 4.0 and pybullet 3.2.7 on a two-link arm,
+``tests/test_audit_problems.py`` checks it where they install):
+
+- a missing element or attribute (``<mass>``, its ``value``, ``<inertia>``,
+  an inertia attribute): MuJoCo refuses the file ("XML Error: missing
+  element: 'inertia'", "required attribute missing: 'iyy'"); PyBullet
+  refuses it with and without URDF_USE_INERTIA_FROM_FILE ("Inertial element
+  must have inertia element", "failed to parse link", "Cannot load URDF
+  file.");
+- a value that is not a number or not finite, or a wrong count of numbers:
+  MuJoCo refuses the file ("bad format in attribute", "does not have enough
+  data"; nan or an infinite inertia entry fail the mjMINVAL check of a
+  moving body); PyBullet loads it (a mass that is not a number as 0, an
+  inertia entry as 0 and then "Bad inertia tensor properties", an origin
+  that is not three numbers ignored with "Couldn't parse vector3").
+
+Drake and Gazebo are not installed here: their column says so rather than
+guess (urdfdom and Pinocchio are in the problem's own message).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ENGINES", "engine_column", "MJ_EPS", "MJ_MINVAL"]
+__all__ = ["ENGINES", "engine_column", "MJ_EPS", "MJ_MINVAL", "unread_column"]
 
 ENGINES = ("mujoco", "drake", "pybullet", "gazebo")
 EPS = np.finfo(float).eps
@@ -149,3 +170,24 @@ def engine_column(mass, inertia, *, fmt, moving, rescued=False, lumped=False, fu
     out["pybullet"] = pybullet(mass, inertia)
     out["gazebo"] = gazebo(mass, inertia, lumped=lumped)
     return out
+
+
+NOT_INSTALLED = _answer("not_verified", "not verified: not installed here")
+
+
+def unread_column(missing):
+    """{engine: {"action", "text"}} for a URDF link whose ``<inertial>`` urdfdom cannot parse (see the module):
+    ``missing``, an element or attribute is missing; else a value is not a finite number or has the wrong count."""
+    if missing:
+        return {"mujoco": _answer("rejects", "rejects the file: 'XML Error: missing element' (or 'required "
+                                  "attribute missing')"),
+                "drake": NOT_INSTALLED,
+                "pybullet": _answer("rejects", "cannot load the file, with or without URDF_USE_INERTIA_FROM_FILE "
+                                    "('failed to parse link')"),
+                "gazebo": NOT_INSTALLED}
+    return {"mujoco": _answer("rejects", "rejects the file: 'XML Error: bad format in attribute' (or not enough "
+                              "data; nan or an infinite inertia entry: mass and inertia below mjMINVAL)"),
+            "drake": NOT_INSTALLED,
+            "pybullet": _answer("loads", "loads it, reading a value that is not a number as 0 (an origin that is not "
+                                "three numbers is ignored with 'Couldn't parse vector3')"),
+            "gazebo": NOT_INSTALLED}

@@ -49,7 +49,8 @@ class Span:
 class Source:
     """Where a link's inertia comes from, and the element a repair of it replaces.
 
-    ``kind``: ``urdf`` (an ``<inertia>`` element), ``diaginertia`` or
+    ``kind``: ``urdf`` (an ``<inertia>`` element), ``inertial`` (a URDF ``<inertial>`` without one, whose
+    problem :mod:`.urdf` reports; no repair replaces it), ``diaginertia`` or
     ``fullinertia`` (an MJCF ``<inertial>`` element), ``geoms`` (MuJoCo
     computed it from the body's geoms; ``span`` is then the ``<body>``), or
     ``joint_frame`` (a frame between two joints of one MJCF body, not a body).
@@ -73,14 +74,18 @@ def decode(data):
         return data.decode("utf-8", errors="surrogateescape"), "utf-8"
 
 
-def urdf_sources(data, root, path):
-    """{link name: Source} of every ``<link>`` with an ``<inertial><inertia>`` in a parsed URDF."""
-    spans = element_spans(decode(data)[0], root)
+def urdf_sources(data, root, path, spans=None):
+    """{link name: Source} of every ``<link>`` with an ``<inertial>`` in a parsed URDF: its ``<inertia>``, or the
+    ``<inertial>`` itself when it has none. ``spans``: :func:`element_spans` of the file, when computed already."""
+    spans = element_spans(decode(data)[0], root) if spans is None else spans
     out = {}
     for link in root.findall("link"):
-        inertia = link.find("inertial/inertia")
+        inertial = link.find("inertial")
+        inertia = None if inertial is None else inertial.find("inertia")
         if inertia is not None:
             out[link.get("name")] = Source(str(path), spans.get(inertia), "urdf")
+        elif inertial is not None:
+            out[link.get("name")] = Source(str(path), spans.get(inertial), "inertial")
     return out
 
 

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 __all__ = [
-    "engine_actions", "format_audit", "format_file", "headline", "NOT_JUDGED_WORDS", "reason", "remarks", "role",
-    "totals", "verdict",
+    "engine_actions", "format_audit", "format_file", "headline", "line_of", "NOT_JUDGED_WORDS", "reason", "remarks",
+    "role", "totals", "verdict",
 ]
 
 
@@ -28,7 +28,8 @@ def engine_actions(link):
     """What the four engines do with a link's inertia, in one word each ("loads/replaces/zeroes/rejects")."""
     if not link.get("engines"):
         return "-"
-    return "/".join(e["action"].replace("not_documented", "?") for e in link["engines"].values())
+    unknown = ("not_documented", "not_verified")
+    return "/".join("?" if e["action"] in unknown else e["action"] for e in link["engines"].values())
 
 
 def role(link):
@@ -44,6 +45,8 @@ def headline(f):
     """One readable file's robot, sizes and state, e.g. "robot 'panda', 13 links (8 judged), 7 bodies, ...:
     consistent"; bodies are the judged ones (not MuJoCo joint frames nor massless bases)."""
     state = "consistent" if f["consistent"] else f"NOT CONSISTENT: {', '.join(f['not_consistent'])}"
+    if f.get("problems"):
+        state += f"; {_count(f['problems'], 'problem')} in inertials"
     links = _count(f["links"], "link")
     bodies = [b for b in f["bodies"].values() if b.get("judged", True)]
     if "counts" in f:
@@ -75,11 +78,21 @@ def remarks(f):
     return out
 
 
+def line_of(location):
+    """'line 12' or 'line 12, column 5' of a location, with the text it is a line of when that is not the file."""
+    if not location:
+        return "no line"
+    where = f"line {location['startLine']}" + (f", column {location['startColumn']}" if "startColumn" in location
+                                                 else "")
+    return where + (f" of the text {location['expanded']} expands the file to" if location.get("expanded") else "")
+
+
 def format_file(path, f):
     if f["status"] == "error":
         return f"== {path}\n  UNREADABLE: {f['error']}"
     links = f["links"]
     out = [f"== {path}: {headline(f)}"] + [f"  {line}" for line in remarks(f)]
+    out += [f"  problem {p['link']} ({line_of(p['location'])}): {p['message']}" for p in f.get("problems", ())]
     width = max(len(name) for name in links)
     roles = {name: role(link) for name, link in links.items()}
     role_width = max(len(r) for r in roles.values())
@@ -143,9 +156,10 @@ def totals(summary):
     judged_bodies = "" if bodies is None else "judged bodies: " + ", ".join(
         f"{n} {label}" for label, n in bodies.items() if label != "not_judged") + "; "
     signs = ", ".join(f"{k} {v}" for k, v in sorted(summary["signs"].items())) or "none"
+    problems = f"; problems in inertials: {summary['problems']}" if summary.get("problems") else ""
     return (f"{summary['files_consistent']} consistent, {summary['files_not_consistent']} not consistent, "
             f"{summary['unreadable']} unreadable; judged links: {links}; {judged_bodies}moving links or bodies not "
-            f"consistent: {summary['moving_not_consistent']}; signs: {signs}")
+            f"consistent: {summary['moving_not_consistent']}; signs: {signs}{problems}")
 
 
 def format_audit(doc):

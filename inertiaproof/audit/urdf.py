@@ -15,8 +15,19 @@ an XML declaration with another version (``<?xml version="0.0"?>``), after
 blank lines or followed by NUL bytes; leftover xacro elements and
 ``$(optenv NAME default)`` (the default, as xacro without that variable);
 more numbers than a vector needs (the first ones, as pybullet); a second
-``<axis>`` (the first, as urdfdom); limits with lower > upper (no limits, as
-Bullet); ``spherical`` joints (reported and left out, like floating ones).
+``<axis>``, ``<inertial>``, ``<origin>``, ``<mass>`` or ``<inertia>`` (the first, as urdfdom); limits with
+lower > upper (no limits, as Bullet); ``spherical`` joints (reported and left out, like floating ones);
+namespace prefixes the file never declares (``drake:acceleration="..."``, ``<drake:collision_filter_group>``):
+TinyXML keeps such names as plain names that urdfdom does not look up, so the audit declares the prefixes on
+the root element, on the line of its start tag (lines and the file's own positions stay as they are), and reads their
+elements and attributes as unknown ones.
+
+An ``<inertial>`` that urdfdom cannot parse (a missing ``<mass>``, ``value``, ``<inertia>`` or inertia
+attribute, a value that is not a finite number) is not an error but a :class:`Problem` on its link
+(:attr:`Robot.problems`, with the element's line): urdfdom logs an error and reads the link as far as it got
+(its parseInertial reads ``<origin>``, then ``<mass>``, then ``<inertia>``), and so does the audit: a point
+mass at the origin's CoM (zero rotational inertia) when only the inertia fails, else a massless link
+(checked against Pinocchio in ``tests/test_audit_problems.py``).
 Internal DTD entities (``<!DOCTYPE robot [<!ENTITY m "2.5">]>``, ``value="&m;"``)
 are expanded after checks, external ones refused (:mod:`.entities`).
 Geometry (``<visual>``, ``<collision>``) is not read at all. The decimals of
@@ -41,18 +52,36 @@ from pathlib import Path
 import numpy as np
 
 from inertiaproof.errors import LARGEST, InputError
-from inertiaproof.model.inertia import from_urdf, pack, urdf_inertia
+from inertiaproof.model.inertia import from_urdf, pack, rotation_rpy, urdf_inertia
 
 from . import entities
-from .locate import urdf_sources
+from .locate import decode, element_spans, urdf_sources
 
 __all__ = [
-    "INERTIA_ATTRIBUTES", "Inertial", "JOINT_TYPES", "LARGEST", "Link", "read_urdf", "Robot", "UrdfJoint", "XACRO",
+    "ElementError", "INERTIA_ATTRIBUTES", "Inertial", "JOINT_TYPES", "LARGEST", "Link", "Problem", "read_urdf", "Robot",
+    "UrdfJoint", "XACRO",
 ]
 
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar", "spherical")
 XACRO = "http://ros.org/wiki/xacro"
+UNDECLARED = "urn:inertiaproof:undeclared:"  # the namespace an undeclared prefix P is declared with: UNDECLARED + P
 INERTIA_ATTRIBUTES = ("ixx", "iyy", "izz", "ixy", "iyz", "ixz")
+
+
+class ElementError(InputError):
+    """A one-line error on one element of a URDF, ending with its line.
+
+    ``detail`` is the message without the file ("link 'a': <mass> misses attribute 'value'"); ``kind`` says what
+    is wrong: ``missing`` (an element or attribute), ``format`` (not a number, a wrong count of numbers, an
+    unexpanded xacro expression), ``finite`` (nan, inf) or ``range`` (beyond what the audit computes with)."""
+
+    def __init__(self, path, element, detail, kind, line=None):
+        self.detail, self.kind, self.element = detail, kind, element
+        self.line = element.sourceline if line is None and element is not None else line
+        self.expanded = None  # "xacro" when the line is one of the text xacro made of the file
+        self.log = ()  # libxml2's messages on undeclared namespace prefixes (bad XML only)
+        said = line is not None  # a line given is in ``detail`` already
+        super().__init__(f"{path}: {detail}" + (f" (line {self.line})" if self.line and not said else ""))
 
 
 @dataclass(frozen=True)
@@ -100,6 +129,23 @@ class Link:
 
 
 @dataclass(frozen=True)
+class Problem:
+    """Something wrong in a link's ``<inertial>`` that urdfdom logs as an error and reads past (see the module).
+
+    ``kind``: ``missing_inertia`` (an ``<inertial>`` without ``<inertia>``) or ``malformed_inertial``;
+    ``reads``: what urdfdom and Pinocchio read instead; ``span``: where the element at fault stands (a
+    :class:`.locate.Span`)."""
+
+    link: str
+    kind: str
+    message: str  # one line naming link and field, and what urdfdom and Pinocchio do with it
+    reads: str
+    missing: bool  # an element or attribute is missing (else a value is not a number)
+    span: object = None
+    expanded: str | None = None  # "xacro": the span is in the text xacro made of the file
+
+
+@dataclass(frozen=True)
 class UrdfJoint:
     name: str
     type: str
@@ -121,6 +167,7 @@ class Robot:
     format: str = "urdf"  # or "mjcf"
     compiler: dict = field(default_factory=dict, compare=False)  # MJCF <compiler> settings that touch inertias
     warnings: tuple = ()  # what was odd but read as engines read it
+    problems: tuple = ()  # of Problem: what is wrong in a link's <inertial> and read past, as urdfdom does
 
     def link(self, name):
         return next(link for link in self.links if link.name == name)
@@ -137,7 +184,8 @@ class Robot:
 
 
 def read_urdf(path, *, data=None, expanded=None, warnings=()):
-    """The robot in a URDF file; raises InputError with one line naming the bad element.
+    """The robot in a URDF file; raises InputError with one line naming the bad element (an :class:`ElementError`
+    ends with its line).
 
     ``data``: the text to read instead of the file's (``expanded`` says by what, e.g. "xacro": the positions are
     then in that text, and each Source says so); ``warnings``: what the expansion said."""
@@ -148,14 +196,21 @@ def read_urdf(path, *, data=None, expanded=None, warnings=()):
         except OSError as exc:
             raise InputError(f"{path}: cannot read: {exc.strerror}") from None
     warnings = list(warnings)
-    root = _parse_xml(data, path, warnings)
-    written, unlimited = _check(root, path, warnings)
-    sources = urdf_sources(data, root, path)
+    try:
+        root = _parse_xml(data, path, warnings)
+        written, unlimited, found, unread = _check(root, path, warnings)
+    except ElementError as exc:
+        exc.expanded = expanded
+        raise
+    spans = element_spans(decode(data)[0], root)
+    sources = urdf_sources(data, root, path, spans)
     if expanded is not None:
         sources = {name: replace(source, expanded=expanded) for name, source in sources.items()}
+    problems = tuple(replace(problem, span=spans.get(element), expanded=expanded) for problem, element in found)
     spherical = {j.get("name") for j in root.iter("joint") if j.get("type") == "spherical"}
-    robot = _from_yourdfpy(_as_engines_read_it(root), path, written, unlimited | spherical, spherical)
-    return replace(robot, sources=sources, warnings=tuple(warnings))
+    robot = _from_yourdfpy(_as_engines_read_it(root, unread), path, written, unlimited | spherical, spherical)
+    return replace(robot, links=_as_urdfdom_reads(robot.links, unread), sources=sources,
+                   warnings=tuple(warnings), problems=problems)
 
 
 _DECLARATION = re.compile(rb"^(\s*)(<\?xml\b[^>]*?\?>)", re.S)
@@ -163,23 +218,62 @@ _VERSION = re.compile(rb"""version\s*=\s*(["'])([^"']*)\1""")
 
 
 def _parse_xml(data, path, warnings):
-    from lxml import etree
-
+    """The root <robot> of the file's bytes, with what urdfdom reads and lxml does not set right (see the module)."""
     if not data.strip():
         raise InputError(f"{path}: empty file")
     data = _tolerated(data, warnings)
     try:
-        root = entities.parse(data, path)  # internal DTD entities expanded safely, or refused (see .entities)
+        root = _parse(data, path)
+    except ElementError as exc:
+        prefixes = _undeclared_prefixes(exc)
+        if not prefixes:
+            raise
+        for prefix in prefixes:
+            warnings.append(f"namespace prefix '{prefix}' is not declared: its elements and attributes are read as "
+                            "unknown ones, as urdfdom (TinyXML) reads them")
+        root = _parse(_declare(data, prefixes), path)
+    if root.tag != "robot":
+        raise InputError(f"{path}: the root element is <{root.tag}>, not <robot>")
+    return root
+
+
+def _parse(data, path):
+    """The root element of the bytes, or one line naming the file: an ElementError with the line of bad XML (its
+    ``log``: libxml2's messages)."""
+    from lxml import etree
+
+    try:
+        return entities.parse(data, path)  # internal DTD entities expanded safely, or refused (see .entities)
     except InputError:
         raise
     except etree.XMLSyntaxError as exc:
         line = f" at line {exc.lineno}" if exc.lineno else ""
-        raise InputError(f"{path}: not well-formed XML{line}: {' '.join(exc.msg.split())}") from None
+        error = ElementError(path, None, f"not well-formed XML{line}: {' '.join(exc.msg.split())}", "format",
+                             line=exc.lineno or None)
+        error.log = [entry.message for entry in exc.error_log if entry.type_name == "NS_ERR_UNDEFINED_NAMESPACE"]
+        raise error from None
     except (ValueError, RecursionError) as exc:
         raise InputError(f"{path}: not usable XML: {exc}") from None
-    if root.tag != "robot":
-        raise InputError(f"{path}: the root element is <{root.tag}>, not <robot>")
-    return root
+
+
+_UNDECLARED = re.compile(r"Namespace prefix (\S+) (?:for \S+ )?on \S+ is not defined")
+_ROOT_TAG = re.compile(rb"<!--.*?-->|<\?.*?\?>|<!DOCTYPE(?:[^\[>]|\[.*?\])*>|<([A-Za-z_][\w.:\-]*)", re.S)
+
+
+def _undeclared_prefixes(error):
+    """The namespace prefixes libxml2 found used and never declared, in the order it met them."""
+    found = (_UNDECLARED.match(message) for message in error.log)
+    return list(dict.fromkeys(m.group(1) for m in found if m and m.group(1) not in ("xml", "xmlns")))
+
+
+def _declare(data, prefixes):
+    """The bytes with ``xmlns:P="urn:inertiaproof:undeclared:P"`` for each prefix inserted right after the root
+    element's name, on the same line: every element keeps its line."""
+    root = next((m for m in _ROOT_TAG.finditer(data) if m.group(1)), None)
+    if root is None:
+        return data
+    names = b"".join(b' xmlns:%s="%s%s"' % (p.encode(), UNDECLARED.encode(), p.encode()) for p in prefixes)
+    return data[:root.end(1)] + names + data[root.end(1):]
 
 
 def _tolerated(data, warnings):
@@ -216,12 +310,12 @@ def _numbers(element, attribute, count, path, default=None, warnings=None):
     ``count`` are read as their first ``count`` (as pybullet does), with a warning; the attribute is trimmed."""
     raw = element.get(attribute)
 
-    def error(problem):
-        return InputError(f"{path}: {_where(element)}: <{element.tag}> {problem}")
+    def error(problem, kind="format"):
+        return ElementError(path, element, f"{_where(element)}: <{element.tag}> {problem}", kind)
 
     if raw is None:
         if default is None:
-            raise error(f"misses attribute '{attribute}'")
+            raise error(f"misses attribute '{attribute}'", "missing")
         return default
     if "$(" in raw or "${" in raw:
         raise error(f"attribute {attribute}=\"{raw}\" is an unexpanded xacro expression: run xacro on the file "
@@ -239,9 +333,9 @@ def _numbers(element, attribute, count, path, default=None, warnings=None):
     except ValueError:
         raise error(f"attribute {attribute}=\"{raw}\" is not a number") from None
     if not all(math.isfinite(v) for v in values):
-        raise error(f"attribute {attribute}=\"{raw}\" is not finite")
+        raise error(f"attribute {attribute}=\"{raw}\" is not finite", "finite")
     if not all(abs(v) <= LARGEST for v in values):
-        raise error(f"attribute {attribute}=\"{raw}\" is out of range (|x| <= {LARGEST:g})")
+        raise error(f"attribute {attribute}=\"{raw}\" is out of range (|x| <= {LARGEST:g})", "range")
     return values
 
 
@@ -254,17 +348,19 @@ def _single(element, tag, path, required=False, warnings=None):
             element.remove(extra)
         found = found[:1]
     if len(found) > 1:
-        raise InputError(f"{path}: {_where(element)} has {len(found)} <{tag}> elements")
+        raise ElementError(path, found[1], f"{_where(element)} has {len(found)} <{tag}> elements", "format")
     if required and not found:
-        raise InputError(f"{path}: {_where(element)}: <{element.tag}> misses <{tag}>")
+        raise ElementError(path, element, f"{_where(element)}: <{element.tag}> misses <{tag}>", "missing")
     return found[0] if found else None
 
 
 def _check_origin(element, path, warnings):
-    origin = _single(element, "origin", path)
-    if origin is not None:
-        _numbers(origin, "xyz", 3, path, default=(0.0, 0.0, 0.0), warnings=warnings)
-        _numbers(origin, "rpy", 3, path, default=(0.0, 0.0, 0.0), warnings=warnings)
+    """The ``xyz`` and ``rpy`` of the element's ``<origin>`` (zeros where absent), checked."""
+    origin = _single(element, "origin", path, warnings=warnings)
+    if origin is None:
+        return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    return (_numbers(origin, "xyz", 3, path, default=(0.0, 0.0, 0.0), warnings=warnings),
+            _numbers(origin, "rpy", 3, path, default=(0.0, 0.0, 0.0), warnings=warnings))
 
 
 _OPTENV = re.compile(r"\$\(optenv\s+\S+\s*([^)]*)\)")
@@ -289,65 +385,66 @@ def _expand_leftover_xacro(root, warnings):
 
 def _check(root, path, warnings):
     """Every element and attribute the audit reads, with one-line errors; returns the decimals of each link's
-    mass and inertia as written ({link: (mass, ixx, iyy, izz, ixy, iyz, ixz)}) and the joints whose limits are
-    not read (lower > upper)."""
+    mass and inertia as urdfdom reads them ({link: (mass, ixx, iyy, izz, ixy, iyz, ixz)}), the joints whose limits
+    are not read (lower > upper), the problems of the inertials ([(Problem, element at fault)]) and what urdfdom
+    reads of the inertials with problems ({link: Inertial})."""
     if not root.get("name"):
-        raise InputError(f"{path}: <robot> misses attribute 'name'")
+        raise ElementError(path, root, "<robot> misses attribute 'name'", "missing")
     _expand_leftover_xacro(root, warnings)
-    written, unlimited = {}, set()
+    written, unlimited, problems, unread = {}, set(), [], {}
     links = root.findall("link")
     if not links:
-        raise InputError(f"{path}: robot '{root.get('name')}' has no <link> elements")
+        raise ElementError(path, root, f"robot '{root.get('name')}' has no <link> elements", "missing")
     names = set()
     for link in links:
         name = link.get("name")
         if not name:
-            raise InputError(f"{path}: a <link> misses attribute 'name' (line {link.sourceline})")
+            raise ElementError(path, link, "a <link> misses attribute 'name'", "missing")
         if name in names:
-            raise InputError(f"{path}: two links are named '{name}'")
+            raise ElementError(path, link, f"two links are named '{name}'", "format")
         names.add(name)
-        inertial = _single(link, "inertial", path)
-        if inertial is None:
-            continue
-        _check_origin(inertial, path, warnings)
-        mass = _single(inertial, "mass", path, required=True)
-        _numbers(mass, "value", 1, path)
-        inertia = _single(inertial, "inertia", path, required=True)
-        for attribute in INERTIA_ATTRIBUTES:
-            _numbers(inertia, attribute, 1, path)
-        written[name] = (mass.get("value").strip(), *(inertia.get(a).strip() for a in INERTIA_ATTRIBUTES))
+        inertial = _single(link, "inertial", path, warnings=warnings)
+        if inertial is not None:
+            written[name], read, link_problems = _read_inertial(name, inertial, path, warnings)
+            if read is not None:
+                unread[name] = read
+                problems += link_problems
     parent_of, joint_names = {}, set()
     for joint in root.findall("joint"):
         name = joint.get("name")
         if not name:
-            raise InputError(f"{path}: a <joint> misses attribute 'name' (line {joint.sourceline})")
+            raise ElementError(path, joint, "a <joint> misses attribute 'name'", "missing")
         if name in joint_names:
-            raise InputError(f"{path}: two joints are named '{name}'")
+            raise ElementError(path, joint, f"two joints are named '{name}'", "format")
         joint_names.add(name)
         kind = joint.get("type")
         if kind not in JOINT_TYPES:
-            raise InputError(f"{path}: joint '{name}': type {kind!r} is not one of {', '.join(JOINT_TYPES)}")
+            raise ElementError(path, joint, f"joint '{name}': type {kind!r} is not one of {', '.join(JOINT_TYPES)}",
+                               "format")
         ends = {}
         for end in ("parent", "child"):
             link = _single(joint, end, path, required=True).get("link")
             if not link:
-                raise InputError(f"{path}: joint '{name}': <{end}> misses attribute 'link'")
+                raise ElementError(path, joint.find(end), f"joint '{name}': <{end}> misses attribute 'link'",
+                                   "missing")
             if link not in names:
-                raise InputError(f"{path}: joint '{name}': <{end} link='{link}'> names no link of the file")
+                raise ElementError(path, joint.find(end),
+                                   f"joint '{name}': <{end} link='{link}'> names no link of the file", "format")
             ends[end] = link
         if ends["child"] in parent_of:
-            raise InputError(f"{path}: link '{ends['child']}' is the child of two joints, "
-                             f"'{parent_of[ends['child']][0]}' and '{name}'")
+            raise ElementError(path, joint, f"link '{ends['child']}' is the child of two joints, "
+                               f"'{parent_of[ends['child']][0]}' and '{name}'", "format")
         parent_of[ends["child"]] = (name, ends["parent"])
         _check_origin(joint, path, warnings)
         axis = _single(joint, "axis", path, warnings=warnings)
         if axis is not None and kind in ("revolute", "continuous", "prismatic"):
             if not any(_numbers(axis, "xyz", 3, path, default=(1.0, 0.0, 0.0), warnings=warnings)):
-                raise InputError(f"{path}: joint '{name}': <axis xyz=\"{axis.get('xyz')}\"> is the zero vector")
+                raise ElementError(path, axis, f"joint '{name}': <axis xyz=\"{axis.get('xyz')}\"> is the zero vector",
+                                   "format")
         limit = _single(joint, "limit", path)
         if kind in ("revolute", "prismatic"):
             if limit is None:
-                raise InputError(f"{path}: joint '{name}': a {kind} joint needs <limit>")
+                raise ElementError(path, joint, f"joint '{name}': a {kind} joint needs <limit>", "missing")
             lower = _numbers(limit, "lower", 1, path, default=(0.0,))[0]
             upper = _numbers(limit, "upper", 1, path, default=(0.0,))[0]
             if lower > upper:
@@ -358,9 +455,54 @@ def _check(root, path, warnings):
             warnings.append(f"joint '{name}' is spherical (a pybullet extension): reported and left out")
         mimic = _single(joint, "mimic", path)
         if mimic is not None and mimic.get("joint") is None:
-            raise InputError(f"{path}: joint '{name}': <mimic> misses attribute 'joint'")
+            raise ElementError(path, mimic, f"joint '{name}': <mimic> misses attribute 'joint'", "missing")
     _check_tree(path, names, parent_of, links)
-    return written, unlimited
+    return written, unlimited, problems, unread
+
+
+URDFDOM_SAYS = {"missing_inertia": "Inertial element must have inertia element"}  # its own log line, observed
+
+
+def _read_inertial(name, inertial, path, warnings):
+    """What urdfdom reads of one link's ``<inertial>``: the decimals (mass, ixx, iyy, izz, ixy, iyz, ixz), and
+    for an ``<inertial>`` with errors the Inertial it reads and [(Problem, element at fault)], one per error.
+
+    urdfdom's parseInertial reads ``<origin>``, ``<mass>`` and ``<inertia>`` in that order and stops at the
+    first error, keeping what it read: an error in the inertia leaves a point mass at the origin, an earlier one
+    no mass. Every error is reported; a value beyond the audit's range stays a one-line error of the file."""
+    errors = []
+
+    def attempt(check):
+        try:
+            return check()
+        except ElementError as exc:
+            if exc.kind == "range":
+                raise
+            errors.append(exc)
+            return None
+
+    origin = attempt(lambda: _check_origin(inertial, path, warnings))
+    mass = attempt(lambda: _single(inertial, "mass", path, required=True, warnings=warnings))
+    value = None if mass is None else attempt(lambda: _numbers(mass, "value", 1, path))
+    mass_read = not errors
+    inertia = attempt(lambda: _single(inertial, "inertia", path, required=True, warnings=warnings))
+    for attribute in INERTIA_ATTRIBUTES if inertia is not None else ():
+        attempt(lambda a=attribute: _numbers(inertia, a, 1, path))
+    if not errors:
+        return (mass.get("value").strip(), *(inertia.get(a).strip() for a in INERTIA_ATTRIBUTES)), None, []
+    kind = "missing_inertia" if inertia is None else "malformed_inertial"
+    if mass_read:
+        reads = f"a point mass of {value[0]:g} kg at its <origin> (zero rotational inertia)"
+        written = (mass.get("value").strip(), *("0",) * 6)
+        read = Inertial(value[0], np.array(origin[0]), rotation_rpy(origin[1]), np.zeros((3, 3)), written)
+    else:
+        reads = "massless (mass 0, zero inertia)"
+        written = ("0",) * 7
+        read = Inertial(0.0, np.zeros(3), np.eye(3), np.zeros((3, 3)), written)
+    says = URDFDOM_SAYS.get(kind, f"Could not parse inertial element for Link [{name}]")
+    problems = [(Problem(name, kind, f"{e.detail}: urdfdom logs '{says}' and Pinocchio reads the link as {reads}",
+                         reads, e.kind == "missing"), e.element) for e in errors]
+    return written, read, problems
 
 
 def _check_tree(path, names, parent_of, links):
@@ -380,17 +522,27 @@ def _check_tree(path, names, parent_of, links):
                          f"{', ...' if len(roots) > 3 else ''}): a URDF is one tree")
 
 
-def _as_engines_read_it(root):
+def _as_engines_read_it(root, unread=()):
     """The checked document as bytes for yourdfpy: without geometry (which the audit does not read, and whose
-    engine-specific shapes yourdfpy rejects), spherical joints as floating ones (both are left out)."""
+    engine-specific shapes yourdfpy rejects), spherical joints as floating ones (both are left out), and without
+    the ``<inertial>`` of the links in ``unread`` (:func:`_as_urdfdom_reads` reads those)."""
     from lxml import etree
 
     for element in [e for e in root.iter("visual", "collision")]:
         element.getparent().remove(element)
+    for link in root.findall("link"):
+        if link.get("name") in unread:
+            for inertial in link.findall("inertial"):
+                link.remove(inertial)
     for joint in root.iter("joint"):
         if joint.get("type") == "spherical":
             joint.set("type", "floating")
     return etree.tostring(root)
+
+
+def _as_urdfdom_reads(links, unread):
+    """The links, those in ``unread`` ({name: Inertial}) with the inertial urdfdom reads of them."""
+    return tuple(Link(link.name, unread[link.name]) if link.name in unread else link for link in links)
 
 
 def _from_yourdfpy(data, path, written, unlimited, spherical):

@@ -1,8 +1,9 @@
 """Certificates of the certified sides of the mass-matrix brackets, for the independent checker.
 
-A certificate (schema ``inertiaproof.certificate/1``, documented in the README) is self-contained: the claim,
-the chain, the parameter sets and the configuration box, every number an exact rational ("p/q") equal to the
-float64 the prover used. ``inertiaproof verify`` (:mod:`inertiaproof.verify`, which shares no code with this
+A certificate (schema ``inertiaproof.certificate/2``, documented in the README) is self-contained: the claim,
+the chain (each fixed transform as an origin {xyz, rpy}, from which the checker builds a rigid transform itself),
+the parameter sets and the configuration box, every number an exact rational ("p/q") equal to the float64 the
+prover used. A claim carries no statement: the checker writes it. ``inertiaproof verify`` (:mod:`inertiaproof.verify`, which shares no code with this
 package) re-proves it. :meth:`inertiaproof.bounds.extremes.Bracket.evidence` cites the certificate of its
 certified side; the runner writes it under ``OUT/certificates/``.
 """
@@ -16,6 +17,7 @@ import numpy as np
 
 from inertiaproof.dynamics.trajectory import MovingMass
 from inertiaproof.model.exact import definiteness, integer_matrix
+from inertiaproof.model.inertia import rotation_rpy
 
 from .domain import certification_obstacle, search_box
 
@@ -24,8 +26,8 @@ __all__ = ["PayloadClaim", "SCHEMA", "SpectrumClaim", "body_spectrum_certificate
            "skew_certificate", "SkewClaim", "spatial_exact", "spatial_psd", "spectrum_certificate", "sum_certificate",
            "ZERO_FLOOR"]
 
-SCHEMA = "inertiaproof.certificate/1"
-STATEMENT = {"lambda_min": "lambda_min(M(q, Theta)) >= {bound}", "lambda_max": "lambda_max(M(q, Theta)) <= {bound}"}
+SCHEMA = "inertiaproof.certificate/2"
+RIGID = 1e-12  # how far a fixed transform's rotation may lie from the one its rpy builds: farther, no certificate
 
 
 def _distinct(stack):
@@ -41,6 +43,38 @@ def exact(x):
 
 def _rows(a):
     return [[exact(v) for v in row] for row in np.asarray(a, float)]
+
+
+def rpy_of(rotation):
+    """(roll, pitch, yaw) with rotation_rpy(rpy) = ``rotation`` (URDF: R = Rz(yaw) Ry(pitch) Rx(roll))."""
+    r = np.asarray(rotation, float)
+    pitch = np.arctan2(-r[2, 0], np.hypot(r[0, 0], r[1, 0]))
+    if np.hypot(r[0, 0], r[1, 0]) < 1e-9:  # gimbal lock: the roll is folded into the yaw
+        return np.array([0.0, pitch, np.arctan2(-r[0, 1], r[1, 1])])
+    return np.array([np.arctan2(r[2, 1], r[2, 2]), pitch, np.arctan2(r[1, 0], r[0, 0])])
+
+
+def origin_of(transform):
+    """The origin {xyz, rpy} (exact rationals) of a rigid 4x4 ``transform``, or None where its rotation is not the
+    one its rpy builds (within :data:`RIGID`)."""
+    t = np.asarray(transform, float)
+    rpy = rpy_of(t[:3, :3])
+    if not (np.all(t[3] == (0, 0, 0, 1)) and np.abs(rotation_rpy(rpy) - t[:3, :3]).max() <= RIGID):
+        return None
+    return {"xyz": [exact(x) for x in t[:3, 3]], "rpy": [exact(x) for x in rpy]}
+
+
+def chain_data(chain):
+    """The certificate's chain: each joint's kind, axis and fixed transforms as origins; None where a transform
+    is not rigid."""
+    joints = []
+    for j in chain.joints:
+        before, after = origin_of(j.before), origin_of(j.after)
+        if before is None or after is None:
+            return None
+        joints.append({"name": j.name, "kind": j.kind, "axis": [exact(a) for a in j.axis], "before": before,
+                       "after": after})
+    return {"name": chain.name, "joints": joints}
 
 
 @dataclass(frozen=True)
@@ -103,7 +137,7 @@ def _proof_fields(proof):
     """The certificate's fields of a proof: its tree (None where the prover's boxes were no partition, which the
     checker rejects), or the split's."""
     if proof is None:
-        return {"tree": "."}
+        return {"tree": ".", "metric": {"kind": "shift", "ridge": "1/10"}}
     metric = {"metric": {"kind": proof.metric[0], "ridge": exact(proof.metric[1])}}
     if isinstance(proof, SplitProof):
         return {"tree": ".", "split": {"body": proof.body, "interfaces": [_rows(m) for m in proof.interfaces],
@@ -117,7 +151,8 @@ def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=
     has no claim of this kind for the chain (a coordinate map other than the identity, an unbounded slide). The
     ``witness``, a configuration where the prover saw the extreme, is where the checker looks first; ``proof`` (a
     :class:`PivotProof`) gives the partition it starts from and, for a lower claim, the forms it proves on."""
-    if certification_obstacle(chain) is not None or not np.isfinite(float(bound)):
+    written = chain_data(chain)
+    if certification_obstacle(chain) is not None or not np.isfinite(float(bound)) or written is None:
         return None
     lo, hi = search_box(chain)
     thetas = np.asarray(thetas, float)
@@ -126,13 +161,9 @@ def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=
         sets = thetas
     else:
         sets = _distinct(thetas)
-    joints = [{"kind": j.kind, "axis": [exact(a) for a in j.axis], "before": _rows(j.before), "after": _rows(j.after),
-               "coordinate": j.coordinate.name} for j in chain.joints]
     return {"schema": SCHEMA,
-            "claim": {"kind": "mass-matrix-spectrum", "quantity": quantity, "bound": exact(bound),
-                      "statement": f"for all q in the box and Theta in the hull of the {len(sets)} parameter set(s): "
-                                   + STATEMENT[quantity].format(bound=f"{float(bound):.10g}")},
-            "chain": {"name": chain.name, "joints": joints},
+            "claim": {"kind": "mass-matrix-spectrum", "quantity": quantity, "bound": exact(bound)},
+            "chain": written,
             "domain": [[exact(a), exact(b)] for a, b in zip(lo, hi)],
             "parameters": [_rows(s) for s in sets],
             **_proof_fields(proof),
@@ -179,10 +210,6 @@ def spatial_psd(thetas):
         for row in rows)
 
 
-PAYLOAD_STATEMENT = {"lambda_min": "lambda_min(M(q, Theta + Phi_p)) >= {bound}",
-                     "lambda_max": "lambda_max(M(q, Theta + Phi_p)) <= {bound}"}
-
-
 @dataclass(frozen=True)
 class PayloadClaim:
     """bound -> the certificate (kind ``payload-envelope``) of a bracket's certified side over a payload set: the
@@ -203,10 +230,7 @@ class PayloadClaim:
         sets = _distinct(self.arm)
         if len(cert["parameters"]) != len(sets):
             return None
-        claim = {**cert["claim"], "kind": "payload-envelope",
-                 "statement": f"for all q in the box, Theta in the hull of the {len(sets)} parameter set(s) and all "
-                              f"consistent {self.payloads.describe()} (Phi_p): "
-                              + PAYLOAD_STATEMENT[self.quantity].format(bound=f"{float(bound):.10g}")}
+        claim = {**cert["claim"], "kind": "payload-envelope"}
         return {**cert, "claim": claim, "parameters": [_rows(s) for s in sets], "payload": self.payloads.to_json(),
                 **({"epsilon": exact(self.eps)} if self.quantity == "lambda_max" else {})}
 
@@ -236,20 +260,14 @@ def payload_f_certificate(arm, payloads, beta):
         bound += step
     sets = _distinct(arm)
     return {"schema": SCHEMA,
-            "claim": {"kind": "payload-envelope", "quantity": "lambda_max_f", "bound": exact(bound),
-                      "statement": f"for every body l, Theta in the hull of the {len(sets)} parameter set(s) and all "
-                                   f"consistent {payloads.describe()} (Phi_p): lambda_max(f(Phi_l + Phi_p)) <= "
-                                   f"{float(bound):.10g}"},
+            "claim": {"kind": "payload-envelope", "quantity": "lambda_max_f", "bound": exact(bound)},
             "parameters": [_rows(s) for s in sets], "payload": payloads.to_json(), "beta": exact(beta)}
 
 
-BODY_CLAIMS = {  # inertiaproof.bounds.time.BODY_FUNCTIONS name: (matrix, quantity, statement)
-    "lmin_f": ("pseudo_inertia", "lambda_min", "lambda_min(f(Phi_l)) >= {bound}"),
-    "lmax_f": ("pseudo_inertia", "lambda_max", "lambda_max(f(Phi_l)) <= {bound}"),
-    "lmin_Z": ("spatial_inertia", "lambda_min", "lambda_min(Z(Phi_l)) >= {bound}"),
-    "lmax_Z": ("spatial_inertia", "lambda_max", "lambda_max(Z(Phi_l)) <= {bound}"),
-    "smax_fdot": ("pseudo_inertia", "sigma_max", "sigma_max(f(Phidot_l)) <= {bound}"),
-    "smax_Zdot": ("spatial_inertia", "sigma_max", "sigma_max(Z(Phidot_l)) <= {bound}"),
+BODY_CLAIMS = {  # inertiaproof.bounds.time.BODY_FUNCTIONS name: (matrix, quantity)
+    "lmin_f": ("pseudo_inertia", "lambda_min"), "lmax_f": ("pseudo_inertia", "lambda_max"),
+    "lmin_Z": ("spatial_inertia", "lambda_min"), "lmax_Z": ("spatial_inertia", "lambda_max"),
+    "smax_fdot": ("pseudo_inertia", "sigma_max"), "smax_Zdot": ("spatial_inertia", "sigma_max"),
 }
 
 
@@ -262,39 +280,34 @@ def body_spectrum_certificate(stack, name, bound, provenance="", directions=None
     stack = np.asarray(stack, float)
     if not (np.all(np.isfinite(stack)) and np.isfinite(float(bound))):
         return None
-    matrix, quantity, statement = BODY_CLAIMS[name]
+    matrix, quantity = BODY_CLAIMS[name]
     sets = _distinct(stack)
     return {"schema": SCHEMA,
-            "claim": {"kind": "body-spectrum", "matrix": matrix, "quantity": quantity, "bound": exact(bound),
-                      "statement": f"for every body l and Phi_l in the hull of its rows in the {len(sets)} parameter "
-                                   f"set(s){'' if directions is None else ' plus its growth direction'}: "
-                                   + statement.format(bound=f"{float(bound):.10g}")},
+            "claim": {"kind": "body-spectrum", "matrix": matrix, "quantity": quantity, "bound": exact(bound)},
             "parameters": [_rows(s) for s in sets],
             **({} if directions is None else {"directions": _rows(directions)}),
             "provenance": provenance}
 
 
-def product_certificate(relation, bound, factor, ingredients, statement, provenance=""):
-    """The certificate (kind ``product``) of "factor * prod_i x_i^p_i ``relation`` bound" (">=" or "<="), x_i the
-    quantity the ingredient certificate i bounds (``ingredients``: (certificate, p_i) pairs, lower claims for ">=",
-    upper claims for "<="; p_i an integer or "1/2"); ``factor`` a float or Fraction (written exactly) or ("sqrt", r)
-    for sqrt(r).
-    ``statement`` may hold "{bound}". None when an ingredient has no certificate, the bound is not finite, a lower
-    claim's bound is negative or an upper claim's bound is (the checker proves neither)."""
-    if any(c is None for c, _ in ingredients) or not np.isfinite(float(bound)):
+def product_certificate(relation, bound, formula, ingredients, provenance="", declared=None):
+    """The certificate (kind ``product``) of "the paper's constant ``formula`` (a name of the checker's closed list,
+    :data:`inertiaproof.verify.product.FORMULAS`, which fixes its factor and powers) ``relation`` bound" (">=" or
+    "<="), from the ingredient certificates in the formula's order (lower claims for ">=", upper for "<=");
+    ``declared`` the formula's r where it has one (a ramp's rate). None when an ingredient has no certificate, the
+    bound is not finite, a lower claim's bound is negative or an upper claim's bound is (the checker proves
+    neither)."""
+    if any(c is None for c in ingredients) or not np.isfinite(float(bound)):
         return None
     if (relation == "<=" and bound < 0) or (relation == ">=" and any(Fraction(c["claim"]["bound"]) < 0
-                                                                       for c, _ in ingredients)):
+                                                                       for c in ingredients)):
         return None
-    written = {"sqrt": exact(factor[1])} if isinstance(factor, tuple) else exact(factor)
     return {"schema": SCHEMA,
-            "claim": {"kind": "product", "relation": relation, "bound": exact(bound), "factor": written,
-                      "statement": statement.format(bound=f"{float(bound):.10g}")},
-            "ingredients": [{"power": p if p == "1/2" else int(p), "of": c} for c, p in ingredients],
-            "provenance": provenance}
+            "claim": {"kind": "product", "formula": formula, "relation": relation, "bound": exact(bound),
+                      **({} if declared is None else {"declared": exact(declared)})},
+            "ingredients": list(ingredients), "provenance": provenance}
 
 
-def sum_certificate(relation, terms, statement):
+def sum_certificate(relation, terms):
     """(value, certificate) of "sum_i x_i ``relation`` value" (kind ``sum``) from ``terms``, certificates of upper
     claims (``<=``) or lower ones (``>=``): value is the float nearest the exact sum of their bounds, moved outward
     when rounding went inward. (inf or nan, None) when a term has none."""
@@ -305,19 +318,13 @@ def sum_certificate(relation, terms, statement):
     if (Fraction(value) < total) if relation == "<=" else (Fraction(value) > total):
         value = float(np.nextafter(value, np.inf if relation == "<=" else -np.inf))
     return value, {"schema": SCHEMA,
-                   "claim": {"kind": "sum", "relation": relation, "bound": exact(value),
-                             "statement": statement.format(bound=f"{value:.10g}")},
+                   "claim": {"kind": "sum", "relation": relation, "bound": exact(value)},
                    "terms": terms}
 
 
-MOVING_CLAIMS = {  # time_extreme's name or "psi", "psi_dot": (the checker's quantity, statement)
-    "lmin_f": ("lambda_min_f", "min_l lambda_min(f(Phi_l(t))) >= {bound}"),
-    "lmax_f": ("lambda_max_f", "max_l lambda_max(f(Phi_l(t))) <= {bound}"),
-    "lmin_Z": ("lambda_min_Z", "min_l lambda_min(Z(Phi_l(t))) >= {bound}"),
-    "lmax_Z": ("lambda_max_Z", "max_l lambda_max(Z(Phi_l(t))) <= {bound}"),
-    "smax_fdot": ("sigma_max_fdot", "max_l sigma_max(f(Phidot_l(t))) <= {bound}"),
-    "smax_Zdot": ("sigma_max_Zdot", "max_l sigma_max(Z(Phidot_l(t))) <= {bound}"),
-    "psi": ("psi", "||Psi(t)|| <= {bound}"), "psi_dot": ("psi_dot", "||Psidot(t)|| <= {bound}"),
+MOVING_CLAIMS = {  # time_extreme's name or "psi", "psi_dot": the checker's quantity
+    "lmin_f": "lambda_min_f", "lmax_f": "lambda_max_f", "lmin_Z": "lambda_min_Z", "lmax_Z": "lambda_max_Z",
+    "smax_fdot": "sigma_max_fdot", "smax_Zdot": "sigma_max_Zdot", "psi": "psi", "psi_dot": "psi_dot",
 }
 
 
@@ -328,7 +335,7 @@ def moving_mass_certificate(trajectory, name, bound, provenance, stack):
     loads have, one set); None when the bound is not finite."""
     if not np.isfinite(float(bound)):
         return None
-    quantity, statement = MOVING_CLAIMS[name]
+    quantity = MOVING_CLAIMS[name]
 
     def path(p):
         if p.shape == "line":
@@ -341,10 +348,8 @@ def moving_mass_certificate(trajectory, name, bound, provenance, stack):
                                                    "rate": exact(load.path.profile.rate)}}
              for load in trajectory.loads if isinstance(load, MovingMass)]
     sets = _distinct(stack)
-    hull = "" if len(sets) == 1 else f", the rest of each body's row in the hull of its {len(sets)} parameter sets"
     return {"schema": SCHEMA,
-            "claim": {"kind": "moving-mass", "quantity": quantity, "bound": exact(bound),
-                      "statement": f"for every t{hull}: " + statement.format(bound=f"{float(bound):.10g}")},
+            "claim": {"kind": "moving-mass", "quantity": quantity, "bound": exact(bound)},
             "parameters": [_rows(s) for s in sets], "loads": loads, "provenance": provenance}
 
 
@@ -352,15 +357,8 @@ def key_step_certificate(choi, lower, upper):
     """The certificate (kind ``key-step``) of the key step of Theorems 2-4: L(F) = Z(f^-1(F)) is a positive map
     (``choi``: its 24x24 Choi matrix, rationals as strings) and lower I6 <= L(I4) <= upper I6."""
     return {"schema": SCHEMA,
-            "claim": {"kind": "key-step", "lower": exact(lower), "upper": exact(upper),
-                      "statement": f"for s >= 0: f(Phi) >= s I4 implies Z(Phi) >= {lower:g} s I6, f(Phi) <= s I4 "
-                                   f"implies Z(Phi) <= {upper:g} s I6, and sigma_max(Z(Phi)) <= {upper:g} "
-                                   "sigma_max(f(Phi))"},
+            "claim": {"kind": "key-step", "lower": exact(lower), "upper": exact(upper)},
             "choi": [list(row) for row in choi]}
-
-
-SKEW_STATEMENT = {"max_sigma": "sigma_max(Y_p(q)) <= {bound} for every row p of QJ",
-                  "rss_sigma": "(sum_p sigma_max(Y_p(q))^2)^(1/2) <= {bound}"}
 
 
 def skew_certificate(chain, quantity, bound, provenance="", witness=None, tree="."):
@@ -370,16 +368,13 @@ def skew_certificate(chain, quantity, bound, provenance="", witness=None, tree="
     (:func:`partition_tree`; None, written as null, where its boxes were no partition: the checker rejects it). None
     where the checker has no claim for the chain (a coordinate map other than the identity, an unbounded slide) or
     the bound is not finite."""
-    if certification_obstacle(chain) is not None or not np.isfinite(float(bound)):
+    written = chain_data(chain)
+    if certification_obstacle(chain) is not None or not np.isfinite(float(bound)) or written is None:
         return None
     lo, hi = search_box(chain)
-    joints = [{"kind": j.kind, "axis": [exact(a) for a in j.axis], "before": _rows(j.before), "after": _rows(j.after),
-               "coordinate": j.coordinate.name} for j in chain.joints]
     return {"schema": SCHEMA,
-            "claim": {"kind": "skew-partials", "quantity": quantity, "bound": exact(bound),
-                      "statement": "for all q in the box, with Y_p = dK_p/dq - (dK_p/dq)^T: "
-                                   + SKEW_STATEMENT[quantity].format(bound=f"{float(bound):.10g}")},
-            "chain": {"name": chain.name, "joints": joints},
+            "claim": {"kind": "skew-partials", "quantity": quantity, "bound": exact(bound)},
+            "chain": written,
             "domain": [[exact(a), exact(b)] for a, b in zip(lo, hi)],
             "tree": tree,
             **({"witness": [exact(x) for x in np.clip(witness, lo, hi)]} if witness is not None else {}),

@@ -55,17 +55,18 @@ def bracket_certificate(b: Bracket):
     return b.certify(b.certified, b.note, np.asarray(b.witness, float), b.proof)
 
 
-def paper_product(sense, value, factor, ingredients, statement):
+def paper_product(sense, value, formula, ingredients, declared=None):
     """(reported, certificate): the paper's constant ``value`` (computed in floats from the certified ingredients)
     moved outward by :data:`ROUNDING` (down for a ``sense`` "lower" bound, up for "upper"), and the ``product``
-    certificate of it (:func:`.certificate.product_certificate`; ``factor``, ``ingredients`` as there), or None."""
+    certificate of it (:func:`.certificate.product_certificate`; ``formula``, ``ingredients``, ``declared`` as
+    there), or None."""
     if not np.isfinite(value):
         return value, None
     reported = float(value - ROUNDING * abs(value) if sense == "lower" else value + ROUNDING * abs(value))
     return reported, product_certificate(
-        ">=" if sense == "lower" else "<=", reported, factor, ingredients, statement,
+        ">=" if sense == "lower" else "<=", reported, formula, ingredients,
         f"the paper's formula on the ingredients' certified sides, computed in floats and moved outward by 8 eps "
-        f"relative ({'down' if sense == 'lower' else 'up'}); decided exactly by the checker")
+        f"relative ({'down' if sense == 'lower' else 'up'}); decided exactly by the checker", declared)
 
 
 def _bracket_data(b: Bracket):
@@ -89,15 +90,13 @@ def lower_constants(xi, z_min, gamma: Bracket, observed: Bracket, xi_observed=No
     xi_observed = xi if xi_observed is None else xi_observed
     observed_value = formulas.alpha1(xi_observed, gamma.upper)
     lower, certificate = paper_product(
-        "lower", formulas.alpha1(xi, max(gamma.lower, 0.0)), 1, [(xi_certificate, 1), (bracket_certificate(gamma), 1)],
-        "alpha1 = min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ) >= {bound}")
+        "lower", formulas.alpha1(xi, max(gamma.lower, 0.0)), "alpha1", [xi_certificate, bracket_certificate(gamma)])
     paper = {"value": observed_value, "lower": lower, "upper": observed_value,
              "note": "min_l inf_t lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ) lies in [lower, upper] (certified, "
                      "observed ingredients; lower moved down by 8 eps relative for the float product); value = upper, "
                      "an upper estimate", **({"certificate": certificate} if certificate else {})}
-    structural = paper_product("lower", formulas.alpha1_z(z_min, max(gamma.lower, 0.0)), 1,
-                               [(z_certificate, 1), (bracket_certificate(gamma), 1)],
-                               "min_l inf_t lambda_min(Z(Phi_l)) inf_q lambda_min((QJ)^T QJ) >= {bound}")
+    structural = paper_product("lower", formulas.alpha1_z(z_min, max(gamma.lower, 0.0)), "alpha1_z",
+                               [z_certificate, bracket_certificate(gamma)])
     direct = observed.lower if np.isfinite(observed.lower) else -np.inf
     certified = sharpest(max, [
         (direct, bracket_certificate(observed), "certified lower side of inf lambda_min(M) (branch and bound, or the "
@@ -123,16 +122,13 @@ def upper_constants(zeta, z_max, sigma: Bracket, observed: Bracket, zeta_observe
     zeta_observed = zeta if zeta_observed is None else zeta_observed
     observed_value = formulas.alpha2(zeta_observed, sigma.lower)
     upper, certificate = paper_product(
-        "upper", formulas.alpha2(zeta, sigma.upper), formulas.KEY_STEP_UPPER,
-        [(zeta_certificate, 1), (bracket_certificate(sigma), 1)],
-        "alpha2 = 2 max_l sup_t lambda_max(f(Phi_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}")
+        "upper", formulas.alpha2(zeta, sigma.upper), "alpha2", [zeta_certificate, bracket_certificate(sigma)])
     paper = {"value": observed_value, "lower": observed_value, "upper": upper,
              "note": "2 max_l sup_t lambda_max(f(Phi_l)) sup_q sigma_max(QJ)^2 lies in [lower, upper] (observed, "
                      "certified ingredients; upper moved up by 8 eps relative for the float product); value = lower, "
                      "a lower estimate", **({"certificate": certificate} if certificate else {})}
-    structural = paper_product("upper", formulas.alpha2_z(z_max, sigma.upper), 1,
-                               [(z_certificate, 1), (bracket_certificate(sigma), 1)],
-                               "max_l sup_t lambda_max(Z(Phi_l)) sup_q lambda_max((QJ)^T QJ) <= {bound}")
+    structural = paper_product("upper", formulas.alpha2_z(z_max, sigma.upper), "alpha2_z",
+                               [z_certificate, bracket_certificate(sigma)])
     certified = sharpest(min, [
         (observed.upper, bracket_certificate(observed), "certified upper side of sup lambda_max(M) by branch and bound "
                                                         "(or from lengths)"),

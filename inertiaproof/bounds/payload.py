@@ -293,11 +293,10 @@ def _theorem5(chain, payloads, speed, kw):
                          "sup_q (sum_p sigma_max(Y_p)^2)^(1/2)": rss.evidence()}}
 
 
-def _moving(chain, payloads, speed, sigma, factor, statement):
+def _moving(chain, payloads, speed, sigma, factor):
     """(value, certificate) of factor * 2 Psi*'s bound * sup_q sigma_max(QJ)^2: the moving particles' share of chi."""
     r = 4 * psi_square(payloads, speed) * factor
-    return paper_product("upper", math.sqrt(r) * sigma.upper**2, ("sqrt", r), [(bracket_certificate(sigma), 1)],
-                         statement)
+    return paper_product("upper", math.sqrt(r) * sigma.upper**2, "moving_share", [bracket_certificate(sigma)], r)
 
 
 def _chi(chain, payloads, rate, sigma, kw, goal=None, speed=None):
@@ -310,24 +309,15 @@ def _chi(chain, payloads, rate, sigma, kw, goal=None, speed=None):
     exact_rate = Fraction(rate)
     flange = payload_f_certificate(alone[None], payloads, flange_bound(payloads))
     mu = float(exact_rate * Fraction(flange["claim"]["bound"]))
-    statement = "chi = sqrt(69 N) rate sup_P lambda_max(f(Phi_p)) sup_q lambda_max((QJ)^T QJ) >= sup sigma_max(M(q, Thetadot)); <= {bound}"
     paper_value, paper_cert = paper_product(
-        "upper", formulas.chi(mu, sigma.upper, chain.n), ("sqrt", 69 * chain.n * exact_rate**2),
-        [(flange, 1), (bracket_certificate(sigma), 1)], statement)
+        "upper", formulas.chi(mu, sigma.upper, chain.n), "chi_ramp", [flange, bracket_certificate(sigma)], exact_rate)
     observed_mu = float(rate * payloads.mass) * (1 + (_boundary(payloads) ** 2).sum(1).max())  # m |y|^2 attained
     sharp_value, sharp_cert = paper_product(
-        "upper", float(exact_rate) * b.upper, exact_rate, [(bracket_certificate(b), 1)],
-        "sigma_max(M(q, Thetadot)) = |s'| lambda_max(M(q, Phi_p)) <= rate sup over q and the payload set <= {bound}")
+        "upper", float(exact_rate) * b.upper, "chi_ramp_sharp", [bracket_certificate(b)], exact_rate)
     if speed is not None:
-        paper_value, paper_cert = sum_certificate("<=", [paper_cert, _moving(
-            chain, payloads, speed, sigma, 69 * chain.n,
-            "sqrt(69 N) sup sigma_max(f(Phidot)) sup_q sigma_max(QJ)^2 of the moving particles <= {bound}")[1]],
-            "chi = sqrt(69 N) (mu of the ramp + mu of the moving particles) S^2 <= {bound}")
-        sharp_value, sharp_cert = sum_certificate("<=", [sharp_cert, _moving(
-            chain, payloads, speed, sigma, 1, "sigma_max(M(q, Phidot)) of the moving particles <= 2 m V (1 + (|c| + "
-            "a_max)^2)^(1/2) sup_q sigma_max(QJ)^2 <= {bound}")[1]],
-            "sigma_max(M(q, Thetadot)) <= the ramp's rate sup lambda_max(M(q, Phi_p)) + the moving particles' share "
-            "<= {bound}")
+        paper_value, paper_cert = sum_certificate("<=", [paper_cert, _moving(chain, payloads, speed, sigma,
+                                                                             69 * chain.n)[1]])
+        sharp_value, sharp_cert = sum_certificate("<=", [sharp_cert, _moving(chain, payloads, speed, sigma, 1)[1]])
     return {"paper": {"value": formulas.chi(observed_mu, sigma.lower, chain.n), "upper": paper_value,
                       **({"certificate": paper_cert} if paper_cert else {})},
             "certified": {"value": sharp_value, "how": "the payload's rate times the certified sup of lambda_max(M(q, "

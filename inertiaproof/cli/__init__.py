@@ -23,10 +23,6 @@ import argparse
 import importlib
 import sys
 
-from inertiaproof.errors import InputError
-
-from .status import EXIT_STATUS
-
 __all__ = ["COMMANDS", "main", "parser"]
 
 COMMANDS = {  # name: (module, help)
@@ -46,6 +42,8 @@ COMMANDS = {  # name: (module, help)
 def parser(command=None):
     """The command line's parser; only ``command``'s module is imported and configures its arguments (a command
     starts without the others' imports)."""
+    from .status import EXIT_STATUS  # noqa: PLC0415 - not for ``verify``, whose process imports only the checker
+
     p = argparse.ArgumentParser(prog="inertiaproof", description="Proof-check 'On robotic manipulators with "
                                 "time-dependent inertial parameters' (Kaufmann & Reger).", epilog=EXIT_STATUS["run"])
     sub = p.add_subparsers(dest="command", required=True)
@@ -60,6 +58,12 @@ def parser(command=None):
 
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["verify"]:  # the independent checker, in a process that imports nothing of the prover
+        from inertiaproof.verify.cli import command  # noqa: PLC0415
+
+        return command(argv[1:])
+    from inertiaproof.errors import InputError  # noqa: PLC0415
+
     args = parser(next((a for a in argv if not a.startswith("-")), None)).parse_args(argv)
     try:
         return args.func(args)

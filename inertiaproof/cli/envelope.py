@@ -7,10 +7,9 @@ constants against the payload's mass, and a Hypothesis attack of payloads drawn 
 ROBOT is a URDF, MJCF or xacro file (the link's body: the child of its movable joint with the links fixed to it;
 the centre is given in the link's frame) or a scene (``*.toml``; ``--link`` names a body). With ``--out DIR``:
 DIR/envelope.json (the result), DIR/envelope.csv (the curve), DIR/envelope.html and DIR/envelope.pdf (table and
-figure) and DIR/certificates/, which ``inertiaproof verify DIR`` re-proves; the command re-proves them itself
-within the profile's checker budget (``Profile.verify_work``, as a run does) unless ``--no-verify``: a certificate
-not decided within it (one without the prover's partition, as UR5's Fourier-certified sups) leaves exit 3, and
-``inertiaproof verify DIR --budget N`` may spend more.
+figure) and DIR/certificates/, which ``inertiaproof verify DIR`` re-proves; the command re-proves them itself, as a
+run does, unless ``--no-verify``: a certificate whose tree the prover could not complete within the profile's
+``tree_boxes`` is not re-proved and leaves exit 3.
 
 Exit status: 0 every constant certified (and re-proved) and no payload of the set beyond one; 1 a payload of the
 set beyond a certified constant, or a certificate refuted; 2 bad usage or input; 3 something not certified or not
@@ -208,7 +207,7 @@ def main(args):
     out = Path(args.out) if args.out else None
     executor = Executor()
     executor.say = say  # the re-proof's progress ("certificates: k/N tasks, ETA")
-    settle(result, out_dir=out, budget=PROFILES[args.profile].verify_work, verify=not args.no_verify, memo={},
+    settle(result, out_dir=out, boxes=PROFILES[args.profile].tree_boxes, verify=not args.no_verify, memo={},
            executor=executor)
     if out is not None:
         _write(out, result)

@@ -39,8 +39,8 @@ class Profile:
     envelope_boxes: int = 0  # boxes the ladder of alpha2's sup over the payload set may test (0: the bracket budget's)
     envelope_examples: int = 1000  # Hypothesis payloads drawn from the set per envelope
     envelope_points: int = 2  # masses of the curve against the payload's mass, besides the full one
-    verify_work: int = 5_000  # work the independent checker may spend per certificate beyond its tree: joints of
-    # its pivot recursion on boxes and eigen-decompositions (inertiaproof.verify.kinematics.WORK; about 1 ms each)
+    tree_boxes: int = 2_000  # boxes the prover may test beyond a certificate's tree to complete it for the checker,
+    # which walks the tree once (inertiaproof.bounds.completion)
 
 
 PROFILES = {
@@ -49,6 +49,6 @@ PROFILES = {
     "deep": Profile("deep", examples=2000, samples=50000, refine_s=20.0, symbolic_max_n=5, derandomize=False,
                     concrete_chains=("2R", "3R", "6R"), symbolic_parameters=10, symbolic_rows=6,
                     moment_samples=2**22, bernstein_degree=8, audit_samples=20000, audit_refine_s=5.0, audit_full_refine_s=5.0,
-                    check_s=1800.0, run_s=14400.0, memory_mb=6144, verify_work=400_000,
+                    check_s=1800.0, run_s=14400.0, memory_mb=6144, tree_boxes=100_000,
                     envelope_goal=1.04, envelope_boxes=800_000, envelope_examples=100_000, envelope_points=2),
 }

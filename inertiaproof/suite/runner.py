@@ -145,7 +145,7 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
             t0 = time.perf_counter()
             result = _run_one(spec, ctx, profile)
             result.runtime_s = time.perf_counter() - t0
-            settle(result, out_dir=out_dir, budget=profile.verify_work, verify=verify, memo=proofs, executor=executor)
+            settle(result, out_dir=out_dir, boxes=profile.tree_boxes, verify=verify, memo=proofs, executor=executor)
         for batch in executor.log[batches:]:
             batch["check"] = spec.name
         result.check, result.seed, result.profile = spec.name, seed, profile.name

@@ -19,7 +19,7 @@ from __future__ import annotations
 from flint import fmpq
 
 from .exact import BadCertificate, rational, semidefinite
-from .outcome import Outcome
+from .outcome import REPROVED, refuted, Outcome
 
 __all__ = ["parameter_sets", "pseudo_inertia", "prove", "spatial_inertia"]
 
@@ -78,8 +78,8 @@ def _parse(cert):
     return MATRICES[claim["matrix"]], claim["matrix"], claim["quantity"], bound, parameter_sets(cert.get("parameters"))
 
 
-def prove(cert, budget):
-    """The :class:`Outcome` of the claim: every (parameter set, body) decided exactly (``budget`` is not needed)."""
+def prove(cert):
+    """The :class:`Outcome` of the claim: every (parameter set, body) decided exactly."""
     build, matrix, quantity, bound, sets = _parse(cert)
     tested = 0
     if "directions" in cert:
@@ -88,8 +88,9 @@ def prove(cert, budget):
         for l, row in enumerate(parameter_sets([cert["directions"]], len(sets[0]))[0]):
             tested += 1
             if not semidefinite(build(row)):
-                return Outcome("refuted", f"direction of body {l + 1}: {matrix}(D) is not positive semidefinite "
-                               "(exact rational arithmetic)", tested, {"direction": l + 1, "matrix": matrix})
+                return refuted(f"direction of body {l + 1}: {matrix}(D) is not positive semidefinite, so lambda_min "
+                               "falls without bound along it (exact rational arithmetic)", {"direction": l + 1},
+                               {matrix + "(D)": "indefinite"}, tested)
     for v, body_rows in enumerate(sets):
         for l, row in enumerate(body_rows):
             f = build(row)
@@ -97,8 +98,8 @@ def prove(cert, budget):
                 tested += 1
                 if not semidefinite([[sign * x + (shift * bound if i == j else 0) for j, x in enumerate(r)]
                                      for i, r in enumerate(f)]):
-                    return Outcome("refuted", f"parameter set {v}, body {l + 1}: {what} is not positive semidefinite "
-                                   f"for F = {matrix}(Phi) (exact rational arithmetic)", tested,
-                                   {"parameter_set": v, "body": l + 1, "matrix": matrix, "quantity": quantity})
-    return Outcome("re-proved", f"{len(sets)} parameter set(s) x {len(sets[0])} bodies: every {matrix}(Phi) decided "
+                    return refuted(f"parameter set {v}, body {l + 1}: {what} is not positive semidefinite for F = "
+                                   f"{matrix}(Phi) (exact rational arithmetic)", {"parameter_set": v, "body": l + 1},
+                                   {what: "not positive semidefinite", "bound": str(bound)}, tested)
+    return Outcome(REPROVED, f"{len(sets)} parameter set(s) x {len(sets[0])} bodies: every {matrix}(Phi) decided "
                    "exactly", tested)

@@ -1,4 +1,5 @@
-"""What a certificate claims: its schema and kinds, each kind proved by its own module.
+"""What a certificate claims: its schema and kinds, each kind proved by its own module, and the statement the
+checker writes from the claim (it never reads one).
 
 Every certificate is a JSON object with ``schema`` (:data:`SCHEMA`) and a ``claim`` whose ``kind`` names the module
 that proves it; the rest of the certificate is that kind's data (README: "Certificates").
@@ -8,30 +9,157 @@ from __future__ import annotations
 
 import hashlib
 import json
+from fractions import Fraction
 
 from . import bodies, key_step, moving, payload, product, skew, spectrum
-from .exact import BadCertificate
+from .exact import BadCertificate, rational
 
-__all__ = ["KINDS", "SCHEMA", "prove"]
+__all__ = ["KINDS", "SCHEMA", "prove", "statement"]
 
-SCHEMA = "inertiaproof.certificate/1"
+SCHEMA = "inertiaproof.certificate/2"
 KINDS = {"mass-matrix-spectrum": spectrum.prove, "body-spectrum": bodies.prove, "key-step": key_step.prove,
-         "payload-envelope": payload.prove, "moving-mass": moving.prove,
-         "skew-partials": skew.prove,
-         "product": lambda cert, budget: product.prove(cert, budget, prove),
-         "sum": lambda cert, budget: product.prove_sum(cert, budget, prove)}  # its ingredients re-proved by prove
-PROVED = {}  # outcomes by the certificate's SHA-256 and the budget: a certificate a product embeds, and that a run
-# also cites on its own, is proved once per process (Panda's deep alpha1 embeds its 93 s Def2 bracket)
+         "payload-envelope": payload.prove, "moving-mass": moving.prove, "skew-partials": skew.prove,
+         "product": lambda cert: product.prove(cert, prove), "sum": lambda cert: product.prove_sum(cert, prove)}
+CLAIM_KEYS = {"kind", "quantity", "relation", "bound", "matrix", "formula", "declared", "lower", "upper"}
+PROVED = {}  # outcomes by the certificate's SHA-256: an ingredient embedded in several products is proved once
 
 
-def prove(cert, budget):
-    """The :class:`.outcome.Outcome` of the certificate's claim (``budget``: the work it may spend beyond its tree)."""
+def prove(cert):
+    """The :class:`.outcome.Outcome` of the certificate's claim."""
     if not isinstance(cert, dict) or cert.get("schema") != SCHEMA:
         raise BadCertificate(f"schema: {SCHEMA!r} expected")
     claim = cert.get("claim")
     if not isinstance(claim, dict) or claim.get("kind") not in KINDS:
         raise BadCertificate(f"claim.kind: one of {sorted(KINDS)}")
-    key = (hashlib.sha256(json.dumps(cert, sort_keys=True).encode()).hexdigest(), budget)
-    if key not in PROVED:
-        PROVED[key] = KINDS[claim["kind"]](cert, budget)
-    return PROVED[key]
+    if not set(claim) <= CLAIM_KEYS:
+        raise BadCertificate(f"claim: unknown field(s) {sorted(set(claim) - CLAIM_KEYS)} (the checker writes the "
+                             "statement itself)")
+    digest = hashlib.sha256(json.dumps(cert, sort_keys=True).encode()).hexdigest()
+    if digest not in PROVED:
+        PROVED[digest] = KINDS[claim["kind"]](cert)
+    return PROVED[digest]
+
+
+def decimal(x, up):
+    """The rational ``x`` as a decimal of 10 significant digits, rounded up (or down): a statement never claims
+    more than its exact bound."""
+    x = Fraction(str(x))
+    if x == 0:
+        return "0"
+    a, exponent = abs(x), 0
+    while a >= 10**10:
+        a, exponent = a / 10, exponent + 1
+    while a < 10**9:
+        a, exponent = a * 10, exponent - 1
+    scaled = x / Fraction(10) ** exponent
+    return _plain(-((-scaled.numerator) // scaled.denominator) if up else scaled.numerator // scaled.denominator,
+                  exponent)
+
+
+def _plain(n, exponent):
+    sign, digits = ("-" if n < 0 else ""), str(abs(n))
+    if not -20 < exponent < 6:
+        frac = digits[1:].rstrip("0")
+        return f"{sign}{digits[0]}{'.' + frac if frac else ''}e{exponent + len(digits) - 1}"
+    if exponent >= 0:
+        return sign + digits + "0" * exponent
+    digits = digits.rjust(-exponent + 1, "0")
+    whole, frac = digits[:exponent], digits[exponent:].rstrip("0")
+    return sign + whole + ("." + frac if frac else "")
+
+
+def _side(claim, word, up):
+    return f"{word} {decimal(rational(claim['bound'], 'claim.bound'), up)}"
+
+
+def _sets(cert):
+    return f"{len(cert['parameters'])} parameter set(s)"
+
+
+def _chain(cert):
+    chain = cert["chain"]
+    digest = hashlib.sha256(json.dumps(chain, sort_keys=True).encode()).hexdigest()[:12]
+    return f"chain {chain.get('name', 'chain')!r} ({len(chain['joints'])} joints, {digest})"
+
+
+def _domain(cert):
+    return "[" + ", ".join(f"[{decimal(rational(lo, 'domain'), False)}, {decimal(rational(hi, 'domain'), True)}]"
+                           for lo, hi in cert["domain"]) + "]"
+
+
+def _spectrum(cert, matrix):
+    claim = cert["claim"]
+    lower = claim["quantity"] == "lambda_min"
+    unit = cert["parameters"] == [[product.UNIT] * len(cert["chain"]["joints"])]
+    quantity = "((QJ)^T QJ)" if unit else f"(M(q, Theta{matrix}))"
+    return (f"for all q in {_domain(cert)} of {_chain(cert)}" + ("" if unit else f" and Theta in the hull of "
+            f"{_sets(cert)}") + f": {claim['quantity']}{quantity} " + _side(claim, ">=" if lower else "<=", not lower))
+
+
+def _body(cert):
+    claim = cert["claim"]
+    f = "f" if claim["matrix"] == "pseudo_inertia" else "Z"
+    upper = claim["quantity"] != "lambda_min"
+    return (f"for every body l and Phi_l in the hull of its rows in {_sets(cert)}"
+            + (" plus its growth direction" if "directions" in cert else "")
+            + f": {claim['quantity']}({f}(Phi_l)) " + _side(claim, "<=" if upper else ">=", upper))
+
+
+def _payload(cert):
+    p, claim = cert["payload"], cert["claim"]
+    shape = f"radius {p['radius']}" if "radius" in p else f"semi-axes {p['semi_axes']}"
+    what = (f"every consistent payload of mass <= {p['mass']} in the ellipsoid of centre {p['centre']} and {shape} "
+            f"on body {p['body']} (Phi_p)")
+    if claim["quantity"] == "lambda_max_f":
+        return (f"for every body l, Theta in the hull of {_sets(cert)} and {what}: lambda_max(f(Phi_l + Phi_p)) "
+                + _side(claim, "<=", True))
+    lower = claim["quantity"] == "lambda_min"
+    return (f"for all q in {_domain(cert)} of {_chain(cert)}, Theta in the hull of {_sets(cert)} and {what}: "
+            f"{claim['quantity']}(M(q, Theta + Phi_p)) " + _side(claim, ">=" if lower else "<=", not lower))
+
+
+def _moving(cert):
+    claim = cert["claim"]
+    lower = claim["quantity"].startswith("lambda_min")
+    return (f"for every t, the bodies' rows in the hull of {_sets(cert)} carrying {len(cert['loads'])} moving "
+            f"load(s): {claim['quantity']} " + _side(claim, ">=" if lower else "<=", not lower))
+
+
+def _skew(cert):
+    claim = cert["claim"]
+    what = {"max_sigma": "max_p sigma_max(Y_p(q))", "rss_sigma": "(sum_p sigma_max(Y_p(q))^2)^(1/2)"}
+    return (f"for all q in {_domain(cert)} of {_chain(cert)}, Y_p = dK_p/dq - (dK_p/dq)^T: "
+            f"{what[claim['quantity']]} " + _side(claim, "<=", True))
+
+
+def _product(cert):
+    claim = cert["claim"]
+    words = product.FORMULAS[claim["formula"]][3]
+    declared = f" (r = {claim['declared']})" if "declared" in claim else ""
+    chains = [_chain(sub) for sub in cert["ingredients"] if "chain" in sub][:1]
+    return (words + declared + (f" of {chains[0]}" if chains else "") + " "
+            + _side(claim, claim["relation"], claim["relation"] == "<="))
+
+
+def _sum(cert):
+    claim = cert["claim"]
+    return (f"the sum of {len(cert['terms'])} term(s) (" + "; ".join(statement(t) for t in cert["terms"]) + ") "
+            + _side(claim, claim["relation"], claim["relation"] == "<="))
+
+
+def _key_step(cert):
+    claim = cert["claim"]
+    lo = decimal(rational(claim["lower"], "claim.lower"), False)
+    hi = decimal(rational(claim["upper"], "claim.upper"), True)
+    return (f"L(F) = Z(f^-1(F)) is a positive map and {lo} I6 <= L(I4) <= {hi} I6: for s >= 0, f(Phi) >= s I4 "
+            f"implies Z(Phi) >= {lo} s I6, f(Phi) <= s I4 implies Z(Phi) <= {hi} s I6")
+
+
+STATEMENTS = {"mass-matrix-spectrum": lambda cert: _spectrum(cert, ""), "body-spectrum": _body,
+              "payload-envelope": _payload, "moving-mass": _moving, "skew-partials": _skew, "product": _product,
+              "sum": _sum, "key-step": _key_step}
+
+
+def statement(cert):
+    """The claim in words, written from its fields (the checker's own; bounds rounded outward)."""
+    return STATEMENTS[cert["claim"]["kind"]](cert)

@@ -11,7 +11,7 @@ from flint import fmpq
 
 from .bodies import spatial_inertia
 from .exact import rational, rational_matrix, semidefinite
-from .outcome import Outcome
+from .outcome import REPROVED, UNPROVED, Outcome, refuted
 
 __all__ = ["prove"]
 
@@ -23,19 +23,19 @@ def _map(f):
     return spatial_inertia([f[3][3], f[0][3], f[1][3], f[2][3], i[0][0], i[1][1], i[2][2], i[0][1], i[1][2], i[0][2]])
 
 
-def prove(cert, budget):
-    """The :class:`Outcome` of the claim (``budget`` is not needed)."""
+def prove(cert):
+    """The :class:`Outcome` of the claim."""
     lower, upper = (rational(cert["claim"].get(k), f"claim.{k}") for k in ("lower", "upper"))
     c = rational_matrix(cert.get("choi"), (24, 24), "choi")
     if any(c[i][j] != c[j][i] for i in range(24) for j in range(i)) or not semidefinite(c):
-        return Outcome("refuted", "the Choi matrix is not symmetric positive semidefinite (exact arithmetic)", 1)
+        return Outcome(UNPROVED, "the Choi matrix is not symmetric positive semidefinite (exact arithmetic)", 1)
     for a, b in ((a, b) for a in range(4) for b in range(a, 4)):
         z = _map([[fmpq(int({r, s} == {a, b})) / (1 if a == b else 2) for s in range(4)] for r in range(4)])
         if any((c[6 * a + r][6 * b + s] + c[6 * b + r][6 * a + s]) / 2 != z[r][s] for r in range(6) for s in range(6)):
-            return Outcome("refuted", f"the Choi matrix's map differs from L at the basis element E_{a + 1}{b + 1}", 2)
+            return Outcome(UNPROVED, f"the Choi matrix's map differs from L at the basis element E_{a + 1}{b + 1}", 2)
     z = _map([[fmpq(int(r == s)) for s in range(4)] for r in range(4)])
     for sign, shift, what in ((1, -lower, "L(I4) - lower I6"), (-1, upper, "upper I6 - L(I4)")):
         if not semidefinite([[sign * x + (shift if r == s else 0) for s, x in enumerate(row)] for r, row in enumerate(z)]):
-            return Outcome("refuted", f"{what} is not positive semidefinite", 3)
-    return Outcome("re-proved", "the Choi matrix is positive semidefinite and extends L; lower I6 <= L(I4) <= upper "
+            return refuted(f"{what} is not positive semidefinite (exact arithmetic)", {"F": "I4"}, {what: "indefinite"}, 3)
+    return Outcome(REPROVED, "the Choi matrix is positive semidefinite and extends L; lower I6 <= L(I4) <= upper "
                    "I6, decided exactly", 3)

@@ -1,10 +1,11 @@
 """A serial chain of a certificate, and M(q, Theta) + shift I proved positive definite over a box of configurations.
 
 Joint l has a fixed transform ``before``, a turn about (slide along) its ``axis`` through the origin by q_l, and a
-fixed transform ``after``, so body l's frame is T_l = T_(l-1) before_l X_l(q_l) after_l; rotation blocks are
-inverted by transposition (the certificate's chain is taken to be rigid). M(q, Theta) = sum_l QJ_l^T Z(Phi_l) QJ_l
-(MassMatrix, DefMatrixZ), QJ_l's rows the twist (R_l^T v_l, omega_l) of body l (VelocityRigidMass); it is never
-formed: :meth:`Chain.pivots` factors it from the tip as articulated-body inertias.
+fixed transform ``after``, so body l's frame is T_l = T_(l-1) before_l X_l(q_l) after_l. A fixed transform is
+written as URDF writes an origin, ``xyz`` and ``rpy``: the checker builds its rotation Rz(yaw) Ry(pitch) Rx(roll)
+itself with arb's sin and cos, so it is rigid by construction and R^T is its inverse. M(q, Theta) = sum_l QJ_l^T
+Z(Phi_l) QJ_l (MassMatrix, DefMatrixZ), QJ_l's rows the twist (R_l^T v_l, omega_l) of body l (VelocityRigidMass);
+it is never formed: :meth:`Chain.pivots` factors it from the tip as articulated-body inertias.
 """
 
 from __future__ import annotations
@@ -13,16 +14,16 @@ from flint import arb, arb_mat
 
 from .exact import BadCertificate, rational_matrix
 
-__all__ = ["Chain", "WORK", "definite", "indefinite"]
+__all__ = ["Chain", "definite", "eigen", "indefinite", "twist_map"]
 
-WORK = [0]  # the checker's unit of work, counted as it goes: a joint of the pivot recursion on a box, or an
-# eigen-decomposition (the costly step: about 0.2 ms); budgets are counts of it, the same on every machine
+JOINTS = 200  # the longest chain a certificate may describe
+
 
 
 class Joint:
     def __init__(self, data, where):
-        if not isinstance(data, dict):
-            raise BadCertificate(f"{where}: a joint is an object")
+        if not isinstance(data, dict) or not set(data) <= {"name", "kind", "axis", "before", "after"}:
+            raise BadCertificate(f"{where}: a joint is an object of name, kind, axis, before and after")
         self.revolute = {"revolute": True, "prismatic": False}.get(data.get("kind"))
         if self.revolute is None:
             raise BadCertificate(f"{where}.kind: 'revolute' or 'prismatic', not {data.get('kind')!r}")
@@ -33,9 +34,7 @@ class Joint:
         self.axis = arb_mat(3, 1, [a / norm for a in axis])
         self.before = _transform(data.get("before"), f"{where}.before")
         self.after = _transform(data.get("after"), f"{where}.after")
-        if data.get("coordinate", "identity") != "identity":
-            raise BadCertificate(f"{where}.coordinate: only the identity map is checked")
-        self.before_map, self.after_map = _twist_map(self.before), _twist_map(self.after)
+        self.before_map, self.after_map = twist_map(self.before), twist_map(self.after)
         k, zero = _skew(self.axis), arb_mat(3, 3)
         n_map = _blocks(-k, zero, zero, -k) if self.revolute else _blocks(zero, -k, zero, zero)
         self.generators = n_map, n_map * n_map  # N and N^2 of the twist map by delta (see _expansion)
@@ -44,7 +43,7 @@ class Joint:
     def motion_map(self, centre, radius=None):
         """The twist map of the joint's own motion by the coordinate ``centre`` (a rational), or by every
         delta with |delta| <= ``radius`` when centre is None."""
-        return _twist_map(self.motion(arb(centre) if centre is not None else arb(0, arb(radius).abs_upper())))
+        return twist_map(self.motion(arb(centre) if centre is not None else arb(0, arb(radius).abs_upper())))
 
     def motion(self, x):
         """The joint's own transform (R, p) at the ball x of its variable."""
@@ -54,12 +53,16 @@ class Joint:
         return _identity() + k * x.sin() + (k * k) * (1 - x.cos()), arb_mat(3, 1)
 
 
-def _transform(rows, where):
-    m = rational_matrix(rows, (4, 4), where)
-    if any(m[3][j] != (1 if j == 3 else 0) for j in range(4)):
-        raise BadCertificate(f"{where}: the last row of a transform is 0 0 0 1")
-    return (arb_mat(3, 3, [arb(m[i][j]) for i in range(3) for j in range(3)]),
-            arb_mat(3, 1, [arb(m[i][3]) for i in range(3)]))
+def _transform(data, where):
+    """(R, p) of an origin {xyz, rpy}: R = Rz(yaw) Ry(pitch) Rx(roll) built here, p = xyz."""
+    if not isinstance(data, dict) or set(data) != {"xyz", "rpy"}:
+        raise BadCertificate(f"{where}: an origin {{xyz, rpy}}")
+    xyz, rpy = (rational_matrix([data[k]], (1, 3), f"{where}.{k}")[0] for k in ("xyz", "rpy"))
+    (cr, sr), (cp, sp), (cy, sy) = ((arb(a).cos(), arb(a).sin()) for a in rpy)
+    r = arb_mat([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+                 [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+                 [-sp, cp * sr, cp * cr]])
+    return r, arb_mat(3, 1, [arb(x) for x in xyz])
 
 
 def _identity():
@@ -73,9 +76,10 @@ def _skew(v):
 
 class Chain:
     def __init__(self, data):
-        joints = data.get("joints") if isinstance(data, dict) else None
-        if not isinstance(joints, list) or not joints:
-            raise BadCertificate("chain.joints: a nonempty list of joints")
+        joints = data.get("joints") if isinstance(data, dict) and set(data) <= {"name", "joints"} else None
+        if not isinstance(joints, list) or not joints or len(joints) > JOINTS:
+            raise BadCertificate(f"chain: {{name, joints}}, a list of 1 to {JOINTS} joints")
+        self.name = str(data.get("name", "chain"))
         self.joints = [Joint(j, f"chain.joints[{i}]") for i, j in enumerate(joints)]
         self.n = len(self.joints)
 
@@ -110,7 +114,6 @@ class Chain:
                 return None, lower
             if memo is not None:
                 memo[(l, tuple(box[l + 1:]))] = (lower, smallest)
-            WORK[0] += 1
             joint, (centre, radius) = self.joints[l], box[l]
             s = joint.subspace
             u = lower * s
@@ -163,7 +166,7 @@ def _blocks(a, b, c, d):
                    + [[c[i, j] for j in range(3)] + [d[i, j] for j in range(3)] for i in range(3)])
 
 
-def _twist_map(transform):
+def twist_map(transform):
     """The map of twists (v, omega) of a parent frame to those of a child frame whose pose in the parent is
     (R, p): [[R^T, -R^T S(p)], [0, R^T]]."""
     r, p = transform
@@ -251,15 +254,14 @@ def _scalar(x, n):
 def indefinite(a):
     """Whether v^T a v < 0 for every symmetric matrix in the ball matrix ``a``, v the approximate eigenvector of
     its midpoint's smallest eigenvalue: then none of them is positive semidefinite."""
-    values, u = _eigen(a)
+    values, u = eigen(a)
     j = values.index(min(values))
     v = arb_mat([[u[i, j]] for i in range(a.nrows())])
     return (v.transpose() * a * v)[0, 0] < 0
 
 
-def _eigen(a):
+def eigen(a):
     """Approximate eigenvalues (floats) and eigenvectors (a real ball matrix) of the symmetric a's midpoint."""
-    WORK[0] += 1
     values, vectors = a.mid().eig(right=True, algorithm="approx")
     n = a.nrows()
     return [float(v.real.mid()) for v in values], arb_mat([[vectors[i, j].real.mid() for j in range(n)]
@@ -270,7 +272,7 @@ def _bounding(x, kind):
     """Y >= X and Y >= -X ("abs"), or Y >= X and Y >= 0 ("pos"): U f(S) U^T + ||X - U S U^T||_F I for the
     approximate eigen-decomposition U S U^T of X, f = |.| or max(., 0) (U f(S) U^T - U S U^T = U (f(S) - S) U^T
     >= 0 for any U, and so is U f(S) U^T + U S U^T for |.|)."""
-    values, u = _eigen(x)
+    values, u = eigen(x)
     n = x.nrows()
     approx = u * _diagonal([arb(v) for v in values]) * u.transpose()
     f = abs if kind == "abs" else (lambda v: max(v, 0.0))
@@ -285,7 +287,7 @@ def _diagonal(values):
 def _metric_factor(t, kind, ridge):
     """C = V diag(h)^(1/2) from the approximate eigen-decomposition V diag(lambda) V^T of t: h = lambda shifted up so
     that the smallest is ``ridge`` times the largest |lambda| (``kind`` "shift"), or |lambda| plus that ("abs")."""
-    values, v = _eigen(t)
+    values, v = eigen(t)
     top = ridge * (max(abs(x) for x in values) or 1.0)
     lift = top - min(min(values), 0.0)
     return v * _diagonal([arb(x + lift if kind == "shift" else abs(x) + top).sqrt() for x in values])

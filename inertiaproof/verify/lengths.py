@@ -17,7 +17,7 @@ from fractions import Fraction
 
 from flint import arb, fmpq
 
-from .kinematics import WORK
+from .exact import ball_max, finite
 
 __all__ = ["perron_side"]
 
@@ -41,9 +41,8 @@ def perron_side(chain, domain, bodies):
                     (li, ai), (ll, al), (a, bb, c) = reach[i][b - i], reach[l][b - l], norms[b]
                     total += a * li * ll + bb * (li * al + ai * ll) + c * ai * al
                 s[i][l] = s[l][i] = total
-        WORK[0] += chain.n
         sides.append(_collatz_wielandt(s))
-    return max(sides, key=lambda x: x.upper())
+    return ball_max(sides, "a parameter set's side")
 
 
 def _reach(chain, domain, k):
@@ -62,8 +61,7 @@ def _reach(chain, domain, k):
 
 def _moved(lin, ang, transform):
     r, p = transform
-    g = _norm2([[sum((r[m, i] * r[m, j] for m in range(3)), arb(0)) for j in range(3)] for i in range(3)]).sqrt()
-    return g * (lin + _length(p[i, 0] for i in range(3)) * ang), g * ang
+    return lin + _length(p[i, 0] for i in range(3)) * ang, ang  # R is a rotation (built by the checker): g = 1
 
 
 def _own(column, z):
@@ -73,8 +71,8 @@ def _own(column, z):
 
 
 def _length(xs):
-    """|x| of a vector of balls."""
-    return sum((x * x for x in xs), arb(0)).sqrt()
+    """|x| of a vector of balls: the root of the upper end of |x|^2 (a ball straddling 0 has no real root)."""
+    return arb(finite(sum((x * x for x in xs), arb(0)), "a squared length").upper()).sqrt()
 
 
 def _block_norms(z):
@@ -85,9 +83,9 @@ def _block_norms(z):
 
 def _norm2(rows):
     """sqrt(||B||_1 ||B||_inf) >= ||B||_2, as a ball."""
-    one = max((sum((abs(rows[i][j]) for i in range(3)), arb(0)) for j in range(3)), key=lambda x: x.upper())
-    inf = max((sum((abs(x) for x in row), arb(0)) for row in rows), key=lambda x: x.upper())
-    return (arb(one.upper()) * arb(inf.upper())).sqrt()
+    one = ball_max((sum((abs(rows[i][j]) for i in range(3)), arb(0)) for j in range(3)), "a column sum")
+    inf = ball_max((sum((abs(x) for x in row), arb(0)) for row in rows), "a row sum")
+    return (one * inf).sqrt()
 
 
 def _collatz_wielandt(s):
@@ -102,5 +100,5 @@ def _collatz_wielandt(s):
             break
         x = [max(v / top, 1e-12) for v in y]
     exact = [arb(fmpq(f.numerator, f.denominator)) for f in map(Fraction, x)]
-    return max((sum((s[i][j] * exact[j] for j in range(n)), arb(0)) / exact[i] for i in range(n)),
-               key=lambda r: r.upper())
+    return ball_max((sum((s[i][j] * exact[j] for j in range(n)), arb(0)) / exact[i] for i in range(n)),
+                    "a Collatz-Wielandt ratio")

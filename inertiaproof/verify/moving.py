@@ -30,8 +30,8 @@ from __future__ import annotations
 from flint import arb, fmpq
 
 from .bodies import parameter_sets, pseudo_inertia, spatial_inertia
-from .exact import BadCertificate, rational, rational_matrix, semidefinite
-from .outcome import Outcome
+from .exact import BadCertificate, finite, rational, rational_matrix, semidefinite
+from .outcome import REPROVED, UNPROVED, Outcome
 
 __all__ = ["prove"]
 
@@ -135,7 +135,7 @@ def _rate(load, quantity):
     return arb(load["m"]) * (load["speed"] if quantity == "psi" else load["acc"]) * lever
 
 
-def prove(cert, budget):
+def prove(cert):
     """The :class:`Outcome` of the claim, decided exactly (the matrices) or in ball arithmetic (the sums)."""
     claim = cert["claim"]
     quantity, bound = claim.get("quantity"), rational(claim.get("bound"), "claim.bound")
@@ -157,28 +157,21 @@ def prove(cert, budget):
                     test = [[(bound if i == j else 0) - x - sum(e[i][j] for e in extra) for j, x in enumerate(r)]
                             for i, r in enumerate(f)]
                 if not semidefinite(test):
-                    return Outcome("refuted", f"body {l + 1} of set {v + 1}: the bound fails for its own row and its "
+                    return Outcome(UNPROVED, f"body {l + 1} of set {v + 1}: the bound fails for its own row and its "
                                    "loads' bounds (exact rational arithmetic)", 0, {"quantity": quantity})
-        return Outcome("re-proved", f"{len(sets)} set(s), {len(loads)} moving load(s): decided exactly", 0)
+        return Outcome(REPROVED, f"{len(sets)} set(s), {len(loads)} moving load(s): decided exactly", 0)
     psi = quantity.startswith("psi")
     matrix = pseudo_inertia if quantity.endswith("fdot") else spatial_inertia
     for l in range(1 if psi else len(sets[0])):
         total = sum((_rate(load, quantity) for load in loads if psi or load["body"] == l), arb(0))
         for v, rows in enumerate(sets):
-            status = _decide(total, bound, [[fmpq(0)]] if psi else matrix(rows[l]))
-            if status:
-                return Outcome(status, f"{'Psi' if psi else f'body {l + 1} of set {v + 1}'}: sigma_max(F) + the loads' "
+            if not _holds(_exact(finite(total, "the loads' sum").upper()), bound, [[fmpq(0)]] if psi else matrix(rows[l])):
+                return Outcome(UNPROVED, f"{'Psi' if psi else f'body {l + 1} of set {v + 1}'}: sigma_max(F) + the loads' "
                                f"{total.str(10)} is not <= {float(bound):.10g}", 0, {"quantity": quantity})
-    return Outcome("re-proved", f"{len(loads)} moving load(s) on {len(sets)} set(s): the sums decided", 0)
+    return Outcome(REPROVED, f"{len(loads)} moving load(s) on {len(sets)} set(s): the sums decided", 0)
 
 
-def _decide(total, bound, f):
-    """None where sigma_max(F) + total <= bound, proved as (bound - r) I -+ F >= 0 exactly for r the upper end of the
-    ball ``total``; else "refuted" where that fails for its lower end, "not decided" where it does not."""
-    def holds(r):
-        return all(semidefinite([[(bound - r if i == j else 0) + sign * x for j, x in enumerate(row)]
-                                 for i, row in enumerate(f)]) for sign in (-1, 1))
-
-    if holds(_exact(total.upper())):
-        return None
-    return "not decided" if holds(_exact(total.lower())) else "refuted"
+def _holds(r, bound, f):
+    """Whether sigma_max(F) + r <= bound: (bound - r) I -+ F >= 0, decided exactly."""
+    return all(semidefinite([[(bound - r if i == j else 0) + sign * x for j, x in enumerate(row)]
+                             for i, row in enumerate(f)]) for sign in (-1, 1))

@@ -1,16 +1,25 @@
-"""The outcome of re-proving one claim."""
+"""The outcome of re-proving one claim: re-proved; refuted, only with a witness at which both sides are enclosed
+and the claim fails; or not re-proved, a step of the proof that did not go through (the claim may still be true)."""
 
 from __future__ import annotations
 
-__all__ = ["Outcome"]
+__all__ = ["Outcome", "REFUTED", "REPROVED", "UNPROVED", "refuted"]
+
+REPROVED, REFUTED, UNPROVED = "re-proved", "refuted", "not re-proved"
 
 
 class Outcome:
-    """``status``: "re-proved", "refuted", "not decided"; ``why`` in words; ``boxes`` tested; ``where`` (data: the
-    box or point that refutes, or where the budget ran out)."""
+    """``status`` (:data:`REPROVED`, :data:`REFUTED`, :data:`UNPROVED`); ``why`` in words; ``boxes`` tested;
+    ``where`` (data: the refuting witness, or the box where the proof did not go through)."""
 
     def __init__(self, status, why, boxes=0, where=None):
         self.status, self.why, self.boxes, self.where = status, why, boxes, where
 
     def to_json(self):
         return {"status": self.status, "why": self.why, "boxes": self.boxes, "where": self.where}
+
+
+def refuted(why, witness, sides, boxes=0):
+    """A refutation at ``witness`` (data: q, the parameter set, t), ``sides`` the enclosures (strings) of both sides
+    of the inequality that fails there."""
+    return Outcome(REFUTED, why, boxes, {"witness": witness, "sides": sides})

@@ -26,9 +26,9 @@ from flint import fmpq
 from . import spectrum
 from .bodies import parameter_sets, pseudo_inertia
 from .exact import BadCertificate, rational, semidefinite
-from .outcome import Outcome
+from .outcome import REFUTED, REPROVED, UNPROVED, Outcome
 
-__all__ = ["covering", "prove"]
+__all__ = ["covering", "inner_spectrum", "prove"]
 
 QUANTITIES = ("lambda_min", "lambda_max", "lambda_max_f")
 
@@ -66,9 +66,9 @@ def _written(sets):
     return [[[str(x) for x in row] for row in rows] for rows in sets]
 
 
-def prove(cert, budget):
+def prove(cert):
     """The :class:`Outcome` of the claim: ``lambda_min`` and ``lambda_max`` by :func:`.spectrum.prove` (with Phi_U
-    for the latter), ``lambda_max_f`` exactly."""
+    for the latter, whose refutation refutes only the cover: not re-proved), ``lambda_max_f`` exactly."""
     claim = cert["claim"]
     quantity = claim.get("quantity")
     if quantity not in QUANTITIES:
@@ -77,7 +77,17 @@ def prove(cert, budget):
     k, mass, centre, axes = _payload(cert, len(sets[0]))
     if quantity == "lambda_max_f":
         return _flange(claim, sets, k, mass, centre, max(axes), cert.get("beta"))
-    inner = {**cert, "claim": {**claim, "kind": "mass-matrix-spectrum"}}
+    out = spectrum.prove(spectrum_of(cert, quantity, sets, k, mass, centre, axes))
+    if quantity == "lambda_max" and out.status == REFUTED:
+        return Outcome(UNPROVED, f"the cover Phi_U of Young's epsilon is refuted, not the payloads: {out.why}", out.boxes)
+    return out
+
+
+def spectrum_of(cert, quantity, sets, k, mass, centre, axes):
+    """The spectrum claim that proves a ``lambda_min`` or ``lambda_max`` payload claim (Phi_U added for the latter)."""
+    claim = cert["claim"]
+    inner = {key: value for key, value in cert.items() if key not in ("payload", "epsilon", "beta")}
+    inner["claim"] = {**claim, "kind": "mass-matrix-spectrum"}
     if quantity == "lambda_max":
         eps = rational(cert.get("epsilon"), "epsilon")
         if eps <= 0:
@@ -86,7 +96,13 @@ def prove(cert, budget):
         for rows in sets:
             rows[k] = [a + b for a, b in zip(rows[k], extra)]
         inner["parameters"] = _written(sets)
-    return spectrum.prove(inner, budget)
+    return inner
+
+
+def inner_spectrum(cert):
+    """The spectrum certificate the checker proves for the payload certificate ``cert`` (for the prover's tree)."""
+    sets = parameter_sets(cert.get("parameters"))
+    return spectrum_of(cert, cert["claim"]["quantity"], sets, *_payload(cert, len(sets[0])))
 
 
 def _flange(claim, sets, k, mass, centre, radius, beta):
@@ -94,7 +110,7 @@ def _flange(claim, sets, k, mass, centre, radius, beta):
     c2 = sum(x * x for x in centre)
     base = (beta / mass - 1 - c2 - radius**2) if mass > 0 else fmpq(0)
     if mass > 0 and (base < 0 or base**2 < 4 * radius**2 * c2):
-        return Outcome("refuted", f"beta = {beta} is below m ((|c| + R)^2 + 1) (exact arithmetic)", 0)
+        return Outcome(UNPROVED, f"beta = {beta} is below m ((|c| + R)^2 + 1) (exact arithmetic)", 0)
     lift = beta if mass > 0 else fmpq(0)
     tested = 0
     for v, rows in enumerate(sets):
@@ -103,7 +119,7 @@ def _flange(claim, sets, k, mass, centre, radius, beta):
             shift = bound - (lift if l == k else 0)
             f = pseudo_inertia(row)
             if not semidefinite([[(shift if i == j else 0) - f[i][j] for j in range(4)] for i in range(4)]):
-                return Outcome("refuted", f"parameter set {v}, body {l + 1}: (bound{' - beta' if l == k else ''}) I - "
+                return Outcome(UNPROVED, f"parameter set {v}, body {l + 1}: (bound{' - beta' if l == k else ''}) I - "
                                "f(Phi) is not positive semidefinite (exact arithmetic)", tested,
                                {"parameter_set": v, "body": l + 1})
-    return Outcome("re-proved", f"beta >= m ((|c| + R)^2 + 1) and {tested} bodies decided exactly", tested)
+    return Outcome(REPROVED, f"beta >= m ((|c| + R)^2 + 1) and {tested} bodies decided exactly", tested)

@@ -1,146 +1,184 @@
-"""The ``product`` claim: a constant built by formula from certified ingredients, factor * prod_i x_i^p_i.
+"""The ``product`` claim: a constant of the paper built by a named formula from certified ingredients, and the
+``sum`` claim of certified terms.
 
-Ingredient i: an embedded certificate (``of``, re-proved by :func:`.claims.prove`, passed in; products nest
-at most ``DEPTH`` deep) whose claim bounds its quantity x_i (an extreme over its domain) by b_i, and a power p_i
-(an integer, 1..16, or a half "k/2" of a nonnegative x_i: sup_q sigma_max(QJ) from its claim on (QJ)^T QJ);
-the factor f >= 0 is a rational or {"sqrt": r}. ``>=``: every claim x_i >= b_i (``lambda_min``, a ``>=``
-product) with b_i >= 0, so x_i^p_i >= b_i^p_i and f prod x_i^p_i >= f prod b_i^p_i. ``<=``: every claim x_i <=
-b_i (``lambda_max``, ``sigma_max``, a ``<=`` product); where x_i >= 0, x_i^p_i <= b_i^p_i. Nonnegative by kind:
-the norms (a body-spectrum ``sigma_max``, a max |eigenvalue|; a moving-mass rate or Psi; a skew-partials
-sigma_max), a mass-matrix-spectrum or payload-envelope ``lambda_max`` with a
-parameter set whose Z(Phi_l) are all positive semidefinite (decided exactly; then M >= 0: unit bodies Z = I for
-(QJ)^T QJ; a payload adds Z(Phi_p) >= 0), a payload-envelope ``lambda_max_f`` with a set whose f(Phi_l) all are.
-At most ONE other x_k (e.g. a body-spectrum ``lambda_max`` of f(Phi), possibly negative), of odd p_k: t -> t^p_k
-is nondecreasing, so x_k^p_k <= max(x_k, 0)^p_k <= max(b_k, 0)^p_k, and, the factor and the other powers being
-nonnegative, f prod x_i^p_i <= f max(b_k, 0)^p_k prod_(i != k) b_i^p_i (two could both be negative, their product
-positive and unbounded). The claim holds when its ingredients' do and f prod c_i^p_i >= (<=) bound, c_i = b_i
-(clamped at 0 for ``<=``): with P = prod c_i^p_i >= 0 and f = sqrt(r), f P - bound has the sign of r P^2 -
-bound^2 where bound >= 0 (P^2 = prod c_i^(2 p_i) decided exactly). Where that fails the claim is refuted (the
-ingredients give no more); else an ingredient refuted refutes it, and one not decided leaves it not decided.
+A product names its ``formula`` from the closed list :data:`FORMULAS`: the relation, the factor (derived here from
+the chain's N, or from the claim's ``declared`` r) and, in order, what each ingredient must bound (its kind and quantity)
+and to which power. Every ingredient that concerns a chain concerns the same chain and domain, every parameter set
+has one row per joint of it, and the ingredients of (QJ)^T QJ are claims on unit bodies (Z = I6). ``>=``: every
+ingredient x_i >= b_i with b_i >= 0, so factor * prod x_i^p_i >= factor * prod b_i^p_i. ``<=``: every x_i <= b_i;
+x_i >= 0 by its kind (norms, Gram matrices, a payload's M) except at most one, of power 1 (lambda_max of f or Z,
+clamped at 0: t -> max(t, 0) is nondecreasing and the rest is nonnegative). The claim holds when its ingredients do
+and factor * prod c_i^p_i >= (<=) bound, decided exactly: f = sqrt(r), P = prod c_i^p_i >= 0, f P - bound has the
+sign of r P^2 - bound^2 where bound >= 0. Where that fails, the proof does not go through (not re-proved); an
+ingredient refuted refutes the certificate that embeds it.
 
-The ``sum`` claim: sum_i x_i ``relation`` bound from ``terms`` (certificates: upper claims for ``<=``, lower for
-``>=``) bounding x_i by b_i: x_i <= b_i for all i gives sum x_i <= sum b_i whatever their signs, so it holds when
-sum b_i <= bound (>= for ``>=``, decided exactly) and every term is re-proved.
+The ``sum`` claim: sum_i x_i ``relation`` bound from ``terms`` bounding x_i by b_i (upper claims for ``<=``, lower
+for ``>=``): it holds when sum b_i <= bound (>= for ``>=``) and every term is re-proved.
 """
 
 from __future__ import annotations
 
 from flint import arb, fmpq
 
-from .bodies import parameter_sets, pseudo_inertia, spatial_inertia
-from .exact import BadCertificate, rational, semidefinite
-from .outcome import Outcome
+from .bodies import parameter_sets
+from .exact import BadCertificate, rational
+from .outcome import REFUTED, REPROVED, UNPROVED, Outcome
 
-__all__ = ["prove", "prove_sum"]
+__all__ = ["FORMULAS", "SLOTS", "prove", "prove_sum"]
 
-DEPTH = 4  # products nested in products
-NORMS = {("body-spectrum", "sigma_max"), ("moving-mass", "sigma_max_fdot"), ("moving-mass", "sigma_max_Zdot"),
-         ("moving-mass", "psi"), ("moving-mass", "psi_dot"), ("skew-partials", "max_sigma"),
-         ("skew-partials", "rss_sigma")}  # upper claims of norms: nonnegative quantities
-LOWER = {("mass-matrix-spectrum", "lambda_min"), ("body-spectrum", "lambda_min"), ("payload-envelope", "lambda_min"),
-         ("moving-mass", "lambda_min_f"), ("moving-mass", "lambda_min_Z"), ("product", ">="), ("sum", ">=")}
-UPPER = {("mass-matrix-spectrum", "lambda_max"), ("body-spectrum", "lambda_max"), ("payload-envelope", "lambda_max"),
-         ("payload-envelope", "lambda_max_f"), ("moving-mass", "lambda_max_f"), ("moving-mass", "lambda_max_Z"),
-         ("product", "<="), ("sum", "<=")} | NORMS
+UNIT = ["1", "0", "0", "0", "1", "1", "1", "0", "0", "0"]  # Z(Phi) = I6: M = (QJ)^T QJ
+SLOTS = {  # what an ingredient may bound: the (kind, quantity) keys it may have, and whether it is >= 0 by its kind
+    "f_min": ({("body-spectrum", "lambda_min", "pseudo_inertia"), ("moving-mass", "lambda_min_f")}, True),
+    "Z_min": ({("body-spectrum", "lambda_min", "spatial_inertia"), ("moving-mass", "lambda_min_Z")}, True),
+    "f_max": ({("body-spectrum", "lambda_max", "pseudo_inertia"), ("moving-mass", "lambda_max_f"),
+               ("payload-envelope", "lambda_max_f")}, False),
+    "Z_max": ({("body-spectrum", "lambda_max", "spatial_inertia"), ("moving-mass", "lambda_max_Z")}, False),
+    "fdot_max": ({("body-spectrum", "sigma_max", "pseudo_inertia"), ("moving-mass", "sigma_max_fdot")}, True),
+    "Zdot_max": ({("body-spectrum", "sigma_max", "spatial_inertia"), ("moving-mass", "sigma_max_Zdot")}, True),
+    "QJ_min": ({("mass-matrix-spectrum", "lambda_min")}, True),
+    "QJ_max": ({("mass-matrix-spectrum", "lambda_max")}, True),
+    "payload_max": ({("payload-envelope", "lambda_max")}, True),
+    "psi": ({("moving-mass", "psi")}, True),
+    "psi_dot": ({("moving-mass", "psi_dot")}, True),
+    "Y_max": ({("skew-partials", "max_sigma")}, True),
+    "Y_rss": ({("skew-partials", "rss_sigma")}, True),
+}
+FORMULAS = {  # name: (relation, factor as r of sqrt(r) from (N, rate), [(slot, twice the power)], in words)
+    "alpha1": (">=", lambda n, rate: 1, [("f_min", 2), ("QJ_min", 2)],
+               "Theorem 2's alpha1 = min_l inf lambda_min(f(Phi_l)) inf_q lambda_min((QJ)^T QJ)"),
+    "alpha1_z": (">=", lambda n, rate: 1, [("Z_min", 2), ("QJ_min", 2)],
+                 "Theorem 2 at the level of Z: min_l inf lambda_min(Z(Phi_l)) inf_q lambda_min((QJ)^T QJ)"),
+    "alpha2": ("<=", lambda n, rate: 4, [("f_max", 2), ("QJ_max", 2)],
+               "Theorem 3's alpha2 = 2 max_l sup lambda_max(f(Phi_l)) sup_q lambda_max((QJ)^T QJ)"),
+    "alpha2_z": ("<=", lambda n, rate: 1, [("Z_max", 2), ("QJ_max", 2)],
+                 "Theorem 3 at the level of Z: max_l sup lambda_max(Z(Phi_l)) sup_q lambda_max((QJ)^T QJ)"),
+    "chi": ("<=", lambda n, rate: 69 * n, [("fdot_max", 2), ("QJ_max", 2)],
+            "Theorem 4's chi = sqrt(69 N) max_l sup sigma_max(f(Phidot_l)) sup_q lambda_max((QJ)^T QJ)"),
+    "chi_sharp": ("<=", lambda n, rate: 4, [("fdot_max", 2), ("QJ_max", 2)],
+                  "Theorem 4 with the key step's factor: 2 max_l sup sigma_max(f(Phidot_l)) sup_q lambda_max((QJ)^T QJ)"),
+    "chi_z": ("<=", lambda n, rate: 1, [("Zdot_max", 2), ("QJ_max", 2)],
+              "Theorem 4 at the level of Z: max_l sup sigma_max(Z(Phidot_l)) sup_q lambda_max((QJ)^T QJ)"),
+    "chi_ramp": ("<=", lambda n, rate: 69 * n * rate**2, [("f_max", 2), ("QJ_max", 2)],
+                 "Theorem 4's chi of a payload ramp of rate r: sqrt(69 N) r sup_P lambda_max(f(Phi_p)) "
+                 "sup_q lambda_max((QJ)^T QJ)"),
+    "chi_ramp_sharp": ("<=", lambda n, rate: rate**2, [("payload_max", 2)],
+                       "sigma_max(M(q, Thetadot)) of a payload ramp of rate r: r sup_(q, P) lambda_max(M(q, Phi_p))"),
+    "eq_acc": ("<=", lambda n, rate: 1, [("psi_dot", 2), ("QJ_max", 1)],
+               "EQ-acc's sup ||Psidot|| sup_q sigma_max(QJ)"),
+    "thm5": ("<=", lambda n, rate: 6 * n, [("psi", 2), ("Y_max", 2)],
+             "Theorem 5's sqrt(6 N) sup ||Psi|| max_p sup_q sigma_max(Y_p)"),
+    "thm5_sharp": ("<=", lambda n, rate: 1, [("psi", 2), ("Y_rss", 2)],
+                   "Theorem 5 with Cauchy-Schwarz first: sup ||Psi|| sup_q (sum_p sigma_max(Y_p)^2)^(1/2)"),
+    "moving_share": ("<=", lambda n, rate: rate, [("QJ_max", 2)],
+                     "the moving particles' share sqrt(r) sup_q lambda_max((QJ)^T QJ), r as declared (4 Psi*^2 times "
+                     "the formula's factor, not re-derived)"),
+}
+KEYS = {"schema", "claim", "ingredients", "provenance"}
 
 
-def _nonnegative(sub, key):
-    if key in NORMS:
-        return True
-    matrix = {("mass-matrix-spectrum", "lambda_max"): spatial_inertia, ("payload-envelope", "lambda_max"): spatial_inertia,
-              ("payload-envelope", "lambda_max_f"): pseudo_inertia}.get(key)
-    return matrix is not None and any(
-        all(semidefinite(matrix(row)) for row in rows) for rows in parameter_sets(sub.get("parameters")))
+def key(sub):
+    """(kind, quantity[, matrix]) of an embedded certificate's claim."""
+    claim = sub.get("claim") if isinstance(sub, dict) else None
+    if not isinstance(claim, dict):
+        raise BadCertificate("an ingredient or term is a certificate with a claim")
+    kind = claim.get("kind")
+    base = (kind, claim.get("relation" if kind in ("product", "sum") else "quantity"))
+    return base + (claim.get("matrix"),) if kind == "body-spectrum" else base
 
 
-def _key(sub):
-    kind = sub["claim"].get("kind")
-    return kind, sub["claim"].get("relation" if kind in ("product", "sum") else "quantity")
+def _chain_of(sub):
+    """(chain, domain) of an ingredient that concerns a chain, else None."""
+    return (sub.get("chain"), sub.get("domain")) if "chain" in sub else None
+
+
+def _consistent(subs, slots):
+    """N, the joints of the one chain the ingredients concern (checked the same chain and domain, every parameter
+    set one row per joint, (QJ)^T QJ of unit bodies)."""
+    chains = [c for c in map(_chain_of, subs) if c is not None]
+    if not chains or any(c != chains[0] for c in chains):
+        raise BadCertificate("ingredients: not all of one chain and one domain")
+    joints = chains[0][0].get("joints") if isinstance(chains[0][0], dict) else None
+    n = len(joints) if isinstance(joints, list) else 0
+    for i, (sub, slot) in enumerate(zip(subs, slots)):
+        sets = parameter_sets(sub.get("parameters"), n) if "parameters" in sub else []
+        if slot.startswith("QJ") and sub.get("parameters") != [[UNIT] * n]:
+            raise BadCertificate(f"ingredients[{i}]: (QJ)^T QJ is M of one set of unit bodies (Z = I6)")
+        if any(len(rows) != n for rows in sets):
+            raise BadCertificate(f"ingredients[{i}]: its parameter sets are not of the chain's {n} bodies")
+    return n
 
 
 def _parse(cert):
+    if not set(cert) <= KEYS:
+        raise BadCertificate(f"unknown field(s) {sorted(set(cert) - KEYS)}")
     claim = cert["claim"]
-    relation, bound = claim.get("relation"), rational(claim.get("bound"), "claim.bound")
-    if relation not in (">=", "<="):
-        raise BadCertificate("claim.relation: '>=' or '<='")
-    factor = claim.get("factor")
-    r = rational(factor.get("sqrt"), "claim.factor.sqrt") if isinstance(factor, dict) else rational(factor, "claim.factor")
-    if r < 0:
-        raise BadCertificate("claim.factor: must be >= 0")
-    r = r if isinstance(factor, dict) else r * r  # f = sqrt(r)
-    items = cert.get("ingredients")
-    if not isinstance(items, list) or not items:
-        raise BadCertificate("ingredients: a nonempty list of {power, of}")
-    parsed, loose = [], 0
-    for i, item in enumerate(items):
-        where, (sub, power) = f"ingredients[{i}]", (item.get("of"), item.get("power")) if isinstance(item, dict) else (0, 0)
-        if not isinstance(sub, dict) or not isinstance(sub.get("claim"), dict):
-            raise BadCertificate(f"{where}.of: a certificate")
-        twice = 2 * power if type(power) is int else {f"{k}/2": k for k in range(1, 32, 2)}.get(power, 0)
-        if not 1 <= twice <= 32:
-            raise BadCertificate(f"{where}.power: an integer from 1 to 16 or a half \"k/2\" (k odd, below 32)")
-        key = _key(sub)
-        if key not in (LOWER if relation == ">=" else UPPER):
-            raise BadCertificate(f"{where}: a {'lower' if relation == '>=' else 'upper'} claim expected, not {key}")
-        b = rational(sub["claim"].get("bound"), f"{where}.of.claim.bound")
+    if claim.get("formula") not in FORMULAS:
+        raise BadCertificate(f"claim.formula: one of {sorted(FORMULAS)}")
+    relation, factor, slots, _ = FORMULAS[claim["formula"]]
+    if claim.get("relation") != relation:
+        raise BadCertificate(f"claim.relation: {claim['formula']} is a {relation!r} claim")
+    bound = rational(claim.get("bound"), "claim.bound")
+    rate = rational(claim.get("declared", "0"), "claim.declared")
+    if rate < 0:
+        raise BadCertificate("claim.declared: must be >= 0")
+    subs = cert.get("ingredients")
+    if not isinstance(subs, list) or len(subs) != len(slots):
+        raise BadCertificate(f"ingredients: {len(slots)} certificates, of {', '.join(s for s, _ in slots)}")
+    parsed = []
+    for i, (sub, (slot, twice)) in enumerate(zip(subs, slots)):
+        keys, nonnegative = SLOTS[slot]
+        if key(sub) not in keys:
+            raise BadCertificate(f"ingredients[{i}]: {slot} is bounded by one of {sorted(keys)}, not {key(sub)}")
+        b = rational(sub["claim"].get("bound"), f"ingredients[{i}].claim.bound")
         if relation == ">=" and b < 0:
-            raise BadCertificate(f"{where}: lower bound {b} < 0 says nothing of x^p (x >= b < 0 allows x^p below b^p)")
-        if relation == "<=" and not _nonnegative(sub, key):
-            loose += 1
-            if loose > 1 or twice % 4 != 2:
-                raise BadCertificate(f"{where}: a quantity that may be negative: only one such, of odd power")
+            raise BadCertificate(f"ingredients[{i}]: lower bound {b} < 0 says nothing of x^p")
+        if relation == "<=" and not nonnegative:
             b = max(b, fmpq(0))
         elif b < 0:
-            raise BadCertificate(f"{where}: upper bound {b} < 0 of a nonnegative quantity")
+            raise BadCertificate(f"ingredients[{i}]: upper bound {b} < 0 of a nonnegative quantity")
         parsed.append((sub, twice, b))
-    return relation, bound, r, parsed
+    n = _consistent(subs, [s for s, _ in slots]) if any("chain" in s for s in subs) else 0
+    return relation, bound, fmpq(factor(n, rate)), parsed
 
 
-def prove(cert, budget, prove_any, depth=0):
+def prove(cert, prove_any):
     """The :class:`Outcome` of the product claim: the arithmetic decided exactly, then each ingredient re-proved by
     ``prove_any`` (:func:`.claims.prove`, passed in: this module does not import it back)."""
-    if depth > DEPTH:
-        raise BadCertificate(f"ingredients: products nested deeper than {DEPTH}")
     relation, bound, r, parsed = _parse(cert)
     square = fmpq(1)  # (prod b_i^p_i)^2, exact for half powers too
     for _, twice, b in parsed:
         square *= b ** twice
     holds = (bound <= 0 or r * square >= bound**2) if relation == ">=" else (bound >= 0 and r * square <= bound**2)
     if not holds:
-        value = (arb(r * square).sqrt()).str(10, radius=False)
-        return Outcome("refuted", f"the ingredients' bounds give factor * prod b_i^p_i = {value}, not {relation} "
-                       f"{float(bound):.10g} (exact rational arithmetic)", 0, {"product": value})
-    return _prove_parts(cert, [sub for sub, _, _ in parsed], "ingredient", budget, prove_any, depth,
-                        f"{len(parsed)} ingredient(s) re-proved; factor * prod b_i^p_i {relation} bound decided "
-                        "exactly")
+        value = arb(r * square).sqrt().str(10, radius=False)
+        return Outcome(UNPROVED, f"the ingredients' bounds give factor * prod b_i^p_i = {value}, not {relation} the "
+                       "bound (exact arithmetic)", 0, {"product": value})
+    return _parts([sub for sub, _, _ in parsed], "ingredient", prove_any,
+                  f"{len(parsed)} ingredient(s) re-proved; factor * prod b_i^p_i {relation} bound decided exactly")
 
 
-def _prove_parts(cert, parts, label, budget, prove_any, depth, done):
-    """Each part (``label``: ingredient or term) re-proved, products and sums here (nested ``depth`` deep), the rest
-    by ``prove_any``: the first refuted refutes the claim, any not decided leaves it not decided."""
-    boxes, undecided = 0, []
-    nested = {"product": prove, "sum": prove_sum}
+def _parts(parts, label, prove_any, done):
+    """Each part re-proved by ``prove_any``: one refuted refutes the certificate, one not re-proved leaves it so."""
+    boxes, unproved = 0, []
     for i, sub in enumerate(parts):
         try:
-            own = sub.get("schema") == cert["schema"] and sub["claim"].get("kind") in nested
-            out = nested[sub["claim"]["kind"]](sub, budget, prove_any, depth + 1) if own else prove_any(sub, budget)
+            out = prove_any(sub)
         except BadCertificate as exc:
             raise BadCertificate(f"{label}s[{i}]: {exc}") from None
         boxes += out.boxes
-        if out.status == "refuted":
-            return Outcome("refuted", f"{label} {i} ({sub['claim'].get('statement', '')}): {out.why}", boxes,
-                           {label: i, "where": out.where})
-        if out.status != "re-proved":
-            undecided.append(f"{label} {i}: {out.why}")
-    if undecided:
-        return Outcome("not decided", "; ".join(undecided), boxes)
-    return Outcome("re-proved", done, boxes)
+        if out.status == REFUTED:
+            return Outcome(REFUTED, f"the claim of {label} {i} is refuted: {out.why}", boxes, out.where)
+        if out.status != REPROVED:
+            unproved.append(f"{label} {i}: {out.why}")
+    if unproved:
+        return Outcome(UNPROVED, "; ".join(unproved), boxes)
+    return Outcome(REPROVED, done, boxes)
 
 
-def prove_sum(cert, budget, prove_any, depth=0):
+def prove_sum(cert, prove_any):
     """The :class:`Outcome` of the sum claim: sum b_i ``relation`` bound decided exactly, then each term re-proved."""
-    if depth > DEPTH:
-        raise BadCertificate(f"terms: claims nested deeper than {DEPTH}")
+    if not set(cert) <= {"schema", "claim", "terms", "provenance"}:
+        raise BadCertificate(f"unknown field(s) {sorted(set(cert) - {'schema', 'claim', 'terms', 'provenance'})}")
     claim = cert["claim"]
     relation, bound = claim.get("relation"), rational(claim.get("bound"), "claim.bound")
     if relation not in (">=", "<="):
@@ -150,14 +188,10 @@ def prove_sum(cert, budget, prove_any, depth=0):
         raise BadCertificate("terms: a nonempty list of certificates")
     total = fmpq(0)
     for i, sub in enumerate(terms):
-        if not isinstance(sub, dict) or not isinstance(sub.get("claim"), dict):
-            raise BadCertificate(f"terms[{i}]: a certificate")
-        if _key(sub) not in (LOWER if relation == ">=" else UPPER):
-            raise BadCertificate(f"terms[{i}]: a {'lower' if relation == '>=' else 'upper'} claim expected, not "
-                                 f"{_key(sub)}")
+        if key(sub)[0] not in ("product", "sum") or key(sub)[1] != relation:
+            raise BadCertificate(f"terms[{i}]: a {relation} product or sum, not {key(sub)}")
         total += rational(sub["claim"].get("bound"), f"terms[{i}].claim.bound")
     if not (total >= bound if relation == ">=" else total <= bound):
-        return Outcome("refuted", f"the terms' bounds sum to {float(total):.10g}, not {relation} {float(bound):.10g} "
-                       "(exact rational arithmetic)", 0, {"sum": str(total)})
-    return _prove_parts(cert, terms, "term", budget, prove_any, depth,
-                        f"{len(terms)} term(s) re-proved; sum b_i {relation} bound decided exactly")
+        return Outcome(UNPROVED, f"the terms' bounds sum to {float(total):.10g}, not {relation} the bound (exact "
+                       "arithmetic)", 0, {"sum": str(total)})
+    return _parts(terms, "term", prove_any, f"{len(terms)} term(s) re-proved; sum b_i {relation} bound decided exactly")

@@ -13,25 +13,25 @@ joints). On a box (centre c, radii r) g_p(q) <= g_p(c) + sum_i r_i |dg_p/dq_i| o
 derivative enclosed in ball arithmetic from the columns over the box: second order where g_p is flat, at its extremes).
 ``max_sigma`` holds on a box where every such bound is <= bound^2 or, for Y_p beyond 3 x 3, bound I - [[0, Y], [Y^T,
 0]] is positive definite over Y_p's mean-value enclosure; ``rss_sigma`` where that of sum_p g_p is <= bound^2 (beyond
-3 joints possibly not decided, never wrong). The ``tree`` (:mod:`.tree`) is walked from its root; a leaf that does not
-hold is cut at the middle of the coordinate with the largest r_i |dg/dq_i|, within the budget of work
-(:data:`.kinematics.WORK`: a body's columns on a box or point, or an eigen-decomposition) spent beyond the tree. The
-``witness`` (first) or a box's centre refutes the claim where a lower bound of sigma_max(Y_p)^2 (g_p up to 3 x 3,
-else a Rayleigh quotient of Y_p^T Y_p), or of its sum over p, exceeds bound^2.
+3 joints possibly not proved, never wrong). The ``tree`` (:mod:`.tree`) is walked once from its root: every leaf must
+hold, no box is cut beyond it. The ``witness`` (first) or a failing leaf's centre refutes the claim where a lower
+bound of sigma_max(Y_p)^2 (g_p up to 3 x 3, else a Rayleigh quotient of Y_p^T Y_p), or of its sum over p, exceeds
+bound^2.
 """
 
 from __future__ import annotations
 
-from collections import deque
-
 from flint import arb, arb_mat
 
 from .exact import BadCertificate, rational
-from .kinematics import WORK, Chain, _eigen, _twist_map, definite
-from .outcome import Outcome
-from .tree import Node, halves, parse
+from .kinematics import Chain, definite, eigen, twist_map
+from .outcome import REPROVED, UNPROVED, Outcome, refuted
+from .spectrum import domain_of, witness_of
+from .tree import parse, walk
 
-__all__ = ["prove"]
+__all__ = ["Problem", "prove"]
+
+KEYS = {"schema", "claim", "chain", "domain", "tree", "witness", "provenance"}
 
 ZERO = arb(0)
 
@@ -50,9 +50,8 @@ def _rows(chain, box, ball):
     xs = [arb(c) + (arb(0, arb(r).abs_upper()) if ball else 0) for c, r in box]
     out, cols = [], []
     for l, joint in enumerate(chain.joints):
-        WORK[0] += 1
         if l:
-            x = joint.after_map * _twist_map(joint.motion(xs[l])) * joint.before_map
+            x = joint.after_map * twist_map(joint.motion(xs[l])) * joint.before_map
             cols = [[sum((x[i, m] * c[m] for m in range(6)), ZERO) for i in range(6)] for c in cols]
         cols.append([joint.subspace[i, 0] for i in range(6)])
         d = {(k, j): _bracket(cols[k], cols[j]) for j in range(l + 1) for k in range(j)}
@@ -73,7 +72,7 @@ def _lower(y, m):
     if m <= 3:
         return sum((v * v for v in y.values()), ZERO)
     a = _full(y, m).transpose() * _full(y, m)
-    values, u = _eigen(a)
+    values, u = eigen(a)
     v = arb_mat([[u[i, values.index(max(values))]] for i in range(m)])
     return (v.transpose() * a * v)[0, 0] / (v.transpose() * v)[0, 0]
 
@@ -99,60 +98,57 @@ def _test(chain, box, bound, rss):
     return not rss or total + spread(slopes) <= bound**2, weigh(slopes), rss and exact > bound**2
 
 
-def _refuted(chain, point, bound, rss, why):
-    lows = [_lower(y, m) for m, y, _ in _rows(chain, [(x, 0) for x in point], False)]
-    bad = [(None, sum(lows, ZERO))] if rss else [(p, v) for p, v in enumerate(lows) if v > bound**2]
-    if bad and bad[0][1] > bound**2:
-        what = "sum_p sigma_max(Y_p)^2" if rss else f"sigma_max(Y_p)^2 of row p = {bad[0][0] + 1}"
-        return Outcome("refuted", f"{why}: {what} >= {bad[0][1].lower().str(10, radius=False)} > bound^2", 0,
-                       {"q": [str(x) for x in point]})
-    return None
+class Problem:
+    """A parsed skew-partials claim: its tree, the test of a box and how a point refutes it."""
+
+    def __init__(self, cert):
+        if not set(cert) <= KEYS:
+            raise BadCertificate(f"unknown field(s) {sorted(set(cert) - KEYS)}")
+        claim = cert["claim"]
+        if claim.get("quantity") not in ("max_sigma", "rss_sigma"):
+            raise BadCertificate("claim.quantity: 'max_sigma' or 'rss_sigma'")
+        self.rss, self.bound = claim["quantity"] == "rss_sigma", rational(claim.get("bound"), "claim.bound")
+        self.chain = Chain(cert.get("chain"))
+        self.domain = domain_of(cert, self.chain.n)
+        self.witness = witness_of(cert, self.domain)
+        self.root = parse(cert.get("tree", "."), self.domain)
+
+    def refute(self, point, why, boxes=0):
+        """A refutation at ``point``: a lower bound of sigma_max(Y_p)^2 (or of its sum over p) above bound^2."""
+        lows = [_lower(y, m) for m, y, _ in _rows(self.chain, [(x, 0) for x in point], False)]
+        bad = [(None, sum(lows, ZERO))] if self.rss else [(p, v) for p, v in enumerate(lows) if v > self.bound**2]
+        if bad and bad[0][1] > self.bound**2:
+            what = "sum_p sigma_max(Y_p)^2" if self.rss else f"sigma_max(Y_p)^2 of row p = {bad[0][0] + 1}"
+            return refuted(f"{why}: {what} >= {bad[0][1].lower().str(10, radius=False)} > bound^2",
+                           {"q": [str(x) for x in point]}, {"lower": bad[0][1].str(10), "bound^2": str(self.bound**2)},
+                           boxes)
+        return None
+
+    def walks(self):
+        """[(label, root, test)]: ``test`` maps a box to (None, "") where the claim holds on it, else (the
+        coordinates to cut, largest r_i |dg/dq_i| first; why)."""
+        bound = arb(self.bound)
+
+        def test(box):
+            holds, weights, _ = _test(self.chain, box, bound, self.rss)
+            cuts = sorted((k for k in range(self.chain.n) if weights[k] > 0), key=lambda k: -weights[k])
+            return (None, "") if holds else (cuts, "the mean-value bound exceeds bound^2")
+        return [("the tree", self.root, test)]
 
 
-def prove(cert, budget):
-    """The :class:`Outcome` of the certificate's claim, spending at most ``budget`` units of work beyond its tree."""
-    claim, chain, domain, witness = cert["claim"], Chain(cert.get("chain")), cert.get("domain"), cert.get("witness")
-    if claim.get("quantity") not in ("max_sigma", "rss_sigma"):
-        raise BadCertificate("claim.quantity: 'max_sigma' or 'rss_sigma'")
-    rss, bound = claim["quantity"] == "rss_sigma", arb(rational(claim.get("bound"), "claim.bound"))
-    if cert.get("bodies", chain.n) != chain.n:
-        raise BadCertificate(f"bodies: one body per joint ({chain.n})")
-    if not (isinstance(domain, list) and len(domain) == chain.n and all(isinstance(e, list) and len(e) == 2
-                                                                       for e in domain)):
-        raise BadCertificate(f"domain: one [lo, hi] per joint ({chain.n})")
-    domain = [tuple(rational(x, f"domain[{k}]") for x in e) for k, e in enumerate(domain)]
-    if witness is not None and not isinstance(witness, list):
-        raise BadCertificate("witness: a list of coordinates")
-    witness = witness and [rational(x, f"witness[{k}]") for k, x in enumerate(witness)]
-    if any(lo > hi for lo, hi in domain) or witness is not None and not (len(witness) == chain.n and all(
-            lo <= x <= hi for x, (lo, hi) in zip(witness, domain))):
-        raise BadCertificate("domain: lo > hi, or witness: not one coordinate per joint in the domain")
-    root = parse(cert.get("tree"), domain)
-    if bound < 0:  # the claim is of bound^2 then, which the boxes would prove: refuted, as sigma_max >= 0
-        return Outcome("refuted", "the bound is negative, every sigma_max(Y_p(q)) is >= 0", 0, {})
-    found = witness and _refuted(chain, witness, bound, rss, "at the witness q")
+def prove(cert):
+    """The :class:`Outcome` of the certificate's claim: every leaf of its tree proved, or where it is not."""
+    problem = Problem(cert)
+    if problem.bound < 0:
+        return refuted("the bound is negative and every sigma_max(Y_p(q)) is >= 0", {"q": [
+            str((lo + hi) / 2) for lo, hi in problem.domain]}, {"lower": "0", "bound": str(problem.bound)})
+    found = problem.witness and problem.refute(problem.witness, "at the witness q")
     if found:
         return found
-    queue, boxes, cuts, spent = deque([root]), 0, 0, 0
-    where = lambda box: [[str(lo), str(hi)] for lo, hi in box]
-    while queue:
-        node, before = queue.popleft(), WORK[0]
-        centred = [((lo + hi) / 2, (hi - lo) / 2) for lo, hi in node.box]
-        holds, weights, broken = _test(chain, centred, bound, rss)
-        boxes += 1
-        found = None if holds or node.children is not None and not broken else _refuted(
-            chain, [c for c, _ in centred], bound, rss, "at the centre q of a box")
-        spent += WORK[0] - before if node.cut else 0
-        if found:
-            found.boxes, found.where["box"] = boxes, where(node.box)
-            return found
-        if not holds and node.children is not None:
-            queue.extend(node.children)
-        elif not holds:
-            cut = max(range(chain.n), key=lambda k: weights[k])
-            if not weights[cut] > 0 or spent >= budget:
-                why = f"the budget of {budget} units of work ran out" if weights[cut] > 0 else "not decided at a point"
-                return Outcome("not decided", why, boxes, {"box": where(node.box)})
-            cuts += 1
-            queue.extend(Node(half, cut=True) for half in halves(node.box, cut))
-    return Outcome("re-proved", f"the tree from the root and {cuts} cut(s) more: {boxes} boxes tested", boxes)
+    (label, root, test), = problem.walks()
+    failed, boxes = walk(root, test)
+    if failed:
+        node, why = failed
+        return problem.refute([(lo + hi) / 2 for lo, hi in node.box], "at the centre q of a leaf", boxes) or Outcome(
+            UNPROVED, f"{label}: a leaf is not proved ({why})", boxes, {"box": [[str(lo), str(hi)] for lo, hi in node.box]})
+    return Outcome(REPROVED, f"every leaf of the tree proved: {boxes} boxes tested", boxes)

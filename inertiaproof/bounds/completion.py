@@ -1,0 +1,76 @@
+"""The prover's last step on a certificate: its trees grown until every leaf passes the checker's own test of a
+box, so that the checker walks them once and cuts nothing (:func:`inertiaproof.verify.tree.walk`).
+
+The prover's partitions are proved by its own numerics, which the checker's pivots in ball arithmetic do not
+always match; here each leaf the checker's test does not prove is halved at the coordinate that test names, within
+a count of boxes. A leaf still unproved when the count is spent stays a leaf: the checker then says "not re-proved"
+and the run INCONCLUSIVE. An upper spectrum claim that the chain's lengths prove at once names ``method``
+"lengths" and needs no tree.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+
+from inertiaproof.verify import payload as checked_payload
+from inertiaproof.verify import skew, spectrum
+from inertiaproof.verify.lengths import perron_side
+from inertiaproof.verify.tree import encode
+
+__all__ = ["complete"]
+
+
+def complete(cert, boxes):
+    """``cert`` (a new dict) with its trees completed, and those of its ingredients and terms, testing at most
+    ``boxes`` boxes beyond each tree as given."""
+    kind = cert["claim"]["kind"]
+    if kind == "product":
+        return {**cert, "ingredients": [complete(c, boxes) for c in cert["ingredients"]]}
+    if kind == "sum":
+        return {**cert, "terms": [complete(c, boxes) for c in cert["terms"]]}
+    if kind == "mass-matrix-spectrum":
+        return {**cert, **_spectrum(cert, boxes)}
+    if kind == "payload-envelope" and cert["claim"]["quantity"] != "lambda_max_f":
+        return {**cert, **_spectrum(checked_payload.inner_spectrum(cert), boxes)}
+    if kind == "skew-partials":
+        problem = skew.Problem(cert)
+        _grow(problem, problem.walks(), boxes)
+        return {**cert, "tree": encode(problem.root)}
+    return cert
+
+
+def _spectrum(cert, boxes):
+    """The fields of a spectrum certificate that say how it is proved: ``method`` and ``tree``, or ``split``."""
+    problem = spectrum.Problem(cert)
+    if problem.sign < 0 and _lengths(problem) <= problem.shift:
+        return {"method": "lengths", "tree": "."}
+    _grow(problem, problem.walks(), boxes)
+    if problem.split is None:
+        return {"method": "tree", "tree": encode(problem.root)}
+    k, _, tail, head = problem.split
+    return {"method": "tree", "split": {**cert["split"], "tail": encode(tail), "head": encode(head)}}
+
+
+def _lengths(problem):
+    try:
+        return perron_side(problem.chain, problem.domain, problem.bodies)
+    except ArithmeticError:  # a ball that is not finite: the lengths prove nothing
+        return problem.shift + 1
+
+
+def _grow(problem, walks, boxes):
+    """Each tree of ``walks`` (label, root, test) grown in place: a leaf its test does not prove is cut at the
+    coordinate the test names first, until ``boxes`` boxes beyond the given tree are tested, or a leaf's centre
+    refutes the claim (no cut helps then)."""
+    for _, root, test in walks:
+        queue, tested = deque([root]), 0
+        while queue:
+            node = queue.popleft()
+            cuts, _ = test([((lo + hi) / 2, (hi - lo) / 2) for lo, hi in node.box])
+            if cuts is None:
+                continue
+            if node.children is not None:
+                queue.extend(node.children)
+            elif cuts and tested < boxes and not problem.refute([(lo + hi) / 2 for lo, hi in node.box], ""):
+                tested += 2
+                queue.extend(node.cut(cuts[0]))
