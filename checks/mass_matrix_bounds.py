@@ -10,6 +10,8 @@ convergence, and the key-step certificate of inertiaproof.model.positive_map.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from inertiaproof.checks.bound_verdicts import (
     cached,
@@ -28,10 +30,11 @@ from inertiaproof.checks.bound_verdicts import (
 from inertiaproof.checks.constant_hunt import hunted_case, with_reported_hunt
 from inertiaproof.checks.pointwise import with_hunt
 
+from inertiaproof.bounds.certificate import SpectrumClaim
 from inertiaproof.bounds.configuration import jacobian_normality, jacobian_sup, mass_inf, mass_sup
 from inertiaproof.bounds.constants import lower_constants, upper_constants
 from inertiaproof.bounds.premises import failed_premises
-from inertiaproof.bounds.time import moving_mass_hull, parameter_vertices, time_extreme
+from inertiaproof.bounds.time import formation, moving_mass_hull, parameter_vertices, time_extreme
 from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
 from inertiaproof.model.positive_map import key_step_certificate
@@ -56,7 +59,10 @@ def _extreme_over_time(ctx, scene, kind, what):
     verts = parameter_vertices(traj)
     if verts is not None:
         family = mass_inf if kind == "lmin" else mass_sup
-        return cached(ctx, scene, what, lambda: family(chain, verts[0], **kw(ctx, scene, what)))
+        found = cached(ctx, scene, what, lambda: family(chain, verts[0], **kw(ctx, scene, what)))
+        if isinstance(found.certify, SpectrumClaim):  # the certificate says how its parameter sets were formed
+            found.certify = dataclasses.replace(found.certify, formation=formation(traj))
+        return found
     thetas = parameter_stack(traj, rate=False)
     pick = (lambda w: w[..., 0].min(-1)) if kind == "lmin" else (lambda w: w[..., -1].max(-1))
     name = "inf lambda_min(M(q, Theta(t)))" if kind == "lmin" else "sup lambda_max(M(q, Theta(t)))"

@@ -71,8 +71,9 @@ def test_a_bound_just_above_lambda_min_is_refuted(name):
     cert = body_spectrum_certificate(stack, name, w[v, l] * (1 + 1e-9))
     out = check(cert)
     assert out["status"] == "refuted", out
-    where = out["where"]
-    assert where["body"] == l + 1 and where["matrix"] == bodies_matrix(name) and where["quantity"] == "lambda_min"
+    where = out["where"]["witness"]  # the (parameter set, body) at which the claim fails; the sides there
+    assert where["body"] == l + 1 and "F - bound I" in out["where"]["sides"], out
+    assert out["where"]["sides"]["bound"] == cert["claim"]["bound"], out
     assert [Fraction(x) for x in cert["parameters"][where["parameter_set"]][l]] == [Fraction(x) for x in stack[v, l]]
     assert f"body {l + 1}" in out["why"] and bodies_matrix(name) in out["why"]
 

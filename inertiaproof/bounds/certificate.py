@@ -145,12 +145,13 @@ def _proof_fields(proof):
     return {"tree": proof.tree, **metric}
 
 
-def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=None, proof=None):
+def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=None, proof=None, formation=None):
     """The certificate of "for all q in the chain's search box and Theta in the convex hull of ``thetas`` (V, N, 10),
     lambda_min(M(q, Theta)) >= bound" (``quantity`` "lambda_min"; "lambda_max": <= bound); None where the checker
     has no claim of this kind for the chain (a coordinate map other than the identity, an unbounded slide). The
     ``witness``, a configuration where the prover saw the extreme, is where the checker looks first; ``proof`` (a
-    :class:`PivotProof`) gives the partition it starts from and, for a lower claim, the forms it proves on."""
+    :class:`PivotProof`) gives the partition it starts from and, for a lower claim, the forms it proves on;
+    ``formation`` (:func:`inertiaproof.bounds.time.formation`) how the parameter sets were formed."""
     written = chain_data(chain)
     if certification_obstacle(chain) is not None or not np.isfinite(float(bound)) or written is None:
         return None
@@ -166,6 +167,7 @@ def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=
             "chain": written,
             "domain": [[exact(a), exact(b)] for a, b in zip(lo, hi)],
             "parameters": [_rows(s) for s in sets],
+            **({} if formation is None else {"formation": formation}),
             **_proof_fields(proof),
             **({"forms": [[_rows(y) for y in form] for form in forms]} if forms is not None else {}),
             **({"witness": [exact(x) for x in np.clip(witness, lo, hi)]} if witness is not None else {}),
@@ -181,12 +183,14 @@ class SpectrumClaim:
     thetas: np.ndarray
     quantity: str
     square: bool = False
+    formation: dict | None = None  # how the parameter sets were formed (bounds.time.formation)
 
     def __call__(self, bound, note="", witness=None, proof=None):
         if self.quantity == "lambda_min" and float(bound) == 0.0 and spatial_psd(self.thetas):
-            return body_spectrum_certificate(self.thetas, "lmin_Z", 0.0, ZERO_FLOOR + note)
+            return body_spectrum_certificate(self.thetas, "lmin_Z", 0.0, ZERO_FLOOR + note, formation=self.formation)
         bound = Fraction(float(bound)) ** 2 if self.square else bound
-        return spectrum_certificate(self.chain, self.thetas, self.quantity, bound, note, witness, proof)
+        return spectrum_certificate(self.chain, self.thetas, self.quantity, bound, note, witness, proof,
+                                    self.formation)
 
 
 ZERO_FLOOR = ("lambda_min(M(q, Theta)) >= 0 for every q as M = (QJ)^T blockdiag(Z(Phi_l)) QJ (MassMatrix, "
@@ -271,12 +275,12 @@ BODY_CLAIMS = {  # inertiaproof.bounds.time.BODY_FUNCTIONS name: (matrix, quanti
 }
 
 
-def body_spectrum_certificate(stack, name, bound, provenance="", directions=None):
+def body_spectrum_certificate(stack, name, bound, provenance="", directions=None, formation=None):
     """The certificate (kind ``body-spectrum``) of the certified side ``bound`` of the time extreme ``name`` (a key
     of :data:`BODY_CLAIMS`): for every body l and Phi_l in the convex hull of the rows of body l in ``stack`` (V, N,
     10; the vertices of Theta or Thetadot), e.g. lambda_min(f(Phi_l)) >= bound; with ``directions`` (N, 10; a lower
-    claim) plus any nonnegative multiple of body l's direction (an unbounded scaling). None when a row or the bound
-    is not finite: the checker has no claim then."""
+    claim) plus any nonnegative multiple of body l's direction (an unbounded scaling); ``formation`` how the rows
+    were formed. None when a row or the bound is not finite: the checker has no claim then."""
     stack = np.asarray(stack, float)
     if not (np.all(np.isfinite(stack)) and np.isfinite(float(bound))):
         return None
@@ -285,6 +289,7 @@ def body_spectrum_certificate(stack, name, bound, provenance="", directions=None
     return {"schema": SCHEMA,
             "claim": {"kind": "body-spectrum", "matrix": matrix, "quantity": quantity, "bound": exact(bound)},
             "parameters": [_rows(s) for s in sets],
+            **({} if formation is None else {"formation": formation}),
             **({} if directions is None else {"directions": _rows(directions)}),
             "provenance": provenance}
 

@@ -15,7 +15,7 @@ import numpy as np
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Scaling
 from inertiaproof.model.inertia import pseudo_inertia, pseudo_inertia_inverse, sigma_from_inertia, spatial_inertia
 
-from .certificate import body_spectrum_certificate, moving_mass_certificate
+from .certificate import body_spectrum_certificate, exact, moving_mass_certificate
 from .spectral import EPS, ROUNDING, spectral
 
 __all__ = [
@@ -74,6 +74,24 @@ def parameter_vertices(trajectory):
         for s in itertools.product(*[(a, b) for a, b in ranges]) if loads else [()]:
             rate_values.append(_theta_at(trajectory, s, corner))
     return np.array(values), np.array(rate_values)
+
+
+def formation(trajectory, rate=False):
+    """How :func:`parameter_vertices` forms the vertices of Theta(t) (``rate``: of Thetadot(t)), for a certificate
+    (the checker forms them again): the base rows and each load with its kind, body (from 1), Phi (a payload's), the
+    range of its profile over the span and its rate bound. None where a load is not affine or a range is unbounded."""
+    if not affine_loads(trajectory):
+        return None
+    loads = []
+    for load in trajectory.loads:
+        (a, b), r = profile_range(load.profile, trajectory.span), load.profile.rate_bound()
+        if not np.all(np.isfinite([a, b, r])):
+            return None
+        loads.append({"kind": "payload" if isinstance(load, Payload) else "scaling", "body": load.body + 1,
+                      **({"phi": [exact(x) for x in load.phi]} if isinstance(load, Payload) else {}),
+                      "range": [exact(a), exact(b)], "rate": exact(r)})
+    return {"of": "rate" if rate else "theta", "base": [[exact(x) for x in row] for row in trajectory.base],
+            "loads": loads}
 
 
 def _theta_at(trajectory, s, ds):
@@ -153,7 +171,7 @@ def time_extreme(trajectory, name, *, samples=2001, horizon=None):
         if finite.all():
             how = ("exact: the extreme over t is at an end of the segment Theta_base + s Phi_load (one load per body)"
                    if len(trajectory.loads) <= 1 else "the hull of the loads' segments (an outer bound)") + rounding
-            certified, certificate = vertex_extreme(stack, name, how)
+            certified, certificate = vertex_extreme(stack, name, how, formation(trajectory, rate))
         elif sense == "min":
             certified = float(cvals.min())
             how = ("a scaling grows without bound on the span; growth of a consistent body only raises lambda_min"
@@ -187,14 +205,15 @@ def _growth_directions(trajectory):
     return directions
 
 
-def vertex_extreme(stack, name, how=""):
+def vertex_extreme(stack, name, how="", formed=None):
     """(certified, certificate): the min over bodies and rows of ``stack`` (V, N, 10) of the body function ``name``
     (a lmin_* of :data:`BODY_FUNCTIONS`; the max for the others), moved outward by its rounding allowance, so a bound
-    over the convex hull of each body's rows; and its ``body-spectrum`` certificate (``how``: its provenance)."""
+    over the convex hull of each body's rows; and its ``body-spectrum`` certificate (``how``: its provenance;
+    ``formed``: how the rows were formed, :func:`formation`)."""
     build, kind, _ = BODY_FUNCTIONS[name]
     values = _rounded(build(np.asarray(stack, float)), kind)
     certified = float(values.min() if kind == "lmin" else values.max())
-    return certified, body_spectrum_certificate(stack, name, certified, how)
+    return certified, body_spectrum_certificate(stack, name, certified, how, formation=formed)
 
 
 def _rounded(matrices, kind):

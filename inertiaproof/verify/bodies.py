@@ -16,12 +16,15 @@ a semidefinite term only raises lambda_min. Every row is decided in exact ration
 
 from __future__ import annotations
 
+import itertools
+from fractions import Fraction
+
 from flint import fmpq
 
 from .exact import BadCertificate, rational, semidefinite
 from .outcome import REPROVED, refuted, Outcome
 
-__all__ = ["parameter_sets", "pseudo_inertia", "prove", "spatial_inertia"]
+__all__ = ["formed", "parameter_sets", "pseudo_inertia", "prove", "spatial_inertia"]
 
 QUANTITIES = {"lambda_min": ((1, -1, "F - bound I"),), "lambda_max": ((-1, 1, "bound I - F"),),
               "sigma_max": ((-1, 1, "bound I - F"), (1, 1, "bound I + F"))}  # (sign of F, sign of bound I, which)
@@ -52,20 +55,74 @@ def spatial_inertia(phi):
 MATRICES = {"pseudo_inertia": pseudo_inertia, "spatial_inertia": spatial_inertia}
 
 
-def parameter_sets(sets, bodies=None):
-    """The exact rows (V lists of N rows of 10) of a certificate's ``parameters``; ``bodies`` N when known."""
+def parameter_sets(cert, bodies=None, key="parameters"):
+    """The exact rows (V lists of N rows of 10) of a certificate's ``parameters`` (``key``); ``bodies`` N when known.
+    With a ``formation``, the sets must be the vertices it forms (:func:`formed`), no more and no fewer."""
+    sets = cert.get(key)
     if not isinstance(sets, list) or not sets or not isinstance(sets[0], list) or not sets[0]:
-        raise BadCertificate("parameters: a nonempty list of parameter sets, each a nonempty list of bodies")
+        raise BadCertificate(f"{key}: a nonempty list of parameter sets, each a nonempty list of bodies")
     bodies, rows = bodies or len(sets[0]), []
     for v, body_rows in enumerate(sets):
         if not isinstance(body_rows, list) or len(body_rows) != bodies:
-            raise BadCertificate(f"parameters[{v}]: one row of 10 parameters per body ({bodies})")
+            raise BadCertificate(f"{key}[{v}]: one row of 10 parameters per body ({bodies})")
         for l, row in enumerate(body_rows):
             if not isinstance(row, list) or len(row) != 10:
-                raise BadCertificate(f"parameters[{v}][{l}]: 10 numbers")
-        rows.append([[rational(x, f"parameters[{v}][{l}][{i}]") for i, x in enumerate(row)]
+                raise BadCertificate(f"{key}[{v}][{l}]: 10 numbers")
+        rows.append([[rational(x, f"{key}[{v}][{l}][{i}]") for i, x in enumerate(row)]
                      for l, row in enumerate(body_rows)])
+    if key == "parameters" and "formation" in cert and _keyed(rows) != _keyed(formed(cert["formation"], bodies)):
+        raise BadCertificate("parameters: not the vertices the formation forms")
     return rows
+
+
+def _keyed(sets):
+    return {tuple(tuple(row) for row in rows) for rows in sets}
+
+
+def formed(formation, bodies):
+    """The vertex sets of Theta(t) (or Thetadot(t), ``of`` "rate") a ``formation`` gives: the base rows, each
+    scaling multiplying its body's row by s, then each payload adding s Phi, at every corner s of the loads'
+    ranges (and, for the rate, ds of their rates +- r), computed in float64 in that order (as the prover forms
+    them), each float an exact rational."""
+    if not isinstance(formation, dict) or set(formation) != {"of", "base", "loads"} \
+            or formation["of"] not in ("theta", "rate") or not isinstance(formation["loads"], list):
+        raise BadCertificate("formation: {of: theta or rate, base, loads}")
+    base = [[float(x) for x in row] for row in parameter_sets({"base": [formation["base"]]}, bodies, "base")[0]]
+    loads = []
+    for i, load in enumerate(formation["loads"]):
+        kind = load.get("kind") if isinstance(load, dict) else None
+        if kind not in ("payload", "scaling") or type(load.get("body")) is not int or not 1 <= load["body"] <= bodies:
+            raise BadCertificate(f"formation.loads[{i}]: {{kind: payload or scaling, body from 1 to {bodies}, ...}}")
+        phi = [float(rational(x, f"formation.loads[{i}].phi")) for x in load.get("phi", [])] if kind == "payload" \
+            else None
+        if phi is not None and len(phi) != 10:
+            raise BadCertificate(f"formation.loads[{i}].phi: 10 numbers")
+        ends = load.get("range") if isinstance(load.get("range"), list) and len(load["range"]) == 2 else [None] * 2
+        loads.append((kind, load["body"] - 1, phi, [float(rational(x, f"formation.loads[{i}].range")) for x in ends],
+                      float(rational(load.get("rate"), f"formation.loads[{i}].rate"))))
+    if len(loads) > 12:
+        raise BadCertificate("formation.loads: at most 12 (2^12 corners)")
+    rates = itertools.product(*[(-r, r) for *_, r in loads]) if formation["of"] == "rate" else [None]
+    out = [_corner(base, loads, s, ds) for ds in rates for s in itertools.product(*[ends for *_, ends, _ in loads])]
+    return [[[_exact(x) for x in row] for row in rows] for rows in out]
+
+
+def _corner(base, loads, s, ds):
+    theta, dot = [list(row) for row in base], [[0.0] * 10 for _ in base]
+    for (kind, body, _, _, _), si, k in zip(loads, s, range(len(s))):
+        if kind == "scaling":
+            d = 0.0 if ds is None else ds[k]
+            theta[body], dot[body] = [si * x for x in theta[body]], [d * x + si * y for x, y in zip(theta[body], dot[body])]
+    for (kind, body, phi, _, _), si, k in zip(loads, s, range(len(s))):
+        if kind == "payload":
+            theta[body] = [x + si * p for x, p in zip(theta[body], phi)]
+            dot[body] = [x + (0.0 if ds is None else ds[k]) * p for x, p in zip(dot[body], phi)]
+    return theta if ds is None else dot
+
+
+def _exact(x):
+    value = Fraction(x)
+    return fmpq(value.numerator, value.denominator)
 
 
 def _parse(cert):
@@ -75,7 +132,7 @@ def _parse(cert):
     if claim.get("quantity") not in QUANTITIES:
         raise BadCertificate(f"claim.quantity: one of {sorted(QUANTITIES)}")
     bound = rational(claim.get("bound"), "claim.bound")
-    return MATRICES[claim["matrix"]], claim["matrix"], claim["quantity"], bound, parameter_sets(cert.get("parameters"))
+    return MATRICES[claim["matrix"]], claim["matrix"], claim["quantity"], bound, parameter_sets(cert)
 
 
 def prove(cert):
@@ -85,7 +142,7 @@ def prove(cert):
     if "directions" in cert:
         if quantity != "lambda_min":
             raise BadCertificate("directions: only for a lambda_min claim")
-        for l, row in enumerate(parameter_sets([cert["directions"]], len(sets[0]))[0]):
+        for l, row in enumerate(parameter_sets({"directions": [cert["directions"]]}, len(sets[0]), "directions")[0]):
             tested += 1
             if not semidefinite(build(row)):
                 return refuted(f"direction of body {l + 1}: {matrix}(D) is not positive semidefinite, so lambda_min "

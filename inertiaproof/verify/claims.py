@@ -73,7 +73,14 @@ def _side(claim, word, up):
 
 
 def _sets(cert):
-    return f"{len(cert['parameters'])} parameter set(s)"
+    formation = cert.get("formation")
+    if formation is None:
+        return f"{len(cert['parameters'])} parameter set(s) as listed"
+    loads = "; ".join(f"{load['kind']} on body {load['body']}, s in [{decimal(rational(load['range'][0], 'range'), False)}"
+                      f", {decimal(rational(load['range'][1], 'range'), True)}], |s'| <= "
+                      f"{decimal(rational(load['rate'], 'rate'), True)}" for load in formation["loads"])
+    what = "Thetadot(t)" if formation["of"] == "rate" else "Theta(t)"
+    return f"the {len(cert['parameters'])} vertex set(s) of {what} formed from its base and loads ({loads or 'none'})"
 
 
 def _chain(cert):

@@ -141,7 +141,7 @@ def prove(cert):
     quantity, bound = claim.get("quantity"), rational(claim.get("bound"), "claim.bound")
     if quantity not in QUANTITIES:
         raise BadCertificate(f"claim.quantity: one of {list(QUANTITIES)}")
-    sets = parameter_sets(cert.get("parameters"))
+    sets = parameter_sets(cert)
     if len(sets) != 1 and quantity.startswith("psi"):
         raise BadCertificate("parameters: one set, the bodies' constant rows")
     loads = _loads(cert, len(sets[0]))

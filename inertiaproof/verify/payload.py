@@ -73,7 +73,7 @@ def prove(cert):
     quantity = claim.get("quantity")
     if quantity not in QUANTITIES:
         raise BadCertificate(f"claim.quantity: one of {list(QUANTITIES)}")
-    sets = parameter_sets(cert.get("parameters"))
+    sets = parameter_sets(cert)
     k, mass, centre, axes = _payload(cert, len(sets[0]))
     if quantity == "lambda_max_f":
         return _flange(claim, sets, k, mass, centre, max(axes), cert.get("beta"))
@@ -89,6 +89,7 @@ def spectrum_of(cert, quantity, sets, k, mass, centre, axes):
     inner = {key: value for key, value in cert.items() if key not in ("payload", "epsilon", "beta")}
     inner["claim"] = {**claim, "kind": "mass-matrix-spectrum"}
     if quantity == "lambda_max":
+        inner.pop("formation", None)  # the sets are the formed ones plus the cover
         eps = rational(cert.get("epsilon"), "epsilon")
         if eps <= 0:
             raise BadCertificate("epsilon: must be > 0")
@@ -101,7 +102,7 @@ def spectrum_of(cert, quantity, sets, k, mass, centre, axes):
 
 def inner_spectrum(cert):
     """The spectrum certificate the checker proves for the payload certificate ``cert`` (for the prover's tree)."""
-    sets = parameter_sets(cert.get("parameters"))
+    sets = parameter_sets(cert)
     return spectrum_of(cert, cert["claim"]["quantity"], sets, *_payload(cert, len(sets[0])))
 
 

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 from flint import arb, fmpq
 
-from .bodies import parameter_sets
 from .exact import BadCertificate, rational
 from .outcome import REFUTED, REPROVED, UNPROVED, Outcome
 
@@ -100,10 +99,10 @@ def _consistent(subs, slots):
     joints = chains[0][0].get("joints") if isinstance(chains[0][0], dict) else None
     n = len(joints) if isinstance(joints, list) else 0
     for i, (sub, slot) in enumerate(zip(subs, slots)):
-        sets = parameter_sets(sub.get("parameters"), n) if "parameters" in sub else []
         if slot.startswith("QJ") and sub.get("parameters") != [[UNIT] * n]:
             raise BadCertificate(f"ingredients[{i}]: (QJ)^T QJ is M of one set of unit bodies (Z = I6)")
-        if any(len(rows) != n for rows in sets):
+        sets = sub.get("parameters", [])
+        if not isinstance(sets, list) or any(not isinstance(rows, list) or len(rows) != n for rows in sets):
             raise BadCertificate(f"ingredients[{i}]: its parameter sets are not of the chain's {n} bodies")
     return n
 

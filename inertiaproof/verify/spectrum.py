@@ -34,7 +34,7 @@ from .tree import parse, walk
 __all__ = ["KEYS", "Problem", "domain_of", "metric_of", "prove", "witness_of"]
 
 QUANTITIES = {"lambda_min": (1, -1), "lambda_max": (-1, 1)}  # (sign of Z, sign of the bound in the shift)
-KEYS = {"schema", "claim", "chain", "domain", "parameters", "tree", "metric", "method", "forms", "split", "witness",
+KEYS = {"schema", "claim", "chain", "domain", "parameters", "formation", "tree", "metric", "method", "forms", "split", "witness",
         "provenance"}
 METRICS = ("shift", "abs")
 
@@ -102,7 +102,7 @@ class Problem:
         self.chain = Chain(cert.get("chain"))
         self.domain = domain_of(cert, self.chain.n)
         self.bodies = [[spatial_inertia(row) for row in rows]
-                       for rows in parameter_sets(cert.get("parameters"), self.chain.n)]
+                       for rows in parameter_sets(cert, self.chain.n)]
         self.real = [[arb_mat(m) * self.sign for m in z] for z in self.bodies]
         self.witness = witness_of(cert, self.domain)
         self.method = cert.get("method", "tree")
