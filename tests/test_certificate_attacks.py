@@ -91,7 +91,7 @@ def test_a_transform_is_an_origin_the_checker_builds_rigid(arm):
     out = check(matrix)
     assert out["status"] == "bad certificate" and "before" in out["why"], out
     flipped = copy.deepcopy(cert)
-    flipped["chain"]["joints"][0]["after"] = {"xyz": ["1/2", "0", "0"], "rpy": ["3", "0", "0"]}
+    flipped["chain"]["joints"][0]["after"] = [{"xyz": ["1/2", "0", "0"], "rpy": ["3", "0", "0"]}]
     joints = list(chain.joints)
     joints[0] = type(joints[0])(joints[0].kind, joints[0].axis, joints[0].before, origin((0.5, 0, 0), (3.0, 0, 0)),
                                 limits=joints[0].limits)

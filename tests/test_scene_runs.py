@@ -22,9 +22,9 @@ from inertiaproof.suite.profiles import PROFILES
 
 SCENES = sorted((Path(__file__).resolve().parent.parent / "scenes").glob("*.toml"))
 QUICK = dataclasses.replace(PROFILES["ci"], samples=256, refine_s=0.05, examples=8, check_s=1.5, run_s=4.0,
-                            verify_work=500)  # the checker still runs on every certificate; on the 24-link scene
-# the ci profile's work (5,000 per certificate) took 15 s of the run's 25 s, and a certificate it leaves undecided
-# is an honest INCONCLUSIVE (test_verify*.py decide them in full)
+                            tree_boxes=500)  # the checker still runs on every certificate; the prover completes
+# a tree it does not re-prove with at most 500 boxes (the ci profile's 2,000 would take much of the run on the 24-link
+# scene), and a certificate left not re-proved is an honest INCONCLUSIVE (test_verify*.py re-prove them in full)
 OVERSHOOT_S = 30.0  # a check stopped by force ends at its next Python bytecode, after the NumPy or solver call
 # in hand; generous, since the machine may be loaded: a hang would take minutes
 

@@ -1,6 +1,7 @@
-"""The checker's ``product`` claims (inertiaproof.verify.product): a constant built by formula from certified
-ingredients, factor * prod x_i^p_i >= (<=) bound, decided exactly on the ingredients' bounds, each ingredient
-re-proved; and the product certificates of the paper's constants the checks report (Thm2, Thm3, Thm4)."""
+"""The checker's ``product`` claims (inertiaproof.verify.product): a constant of the paper built by a named formula
+(inertiaproof.verify.product.FORMULAS, which fixes its factor and powers) from certified ingredients, factor *
+prod x_i^p_i >= (<=) bound, decided exactly on the ingredients' bounds, each ingredient re-proved; and the product
+certificates of the paper's constants the checks report (Thm2, Thm3, Thm4)."""
 
 from __future__ import annotations
 
@@ -10,18 +11,24 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from inertiaproof.bounds.certificate import body_spectrum_certificate, product_certificate
+from inertiaproof.bounds.certificate import body_spectrum_certificate, product_certificate, spectrum_certificate
+from inertiaproof.bounds.completion import complete
+from inertiaproof.bounds.lengths import _unit_bodies
 from inertiaproof.bounds.time import BODY_FUNCTIONS
 from inertiaproof.checks.mass_matrix_bounds import thm2_result, thm3_result
 from inertiaproof.checks.other_components import thm4_result
+from inertiaproof.dynamics import composite
 from inertiaproof.scene import robots
 from inertiaproof.suite.context import Context
 from inertiaproof.suite.outputs import Outputs
 from inertiaproof.suite.profiles import Profile
 from inertiaproof.verify.cli import check
 
-STACK = np.array([[[2.0, 0.1, -0.2, 0.05, 0.3, 0.25, 0.2, 0.01, 0.0, -0.02]],
-                  [[2.5, 0.0, 0.1, 0.0, 0.35, 0.3, 0.22, 0.0, 0.01, 0.0]]])  # 2 vertices, 1 consistent body
+CHAIN = robots.planar_2r().chain
+STACK = np.array([[[2.0, 0.1, -0.2, 0.05, 0.3, 0.25, 0.2, 0.01, 0.0, -0.02],
+                   [1.2, 0.05, 0.0, 0.02, 0.2, 0.18, 0.1, 0.0, 0.0, 0.01]],
+                  [[2.5, 0.0, 0.1, 0.0, 0.35, 0.3, 0.22, 0.0, 0.01, 0.0],
+                   [1.0, 0.0, 0.03, 0.0, 0.15, 0.12, 0.08, 0.0, 0.0, 0.0]]])  # 2 vertices, the 2R arm's 2 bodies
 
 
 def _ingredient(name, slack=1e-6):
@@ -32,57 +39,90 @@ def _ingredient(name, slack=1e-6):
     return body_spectrum_certificate(STACK, name, bound), Fraction(float(bound))
 
 
+def _qj(quantity):
+    """A certificate of inf lambda_min (0.9 of the sampled inf) or sup lambda_max (1.1 of the sampled sup) of
+    (QJ)^T QJ of the 2R arm (unit bodies), completed by the prover, and its bound."""
+    unit = _unit_bodies(CHAIN)
+    lo, hi = CHAIN.coordinate_box()
+    q = lo + (hi - lo) * np.random.default_rng(0).random((2000, CHAIN.n))
+    w = np.linalg.eigvalsh(composite.mass_matrix(CHAIN, q[:, None], unit[None]))
+    bound = 0.9 * w[..., 0].min() if quantity == "lambda_min" else 1.1 * w[..., -1].max()
+    cert = complete(spectrum_certificate(CHAIN, unit, quantity, bound), boxes=2000)
+    return cert, Fraction(cert["claim"]["bound"])
+
+
 def _lower(bound_factor=1.0):
-    (xi, b1), (zmin, b2) = _ingredient("lmin_f"), _ingredient("lmin_Z")
-    exact = 3 * b1 * b2**2  # factor sqrt(9) = 3
-    return product_certificate(">=", float(exact) * (1 - 1e-12) * bound_factor, ("sqrt", 9), [(xi, 1), (zmin, 2)],
-                               "3 xi z^2 >= {bound}")
+    (xi, b1), (gamma, b2) = _ingredient("lmin_f"), _qj("lambda_min")
+    exact = b1 * b2  # alpha1: factor 1, powers 1 and 1
+    return product_certificate(">=", float(exact) * (1 - 1e-12) * bound_factor, "alpha1", [xi, gamma])
 
 
 def test_a_true_product_is_reproved():
     out = check(_lower())
     assert out["status"] == "re-proved", out
+    assert out["claim"].startswith("Theorem 2's alpha1"), out
     zeta, b1 = _ingredient("lmax_f")
-    upper = product_certificate("<=", float(2 * b1 * 3) * (1 + 1e-12), 2, [(zeta, 1), (_ingredient("smax_fdot")[0], 1)],
-                                "2 zeta mu <= {bound}")
-    upper["ingredients"][1]["of"]["claim"]["bound"] = "3"  # sigma_max(f(Phi)) <= 3: true, and nonnegative by kind
+    sigma, b2 = _qj("lambda_max")
+    upper = product_certificate("<=", float(2 * b1 * b2) * (1 + 1e-12), "alpha2", [zeta, sigma])  # factor 2
     assert check(upper)["status"] == "re-proved"
+    rate = product_certificate("<=", float(2 * 3 * b2) * (1 + 1e-12), "chi_sharp", [_ingredient("smax_fdot")[0], sigma])
+    rate["ingredients"][0]["claim"]["bound"] = "3"  # sigma_max(f(Phidot)) <= 3: true, and nonnegative by kind
+    assert check(rate)["status"] == "re-proved"
 
 
-def test_a_bound_above_what_the_ingredients_give_is_refuted():
+def test_a_bound_above_what_the_ingredients_give_is_not_reproved():
+    """The arithmetic fails, and no witness says the constant is wrong: a proof step that does not go through."""
     out = check(_lower(bound_factor=1 + 1e-9))
-    assert out["status"] == "refuted" and "ingredients' bounds give" in out["why"], out
+    assert out["status"] == "not re-proved" and "ingredients' bounds give" in out["why"], out
 
 
 def test_an_ingredient_whose_own_claim_fails_refutes_the_product():
     cert = _lower()
-    inner = cert["ingredients"][0]["of"]["claim"]
+    inner = cert["ingredients"][0]["claim"]
     inner["bound"] = str(Fraction(inner["bound"]) * 2)  # lambda_min(f) >= twice its value: false
     out = check(cert)
-    assert out["status"] == "refuted" and out["where"]["ingredient"] == 0 and "not positive semidefinite" in out["why"]
+    assert out["status"] == "refuted" and "ingredient 0" in out["why"] and "not positive semidefinite" in out["why"]
+    assert out["where"]["witness"]["body"] in (1, 2) and out["where"]["sides"], out
 
 
 def test_a_negative_lower_bound_is_a_bad_certificate():
     cert = _lower()
-    cert["ingredients"][1]["of"]["claim"]["bound"] = "-1/2"  # x >= -1/2 bounds nothing of x^2 from below
+    cert["ingredients"][1]["claim"]["bound"] = "-1/2"  # x >= -1/2 bounds nothing of a product from below
     out = check(cert)
     assert out["status"] == "bad certificate" and "ingredients[1]" in out["why"] and "< 0" in out["why"], out
 
 
-@pytest.mark.parametrize("powers", [(2,), (1, 1)])
-def test_a_possibly_negative_factor_only_once_and_of_odd_power(powers):
+@pytest.mark.parametrize("formula, slot", [("chi_sharp", 0), ("alpha2", 1)])
+def test_a_possibly_negative_quantity_only_where_the_formula_clamps_it(formula, slot):
+    """lambda_max(f(Phi)) may be negative: it may stand only in a slot of power 1 that the formula clamps at 0
+    (alpha2's f_max), not in one that must be nonnegative by its kind (a sigma_max, (QJ)^T QJ)."""
     zeta, _ = _ingredient("lmax_f")
-    cert = product_certificate("<=", 1e6, 1, [(copy.deepcopy(zeta), p) for p in powers], "zeta^p <= {bound}")
-    out = check(cert)
-    assert out["status"] == "bad certificate" and "may be negative" in out["why"], out
+    parts = [copy.deepcopy(zeta), _qj("lambda_max")[0]]  # alpha2's own ingredients, zeta where it may stand
+    parts[slot] = copy.deepcopy(zeta)
+    out = check(product_certificate("<=", 1e6, formula, parts))
+    assert out["status"] == "bad certificate" and f"ingredients[{slot}]" in out["why"], out
 
 
-def test_nesting_is_bounded():
+@pytest.mark.parametrize("tamper, why", [
+    (lambda c: c["claim"].update(formula="alpha7"), "claim.formula"),
+    (lambda c: c["claim"].update(relation="<="), "claim.relation"),
+    (lambda c: c["claim"].update(factor="9"), "claim"),  # the formula fixes the factor
+    (lambda c: c["ingredients"].append(copy.deepcopy(c["ingredients"][0])), "ingredients"),  # no powers by repetition
+    (lambda c: c["ingredients"].reverse(), "ingredients[0]"),  # the formula's order
+    (lambda c: c["ingredients"][1].update(parameters=c["ingredients"][0]["parameters"]), "ingredients[1]"),  # not unit
+])
+def test_a_product_that_departs_from_its_formula_is_a_bad_certificate(tamper, why):
     cert = _lower()
-    for _ in range(6):
-        cert = product_certificate(">=", 0.0, 1, [(cert, 1)], "nested >= {bound}")
+    tamper(cert)
     out = check(cert)
-    assert out["status"] == "bad certificate" and "nested deeper" in out["why"], out
+    assert out["status"] == "bad certificate" and out["why"].startswith(why), out
+
+
+def test_a_product_is_no_ingredient_of_a_product():
+    """Products do not nest: every slot of a formula takes a claim of the kind it names."""
+    cert = product_certificate(">=", 0.0, "alpha1", [_lower(), _qj("lambda_min")[0]])
+    out = check(cert)
+    assert out["status"] == "bad certificate" and "ingredients[0]" in out["why"] and "product" in out["why"], out
 
 
 def test_the_paper_constants_of_the_checks_carry_reproved_product_certificates():
@@ -93,5 +133,5 @@ def test_the_paper_constants_of_the_checks_carry_reproved_product_certificates()
         cert = paper["certificate"]
         assert cert["claim"]["kind"] == "product" and cert["claim"]["relation"] == relation
         assert Fraction(cert["claim"]["bound"]) == Fraction(paper["value"])  # the reported number itself
-        out = check(cert)
+        out = check(complete(cert, boxes=profile.tree_boxes))
         assert out["status"] == "re-proved", (result.id, out)

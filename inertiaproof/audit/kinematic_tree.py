@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from inertiaproof.dynamics.chain import Chain, Joint
+from inertiaproof.dynamics.chain import Chain, Joint, Written
 from inertiaproof.model.inertia import skew, spatial_inertia, spatial_inertia_inverse
 
 __all__ = ["Group", "kinematic_tree", "KinematicTree", "LEFT_OUT", "MOVABLE", "phi_in_frame", "SerialChain"]
@@ -97,17 +97,19 @@ def kinematic_tree(robot):
         parent_joint[joint.child] = joint
     root = next(link.name for link in robot.links if link.name not in parent_joint)
 
-    members, group_of, pose_in_anchor = {}, {}, {}
-    stack = [(root, root, np.eye(4))]
+    members, group_of, pose_in_anchor, written_in_anchor = {}, {}, {}, {}
+    stack = [(root, root, np.eye(4), ())]
     while stack:
-        link, anchor, pose = stack.pop()
-        group_of[link], pose_in_anchor[link] = anchor, pose
+        link, anchor, pose, written = stack.pop()  # written: the origins from the anchor (None: not all written)
+        group_of[link], pose_in_anchor[link], written_in_anchor[link] = anchor, pose, written
         members.setdefault(anchor, []).append(link)
         for joint in reversed(children.get(link, [])):
             if joint.type == "fixed":
-                stack.append((joint.child, anchor, pose @ joint.origin))
+                origin = (joint.written or {}).get("origin")
+                stack.append((joint.child, anchor, pose @ joint.origin,
+                              None if written is None or origin is None else written + (origin,)))
             else:
-                stack.append((joint.child, joint.child, np.eye(4)))
+                stack.append((joint.child, joint.child, np.eye(4), ()))
 
     names = [link.name for link in robot.links]
     in_anchor = dict(zip(names, phi_in_frame(robot.link_phis(), np.stack([pose_in_anchor[n] for n in names]))))
@@ -120,11 +122,11 @@ def kinematic_tree(robot):
         groups[anchor] = Group(anchor, moved_by, tuple(links), poses, total)
 
     left_out = tuple((j.name, j.type) for j in robot.joints if j.type in LEFT_OUT)
-    chains = tuple(_chains(robot, groups, group_of, pose_in_anchor, children, parent_joint))
+    chains = tuple(_chains(robot, groups, group_of, pose_in_anchor, written_in_anchor, children, parent_joint))
     return KinematicTree(groups, group_of, left_out, chains)
 
 
-def _chains(robot, groups, group_of, pose_in_anchor, children, parent_joint):
+def _chains(robot, groups, group_of, pose_in_anchor, written_in_anchor, children, parent_joint):
     """One serial chain per leaf body, from its base through movable joints only."""
     def body_children(anchor):
         return [j for link in groups[anchor].links for j in children.get(link, []) if j.type in MOVABLE]
@@ -144,8 +146,14 @@ def _chains(robot, groups, group_of, pose_in_anchor, children, parent_joint):
         for joint in path:
             before = pose_in_anchor[joint.parent] @ joint.origin
             limits = joint.limits if joint.type != "continuous" else None
-            chain_joints.append(Joint(kind=MOVABLE[joint.type], axis=tuple(joint.axis), before=before,
-                                      limits=limits, name=joint.name))
+            origins = written_in_anchor[joint.parent]
+            source = joint.written or {}
+            written = None if origins is None or "origin" not in source else Written(
+                origins + (source["origin"],), (), source["axis"], source["limits"] if limits is not None else None)
+            chain_joints.append(Joint(kind=MOVABLE[joint.type], axis=tuple(joint.axis), before=before, limits=limits,
+                                      name=joint.name, written=written))
         name = f"{base} -> {anchor}"
         bodies = tuple(groups[j.child] for j in path)
-        yield SerialChain(name, base, Chain(tuple(chain_joints), name=name), np.stack([b.phi for b in bodies]), bodies)
+        source = (robot.path, robot.sha256) if robot.sha256 else None
+        yield SerialChain(name, base, Chain(tuple(chain_joints), name=name, source=source),
+                          np.stack([b.phi for b in bodies]), bodies)

@@ -42,6 +42,7 @@ frame, and the child link's frame is the joint frame moved by the joint.
 
 from __future__ import annotations
 
+import hashlib
 import io
 import logging
 import math
@@ -51,6 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
+from inertiaproof.dynamics.chain import Origin
 from inertiaproof.errors import LARGEST, InputError
 from inertiaproof.model.inertia import from_urdf, pack, rotation_rpy, urdf_inertia
 
@@ -155,6 +157,7 @@ class UrdfJoint:
     axis: np.ndarray  # (3,) in the joint frame
     limits: tuple | None  # (lower, upper) for revolute and prismatic joints
     mimic: str | None  # the joint this one mimics
+    written: dict | None = None  # as written: origin (an inertiaproof.dynamics.chain.Origin), axis, limits (strings)
 
 
 @dataclass(frozen=True)
@@ -168,6 +171,7 @@ class Robot:
     compiler: dict = field(default_factory=dict, compare=False)  # MJCF <compiler> settings that touch inertias
     warnings: tuple = ()  # what was odd but read as engines read it
     problems: tuple = ()  # of Problem: what is wrong in a link's <inertial> and read past, as urdfdom does
+    sha256: str = ""  # of the bytes read
 
     def link(self, name):
         return next(link for link in self.links if link.name == name)
@@ -198,7 +202,7 @@ def read_urdf(path, *, data=None, expanded=None, warnings=()):
     warnings = list(warnings)
     try:
         root = _parse_xml(data, path, warnings)
-        written, unlimited, found, unread = _check(root, path, warnings)
+        written, unlimited, found, unread, origins = _check(root, path, warnings)
     except ElementError as exc:
         exc.expanded = expanded
         raise
@@ -209,8 +213,9 @@ def read_urdf(path, *, data=None, expanded=None, warnings=()):
     problems = tuple(replace(problem, span=spans.get(element), expanded=expanded) for problem, element in found)
     spherical = {j.get("name") for j in root.iter("joint") if j.get("type") == "spherical"}
     robot = _from_yourdfpy(_as_engines_read_it(root, unread), path, written, unlimited | spherical, spherical)
-    return replace(robot, links=_as_urdfdom_reads(robot.links, unread), sources=sources,
-                   warnings=tuple(warnings), problems=problems)
+    joints = tuple(replace(j, written=origins.get(j.name)) for j in robot.joints)
+    return replace(robot, links=_as_urdfdom_reads(robot.links, unread), joints=joints, sources=sources,
+                   warnings=tuple(warnings), problems=problems, sha256=hashlib.sha256(data).hexdigest())
 
 
 _DECLARATION = re.compile(rb"^(\s*)(<\?xml\b[^>]*?\?>)", re.S)
@@ -386,12 +391,12 @@ def _expand_leftover_xacro(root, warnings):
 def _check(root, path, warnings):
     """Every element and attribute the audit reads, with one-line errors; returns the decimals of each link's
     mass and inertia as urdfdom reads them ({link: (mass, ixx, iyy, izz, ixy, iyz, ixz)}), the joints whose limits
-    are not read (lower > upper), the problems of the inertials ([(Problem, element at fault)]) and what urdfdom
-    reads of the inertials with problems ({link: Inertial})."""
+    are not read (lower > upper), the problems of the inertials ([(Problem, element at fault)]), what urdfdom
+    reads of the inertials with problems ({link: Inertial}) and each joint's origin as written ({joint: Origin})."""
     if not root.get("name"):
         raise ElementError(path, root, "<robot> misses attribute 'name'", "missing")
     _expand_leftover_xacro(root, warnings)
-    written, unlimited, problems, unread = {}, set(), [], {}
+    written, unlimited, problems, unread, origins = {}, set(), [], {}, {}
     links = root.findall("link")
     if not links:
         raise ElementError(path, root, f"robot '{root.get('name')}' has no <link> elements", "missing")
@@ -436,6 +441,7 @@ def _check(root, path, warnings):
                                f"'{parent_of[ends['child']][0]}' and '{name}'", "format")
         parent_of[ends["child"]] = (name, ends["parent"])
         _check_origin(joint, path, warnings)
+        origins[name] = _written(joint)
         axis = _single(joint, "axis", path, warnings=warnings)
         if axis is not None and kind in ("revolute", "continuous", "prismatic"):
             if not any(_numbers(axis, "xyz", 3, path, default=(1.0, 0.0, 0.0), warnings=warnings)):
@@ -457,7 +463,20 @@ def _check(root, path, warnings):
         if mimic is not None and mimic.get("joint") is None:
             raise ElementError(path, mimic, f"joint '{name}': <mimic> misses attribute 'joint'", "missing")
     _check_tree(path, names, parent_of, links)
-    return written, unlimited, problems, unread
+    return written, unlimited, problems, unread, origins
+
+
+def _written(joint):
+    """A joint's first ``<origin>``, ``<axis>`` and ``<limit>`` (checked) as their attributes write them: the
+    origin (zeros where absent), the axis (URDF's default 1 0 0) and the limits (None without a <limit>)."""
+    def text(element, attribute, default):
+        raw = element.get(attribute) if element is not None else None
+        return tuple(raw.split()) if raw else default
+
+    origin, axis, limit = (joint.find(tag) for tag in ("origin", "axis", "limit"))
+    return {"origin": Origin(text(origin, "xyz", ("0",) * 3), text(origin, "rpy", ("0",) * 3)),
+            "axis": text(axis, "xyz", ("1", "0", "0")),
+            "limits": None if limit is None else (text(limit, "lower", ("0",))[0], text(limit, "upper", ("0",))[0])}
 
 
 URDFDOM_SAYS = {"missing_inertia": "Inertial element must have inertia element"}  # its own log line, observed

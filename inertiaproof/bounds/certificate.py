@@ -64,17 +64,50 @@ def origin_of(transform):
     return {"xyz": [exact(x) for x in t[:3, 3]], "rpy": [exact(x) for x in rpy]}
 
 
+def _origins(origins):
+    return [{"xyz": list(o.xyz), "rpy": list(o.rpy)} for o in origins]
+
+
 def chain_data(chain):
-    """The certificate's chain: each joint's kind, axis and fixed transforms as origins; None where a transform
-    is not rigid."""
+    """The certificate's chain as its source writes it (:class:`inertiaproof.dynamics.chain.Written`): the file's
+    path and SHA-256, each joint's kind, axis, limits and the origins its fixed transforms compose, as decimal
+    strings; a joint made from numbers as the exact rationals of its floats. None where a transform is not rigid."""
     joints = []
     for j in chain.joints:
-        before, after = origin_of(j.before), origin_of(j.after)
-        if before is None or after is None:
-            return None
-        joints.append({"name": j.name, "kind": j.kind, "axis": [exact(a) for a in j.axis], "before": before,
-                       "after": after})
-    return {"name": chain.name, "joints": joints}
+        w = j.written
+        if w is None:
+            before, after = origin_of(j.before), origin_of(j.after)
+            if before is None or after is None:
+                return None
+            before, after = [before], [after]
+        else:
+            before, after = _origins(w.before), _origins(w.after)
+        axis = list(w.axis) if w is not None and w.axis is not None else [exact(a) for a in j.axis]
+        limits = None if j.limits is None else (list(w.limits) if w is not None and w.limits is not None
+                                                 else [exact(x) for x in j.limits])
+        joints.append({"name": j.name, "kind": j.kind, "axis": axis, "before": before, "after": after,
+                       **({} if limits is None else {"limits": limits})})
+    source = {} if chain.source is None else {"source": {"path": chain.source[0], "sha256": chain.source[1]}}
+    return {"name": chain.name, **source, "joints": joints}
+
+
+TURN = Fraction(float(np.nextafter(2 * np.pi, np.inf)))  # a rational above 2 pi: a full turn and a little more
+
+
+def domain_data(chain, written):
+    """The certificate's domain: the search box, each edge moved outward to a rational that covers the joint's
+    limits as written (``written``: :func:`chain_data`'s joints), and a box of a full turn widened to at least
+    2 pi, as the checker demands."""
+    lo, hi = search_box(chain)
+    out = []
+    for a, b, joint in zip(lo, hi, written):
+        a, b = Fraction(float(a)), Fraction(float(b))
+        if "limits" in joint:
+            a, b = min(a, Fraction(joint["limits"][0])), max(b, Fraction(joint["limits"][1]))
+        if joint["kind"] == "revolute" and b - a >= Fraction(2 * np.pi) * (1 - Fraction(1, 10**12)):
+            b = a + TURN
+        out.append([str(a), str(b)])
+    return out
 
 
 @dataclass(frozen=True)
@@ -165,7 +198,7 @@ def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=
     return {"schema": SCHEMA,
             "claim": {"kind": "mass-matrix-spectrum", "quantity": quantity, "bound": exact(bound)},
             "chain": written,
-            "domain": [[exact(a), exact(b)] for a, b in zip(lo, hi)],
+            "domain": domain_data(chain, written["joints"]),
             "parameters": [_rows(s) for s in sets],
             **({} if formation is None else {"formation": formation}),
             **_proof_fields(proof),
@@ -380,7 +413,7 @@ def skew_certificate(chain, quantity, bound, provenance="", witness=None, tree="
     return {"schema": SCHEMA,
             "claim": {"kind": "skew-partials", "quantity": quantity, "bound": exact(bound)},
             "chain": written,
-            "domain": [[exact(a), exact(b)] for a, b in zip(lo, hi)],
+            "domain": domain_data(chain, written["joints"]),
             "tree": tree,
             **({"witness": [exact(x) for x in np.clip(witness, lo, hi)]} if witness is not None else {}),
             "provenance": provenance}

@@ -18,7 +18,7 @@ to round-off.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -84,6 +84,58 @@ def origin(xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0)):
     return translation(xyz) @ rotation(rotation_rpy(rpy))
 
 
+def decimal(x):
+    """A float as the decimal Python writes it (the shortest that reads back as the same float)."""
+    return repr(float(x))
+
+
+@dataclass(frozen=True)
+class Origin:
+    """A fixed transform as written: translate by ``xyz``, then rotate by ``rpy`` (URDF), decimal strings."""
+
+    xyz: tuple = ("0", "0", "0")
+    rpy: tuple = ("0", "0", "0")
+
+    @classmethod
+    def of(cls, xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0)):
+        """The origin of numbers written as Python writes them."""
+        return cls(tuple(map(decimal, xyz)), tuple(map(decimal, rpy)))
+
+    def matrix(self):
+        return origin([float(x) for x in self.xyz], [float(x) for x in self.rpy])
+
+
+def composed(origins):
+    """The 4x4 transform of origins applied one after the other."""
+    t = np.eye(4)
+    for o in origins:
+        t = t @ o.matrix()
+    return t
+
+
+WRITTEN = 1e-9  # how far a joint's transforms, axis and limits may lie from those it is written with
+
+
+@dataclass(frozen=True)
+class Written:
+    """A joint as its source writes it: the origins its fixed transforms compose (``before``, ``after``), and its
+    axis and limits as decimal strings (None: the source writes none, or the joint was made from numbers)."""
+
+    before: tuple = ()
+    after: tuple = ()
+    axis: tuple | None = None
+    limits: tuple | None = None
+
+    def disagrees(self, joint):
+        """Whether the joint's numbers are not those written (within :data:`WRITTEN`)."""
+        far = lambda a, b: np.abs(np.asarray(a, float) - np.asarray(b, float)).max() > WRITTEN  # noqa: E731
+        axis = None if self.axis is None else np.array([float(x) for x in self.axis])
+        return (far(composed(self.before), joint.before) or far(composed(self.after), joint.after)
+                or axis is not None and far(axis / np.linalg.norm(axis), joint.axis)
+                or (self.limits is None) != (joint.limits is None)
+                or self.limits is not None and far([float(x) for x in self.limits], joint.limits))
+
+
 @dataclass(frozen=True)
 class Joint:
     kind: str  # "revolute" or "prismatic"
@@ -93,6 +145,7 @@ class Joint:
     coordinate: Coordinate = Coordinate()
     limits: tuple | None = None  # (lower, upper) of the generalized coordinate
     name: str = ""
+    written: Written | None = None  # the joint as its source writes it (dropped where the numbers differ)
 
     def __post_init__(self):
         if self.kind not in ("revolute", "prismatic"):
@@ -109,10 +162,17 @@ class Joint:
             object.__setattr__(self, key, t)
         if self.coordinate.name not in COORDINATE_MAPS:
             raise ValueError(f"joint {self.name or '?'}: unknown coordinate map {self.coordinate.name!r}")
+        if self.written is not None and self.written.disagrees(self):  # e.g. limits replaced after it was made: the
+            object.__setattr__(self, "written", None)  # numbers are the joint, a certificate writes them as floats
 
     @property
     def revolute(self):
         return self.kind == "revolute"
+
+    @classmethod
+    def of_origins(cls, kind, axis, before=(), after=(), **kw):
+        """A joint whose fixed transforms compose the :class:`Origin` tuples ``before`` and ``after``."""
+        return cls(kind, axis, composed(before), composed(after), written=Written(tuple(before), tuple(after)), **kw)
 
 
 @dataclass(frozen=True)
@@ -120,6 +180,7 @@ class Chain:
     joints: tuple
     name: str = "chain"
     gravity: tuple = (0.0, 0.0, -9.81)  # gravitational acceleration in the base frame
+    source: tuple | None = None  # (path as given, SHA-256 of its bytes) of the file the chain was read from
 
     def __post_init__(self):
         object.__setattr__(self, "joints", tuple(self.joints))
@@ -155,10 +216,13 @@ class Chain:
         for i, (row, kind) in enumerate(zip(rows, kinds)):
             a, alpha, d, theta = (float(x) for x in row)
             fixed_z = rot_z(theta) @ translation((0, 0, d))
+            z_origin, x_origin = Origin.of((0, 0, d), (0, 0, theta)), Origin.of((a, 0, 0), (alpha, 0, 0))
             if convention == "standard":
                 before, after = fixed_z, translation((a, 0, 0)) @ rot_x(alpha)
+                written = Written((z_origin,), (x_origin,))
             else:
                 before, after = rot_x(alpha) @ translation((a, 0, 0)) @ fixed_z, np.eye(4)
+                written = Written((x_origin, z_origin), ())
             joints.append(Joint(
                 kind="revolute" if kind == "R" else "prismatic",
                 axis=(0.0, 0.0, 1.0),
@@ -167,6 +231,7 @@ class Chain:
                 coordinate=Coordinate((coordinates or {}).get(i, "identity")),
                 limits=None if limits is None else tuple(limits[i]),
                 name=f"joint{i + 1}",
+                written=written if limits is None else replace(written, limits=tuple(map(decimal, limits[i]))),
             ))
         return cls(tuple(joints), name=name, gravity=tuple(gravity))
 

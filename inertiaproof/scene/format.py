@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from inertiaproof.dynamics.chain import COORDINATE_MAPS, Chain, Coordinate, Joint, origin
+from inertiaproof.dynamics.chain import COORDINATE_MAPS, Chain, Coordinate, Joint, Origin, Written, decimal
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Payload, Profile, Scaling
 from inertiaproof.dynamics.trajectory import Path as LoadPath
 from inertiaproof.errors import LARGEST, InputError, read_text
@@ -346,12 +346,13 @@ def _joint(r, table, path, convention, index):
         axis = r.vector(table, path, "axis", 3, (0, 0, 1))
         if not np.linalg.norm(axis) > 0:
             r.error(path + ("axis",), "must be a nonzero vector")
-        return Joint(kind, tuple(axis), before=origin(r.vector(table, path, "xyz", 3, (0, 0, 0)),
-                                                      r.vector(table, path, "rpy", 3, (0, 0, 0))),
-                     coordinate=Coordinate(coordinate), limits=limits, name=name)
+        written = Origin.of(r.vector(table, path, "xyz", 3, (0, 0, 0)), r.vector(table, path, "rpy", 3, (0, 0, 0)))
+        return Joint(kind, tuple(axis), before=written.matrix(), coordinate=Coordinate(coordinate), limits=limits,
+                     name=name, written=Written((written,), (), tuple(map(decimal, axis)),
+                                                None if limits is None else tuple(map(decimal, limits))))
     row = [r.number(table, path, k, 0.0) for k in ("a", "alpha", "d", "theta")]
     proto = Chain.from_dh([row], convention=convention, kinds="R" if kind == "revolute" else "P").joints[0]
-    return Joint(kind, proto.axis, proto.before, proto.after, Coordinate(coordinate), limits, name)
+    return Joint(kind, proto.axis, proto.before, proto.after, Coordinate(coordinate), limits, name, proto.written)
 
 
 def _load(r, table, path, bodies):

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from inertiaproof.dynamics.chain import Chain, Coordinate, Joint, origin
+from inertiaproof.dynamics.chain import Chain, Coordinate, Joint, Origin
 from inertiaproof.dynamics.trajectory import MovingMass, ParameterTrajectory, Path, Payload, Profile, Scaling
 from inertiaproof.model import solids
 from inertiaproof.model.inertia import inertia_com, rotation_rpy
@@ -96,7 +96,8 @@ def ur5():
 
 def translating_sphere(rate=-0.5, radius=0.1, mass=1.0):
     """CX-sphere: one uniform sphere sliding along x; its density scales by exp(rate t) on [0, inf)."""
-    chain = Chain((Joint("prismatic", (1.0, 0.0, 0.0), name="slide"),), name="translating sphere", gravity=(0, 0, 0))
+    chain = Chain((Joint.of_origins("prismatic", (1.0, 0.0, 0.0), name="slide"),), name="translating sphere",
+                  gravity=(0, 0, 0))
     base = [solids.solid("sphere", mass, (radius,))]
     return _scene("translating-sphere", chain, base, (Scaling(0, Profile("exp", rate=rate)),), span=(0.0, np.inf),
                   description=f"uniform sphere whose mass scales by exp({rate:g} t)")
@@ -104,9 +105,9 @@ def translating_sphere(rate=-0.5, radius=0.1, mass=1.0):
 
 def non_normal_2r():
     """CX-normal: a planar 2R arm whose first coordinate enters cubed, theta_1 = q_1^3, so QJ loses rank at q_1 = 0."""
-    j1 = Joint("revolute", (0, 0, 1), after=origin((1.0, 0, 0)), coordinate=Coordinate("cubic"),
+    j1 = Joint.of_origins("revolute", (0, 0, 1), after=(Origin.of((1.0, 0, 0)),), coordinate=Coordinate("cubic"),
                limits=(-1.5, 1.5), name="cubic shoulder")
-    j2 = Joint("revolute", (0, 0, 1), after=origin((0.8, 0, 0)), name="elbow")
+    j2 = Joint.of_origins("revolute", (0, 0, 1), after=(Origin.of((0.8, 0, 0)),), name="elbow")
     chain = Chain((j1, j2), name="non-normal 2R", gravity=(0, -9.81, 0))
     base = [_rod(3.0, (-1.0, 0, 0), (0, 0, 0), 0.05), _rod(2.0, (-0.8, 0, 0), (0, 0, 0), 0.04)]
     return _scene("non-normal-2r", chain, base, description="planar 2R with theta_1 = q_1^3")
@@ -114,9 +115,9 @@ def non_normal_2r():
 
 def revolute_prismatic(limit=None):
     """Asm2/Lem2: a turntable carrying a radial slide; with an unlimited slide QJ is unbounded."""
-    j1 = Joint("revolute", (0, 0, 1), name="turntable")
-    j2 = Joint("prismatic", (1, 0, 0), before=origin((0, 0, 0.2)), limits=None if limit is None else (-limit, limit),
-               name="radial slide")
+    j1 = Joint.of_origins("revolute", (0, 0, 1), name="turntable")
+    j2 = Joint.of_origins("prismatic", (1, 0, 0), before=(Origin.of((0, 0, 0.2)),),
+                          limits=None if limit is None else (-limit, limit), name="radial slide")
     chain = Chain((j1, j2), name="RP" + (" bounded" if limit else " unbounded"))
     base = [solids.solid("cylinder", 5.0, (0.3, 0.2)),
             solids.solid("box", 1.0, (0.2, 0.1, 0.1), rotation_rpy((0, 0, 0)))]

@@ -42,7 +42,7 @@ def _rescaled_transform(transform, factor):
 def rescaled_chain(chain, factor):
     if any(not j.revolute and j.coordinate.name != "identity" for j in chain.joints):
         raise ValueError("a prismatic joint with a coordinate map has no rescaled coordinate")
-    joints = tuple(dataclasses.replace(j, before=_rescaled_transform(j.before, factor),
+    joints = tuple(dataclasses.replace(j, before=_rescaled_transform(j.before, factor), written=None,
                                        after=_rescaled_transform(j.after, factor),
                                        limits=None if j.limits is None or j.revolute
                                        else tuple(factor * np.asarray(j.limits)))

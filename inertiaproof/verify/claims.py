@@ -86,12 +86,15 @@ def _sets(cert):
 def _chain(cert):
     chain = cert["chain"]
     digest = hashlib.sha256(json.dumps(chain, sort_keys=True).encode()).hexdigest()[:12]
-    return f"chain {chain.get('name', 'chain')!r} ({len(chain['joints'])} joints, {digest})"
+    source = chain.get("source")
+    where = f" of {source['path']} (SHA-256 {source['sha256'][:12]})" if source else ""
+    return f"chain {chain.get('name', 'chain')!r}{where} ({len(chain['joints'])} joints, {digest})"
 
 
 def _domain(cert):
-    return "[" + ", ".join(f"[{decimal(rational(lo, 'domain'), False)}, {decimal(rational(hi, 'domain'), True)}]"
-                           for lo, hi in cert["domain"]) + "]"
+    box = ", ".join(f"[{decimal(rational(lo, 'domain'), False)}, {decimal(rational(hi, 'domain'), True)}]"
+                    for lo, hi in cert["domain"])
+    return f"[{box}] (every joint's limits; a full turn where a revolute joint has none)"
 
 
 def _spectrum(cert, matrix):

@@ -13,7 +13,7 @@ __all__ = ["BadCertificate", "DIGITS", "ball_max", "finite", "rational", "ration
            "semidefinite"]
 
 DIGITS = 2000  # the longest number a certificate may write (characters): exact arithmetic on it stays bounded
-NUMBER = re.compile(r"-?(\d+(\.\d*)?|\.\d+)([eE][-+]?\d{1,4})?(/\d+)?")
+NUMBER = re.compile(r"[-+]?(\d+(\.\d*)?|\.\d+)([eE][-+]?\d{1,4})?(/\d+)?")
 
 
 class BadCertificate(ValueError):

@@ -1,14 +1,18 @@
 """A serial chain of a certificate, and M(q, Theta) + shift I proved positive definite over a box of configurations.
 
 Joint l has a fixed transform ``before``, a turn about (slide along) its ``axis`` through the origin by q_l, and a
-fixed transform ``after``, so body l's frame is T_l = T_(l-1) before_l X_l(q_l) after_l. A fixed transform is
-written as URDF writes an origin, ``xyz`` and ``rpy``: the checker builds its rotation Rz(yaw) Ry(pitch) Rx(roll)
-itself with arb's sin and cos, so it is rigid by construction and R^T is its inverse. M(q, Theta) = sum_l QJ_l^T
+fixed transform ``after``, so body l's frame is T_l = T_(l-1) before_l X_l(q_l) after_l. A fixed transform is a
+list of origins, each written as URDF writes one, ``xyz`` and ``rpy`` (decimal strings, read exactly), composed in
+order: the checker builds each rotation Rz(yaw) Ry(pitch) Rx(roll) itself with arb's sin and cos, so every
+transform is rigid by construction and R^T is its inverse. Optional ``limits``: the joint's [lower, upper]. M(q, Theta) = sum_l QJ_l^T
 Z(Phi_l) QJ_l (MassMatrix, DefMatrixZ), QJ_l's rows the twist (R_l^T v_l, omega_l) of body l (VelocityRigidMass);
 it is never formed: :meth:`Chain.pivots` factors it from the tip as articulated-body inertias.
 """
 
 from __future__ import annotations
+
+import hashlib
+from pathlib import Path
 
 from flint import arb, arb_mat
 
@@ -17,13 +21,14 @@ from .exact import BadCertificate, rational_matrix
 __all__ = ["Chain", "definite", "eigen", "indefinite", "twist_map"]
 
 JOINTS = 200  # the longest chain a certificate may describe
+ORIGINS = 64  # the most origins one fixed transform may compose
 
 
 
 class Joint:
     def __init__(self, data, where):
-        if not isinstance(data, dict) or not set(data) <= {"name", "kind", "axis", "before", "after"}:
-            raise BadCertificate(f"{where}: a joint is an object of name, kind, axis, before and after")
+        if not isinstance(data, dict) or not set(data) <= {"name", "kind", "axis", "before", "after", "limits"}:
+            raise BadCertificate(f"{where}: a joint is an object of name, kind, axis, before, after and limits")
         self.revolute = {"revolute": True, "prismatic": False}.get(data.get("kind"))
         if self.revolute is None:
             raise BadCertificate(f"{where}.kind: 'revolute' or 'prismatic', not {data.get('kind')!r}")
@@ -32,8 +37,11 @@ class Joint:
         if not norm > 0:
             raise BadCertificate(f"{where}.axis: the axis must be a nonzero vector")
         self.axis = arb_mat(3, 1, [a / norm for a in axis])
-        self.before = _transform(data.get("before"), f"{where}.before")
-        self.after = _transform(data.get("after"), f"{where}.after")
+        self.before = _composed(data.get("before"), f"{where}.before")
+        self.after = _composed(data.get("after"), f"{where}.after")
+        self.limits = data.get("limits") and tuple(rational_matrix([data["limits"]], (1, 2), f"{where}.limits")[0])
+        if self.limits and self.limits[0] > self.limits[1]:
+            raise BadCertificate(f"{where}.limits: lower > upper")
         self.before_map, self.after_map = twist_map(self.before), twist_map(self.after)
         k, zero = _skew(self.axis), arb_mat(3, 3)
         n_map = _blocks(-k, zero, zero, -k) if self.revolute else _blocks(zero, -k, zero, zero)
@@ -65,6 +73,30 @@ def _transform(data, where):
     return r, arb_mat(3, 1, [arb(x) for x in xyz])
 
 
+def _source(source):
+    """The chain's source file (path as given, SHA-256), checked against the file where it is found here."""
+    if source is None:
+        return None
+    if not (isinstance(source, dict) and set(source) == {"path", "sha256"} and isinstance(source["path"], str)
+            and isinstance(source["sha256"], str) and len(source["sha256"]) == 64):
+        raise BadCertificate("chain.source: {path, sha256}")
+    path = Path(source["path"])
+    if path.is_file() and hashlib.sha256(path.read_bytes()).hexdigest() != source["sha256"]:
+        raise BadCertificate(f"chain.source: {path} is not the file the certificate is about (SHA-256 differs)")
+    return path, source["sha256"], path.is_file()
+
+
+def _composed(origins, where):
+    """(R, p) of a list of origins applied one after the other."""
+    if not isinstance(origins, list) or len(origins) > ORIGINS:
+        raise BadCertificate(f"{where}: a list of at most {ORIGINS} origins")
+    r, p = _identity(), arb_mat(3, 1)
+    for i, data in enumerate(origins):
+        ri, pi = _transform(data, f"{where}[{i}]")
+        r, p = r * ri, p + r * pi
+    return r, p
+
+
 def _identity():
     return arb_mat(3, 3, [1, 0, 0, 0, 1, 0, 0, 0, 1])
 
@@ -76,10 +108,10 @@ def _skew(v):
 
 class Chain:
     def __init__(self, data):
-        joints = data.get("joints") if isinstance(data, dict) and set(data) <= {"name", "joints"} else None
+        joints = data.get("joints") if isinstance(data, dict) and set(data) <= {"name", "source", "joints"} else None
         if not isinstance(joints, list) or not joints or len(joints) > JOINTS:
             raise BadCertificate(f"chain: {{name, joints}}, a list of 1 to {JOINTS} joints")
-        self.name = str(data.get("name", "chain"))
+        self.name, self.source = str(data.get("name", "chain")), _source(data.get("source"))
         self.joints = [Joint(j, f"chain.joints[{i}]") for i, j in enumerate(joints)]
         self.n = len(self.joints)
 

@@ -109,7 +109,7 @@ class Problem:
             raise BadCertificate("claim.quantity: 'max_sigma' or 'rss_sigma'")
         self.rss, self.bound = claim["quantity"] == "rss_sigma", rational(claim.get("bound"), "claim.bound")
         self.chain = Chain(cert.get("chain"))
-        self.domain = domain_of(cert, self.chain.n)
+        self.domain = domain_of(cert, self.chain)
         self.witness = witness_of(cert, self.domain)
         self.root = parse(cert.get("tree", "."), self.domain)
 

@@ -46,15 +46,20 @@ def _symmetric(rows, where):
     return m
 
 
-def domain_of(cert, n):
-    """The box of a certificate's ``domain``: one [lo, hi] of rationals per joint."""
+def domain_of(cert, chain):
+    """The box of a certificate's ``domain``, one [lo, hi] of rationals per joint, checked to cover every q the
+    chain allows, so a claim over it is a claim over them all: each joint's limits, a full turn (2 pi) of a
+    revolute joint without them (M is periodic in its angle), anything for the first joint (M does not depend on
+    q_1: body twists are seen from the bodies)."""
     domain = cert.get("domain")
-    if not (isinstance(domain, list) and len(domain) == n and all(isinstance(e, list) and len(e) == 2
-                                                                 for e in domain)):
-        raise BadCertificate(f"domain: one [lo, hi] per joint ({n})")
+    if not (isinstance(domain, list) and len(domain) == chain.n and all(isinstance(e, list) and len(e) == 2
+                                                                       for e in domain)):
+        raise BadCertificate(f"domain: one [lo, hi] per joint ({chain.n})")
     domain = [tuple(rational(x, f"domain[{k}]") for x in edge) for k, edge in enumerate(domain)]
-    if any(lo > hi for lo, hi in domain):
-        raise BadCertificate("domain: lo > hi")
+    for k, ((lo, hi), joint) in enumerate(zip(domain, chain.joints)):
+        turn = joint.revolute and arb(hi - lo) >= 2 * arb.pi()
+        if lo > hi or k and not (turn or joint.limits and lo <= joint.limits[0] and hi >= joint.limits[1]):
+            raise BadCertificate(f"domain[{k}]: does not cover joint {k + 1}'s limits (or a full turn)")
     return domain
 
 
@@ -100,7 +105,7 @@ class Problem:
         self.bound = rational(claim.get("bound"), "claim.bound")
         self.shift = arb(self.bound) * shift
         self.chain = Chain(cert.get("chain"))
-        self.domain = domain_of(cert, self.chain.n)
+        self.domain = domain_of(cert, self.chain)
         self.bodies = [[spatial_inertia(row) for row in rows]
                        for rows in parameter_sets(cert, self.chain.n)]
         self.real = [[arb_mat(m) * self.sign for m in z] for z in self.bodies]
