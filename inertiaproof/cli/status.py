@@ -30,8 +30,9 @@ EXIT_STATUS = {  # command -> the meaning of its exit status (shown by --help)
     "gate": f"exit status: {HOLDS} every derived object means what the lockfile says (or --update wrote it); "
             f"{VIOLATED} a meaning changed, or an object is new or gone",
     "report": f"exit status: {HOLDS} written; {BAD_INPUT} the results folder cannot be read",
-    "verify": f"exit status: {HOLDS} every claim re-proved; {VIOLATED} some claim refuted; {BAD_INPUT} a bad "
-              f"certificate or bad usage; {INCONCLUSIVE} some claim not decided and none refuted",
+    "verify": f"exit status: {HOLDS} every claim re-proved; {VIOLATED} some claim refuted at a witness; {BAD_INPUT} "
+              f"a bad certificate, a results.json that does not hold together, or bad usage; {INCONCLUSIVE} some "
+              "claim not re-proved and none refuted",
     "envelope": f"exit status: {HOLDS} every constant certified and re-proved, no payload of the set beyond one; "
                 f"{VIOLATED} a payload of the set beyond a constant, or a certificate refuted; {BAD_INPUT} bad usage "
                 f"or input; {INCONCLUSIVE} something not certified or not re-proved",
