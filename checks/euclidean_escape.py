@@ -163,9 +163,11 @@ def euclidean_escape_result(ctx, hunts, twin=natural_twin, elsewhere=None):
                       "replay": f"inertiaproof replay {path}"}
     key, data = next(iter(witnesses.items()))
     e, nat = data["laws"]["euclidean"], data["laws"]["natural"]
-    home = "" if key in hunts else (
+    margins = [scenes[k]["smallest_margin"]["value"] for k in hunts]
+    margins = [m for m in margins if isinstance(m, (int, float)) and np.isfinite(m)]  # a scene whose runs could
+    home = "" if key in hunts else (  # not start has no margin (a line mass: no Theta_hat(0) for the natural law)
         f"no escape on {', '.join(hunts)} in {sum(scenes[k]['runs'] for k in hunts)} runs (smallest relative "
-        f"lambda_min {min(scenes[k]['smallest_margin']['value'] for k in hunts):.3g}); the law may escape: ")
+        f"lambda_min {f'{min(margins):.3g}' if margins else 'none: no run started'}); the law may escape: ")
     evidence = {"searched": searched, "escapes": found, "replay": found[key]["replay"],
                 "escape_margin": quantity(e["margin"], "margin", "min_t,q lambda_min(M(q, Theta_hat)) / "
                                           "max lambda_max under Slotine-Li (< 0: indefinite)"),

@@ -25,6 +25,7 @@ from inertiaproof.dynamics.chain import Chain, origin
 from inertiaproof.result import Result, Verdict
 from inertiaproof.scene import robots
 from inertiaproof.suite.certificates import certificate_name, settle
+from inertiaproof.verify import claims
 from inertiaproof.verify.cli import check, verify_file
 
 REJECTED = ("not re-proved", "refuted", "bad certificate")
@@ -141,6 +142,8 @@ def test_a_product_may_not_cite_another_robots_ingredient(run_out):
     assert check(other)["status"] == "bad certificate"  # alpha2_z bounds Z(Phi_l), not f(Phi_l)
     unknown = {**panda, "claim": {**panda["claim"], "formula": "anything"}}
     assert check(unknown)["status"] == "bad certificate"
+    declared = {**panda, "claim": {**panda["claim"], "declared": "4"}}  # alpha2 has no r: none may be declared
+    assert check(declared)["status"] == "bad certificate"
 
 
 def test_a_proof_aid_that_falls_short_is_not_refuted_and_the_check_inconclusive(run_out):
@@ -254,3 +257,37 @@ def test_a_parameter_hull_is_formed_by_the_checker(run_out):
     assert check(narrowed)["status"] == "bad certificate"
     unformed = {k: v for k, v in dropped.items() if k != "formation"}
     assert "as listed" in check(unformed)["claim"]  # what it then claims is only the listed hull, and says so
+
+
+def test_a_certificate_is_about_its_source_file_as_written(tmp_path):
+    """A URDF's chain carries the file's path and SHA-256 and its decimals; the file changed under it is a bad
+    certificate, and so is a domain that does not cover a joint's limits as written."""
+    from inertiaproof.audit.kinematic_tree import kinematic_tree
+    from inertiaproof.audit.urdf import read_urdf
+
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text("""<robot name="arm">
+  <link name="base"/>
+  <link name="upper"><inertial><origin xyz="0.2 0 0"/><mass value="2"/>
+    <inertia ixx="0.01" iyy="0.03" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="fore"><inertial><origin xyz="0.15 0 0"/><mass value="1"/>
+    <inertia ixx="0.005" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/>
+    <origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="0 0 1"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/>
+    <origin xyz="0.4 0 0" rpy="0.1 0 0"/><axis xyz="0 0 1"/><limit lower="-2.1" upper="2.1" effort="1" velocity="1"/></joint>
+</robot>""")
+    arm = kinematic_tree(read_urdf(urdf)).chains[0]
+    cert = complete(spectrum_certificate(arm.chain, arm.theta[None], "lambda_min", 1e-4), boxes=2000)
+    joint = cert["chain"]["joints"][1]
+    assert joint["before"] == [{"xyz": ["0.4", "0", "0"], "rpy": ["0.1", "0", "0"]}] and joint["limits"] == ["-2.1", "2.1"]
+    assert cert["chain"]["source"]["path"] == str(urdf)
+    out = check(cert)
+    assert out["status"] == "re-proved" and str(urdf) in out["claim"], out
+    narrow = copy.deepcopy(cert)
+    narrow["domain"][1][1] = "2"
+    assert check(narrow)["status"] == "bad certificate"
+    urdf.write_text(urdf.read_text().replace('upper="2.1"', 'upper="3.1"'))
+    claims.PROVED.clear()  # a checker's process proves a certificate once; this one saw the file before
+    out = check(cert)
+    assert out["status"] == "bad certificate" and "SHA-256" in out["why"], out

@@ -18,7 +18,7 @@ from flint import arb, arb_mat
 
 from .exact import BadCertificate, rational_matrix
 
-__all__ = ["Chain", "definite", "eigen", "indefinite", "twist_map"]
+__all__ = ["Chain", "definite", "eigen", "twist_map"]
 
 JOINTS = 200  # the longest chain a certificate may describe
 ORIGINS = 64  # the most origins one fixed transform may compose
@@ -114,7 +114,6 @@ class Chain:
         self.name, self.source = str(data.get("name", "chain")), _source(data.get("source"))
         self.joints = [Joint(j, f"chain.joints[{i}]") for i, j in enumerate(joints)]
         self.n = len(self.joints)
-
 
     def pivots(self, box, inertias, shift, metric=None, memo=None, top=None, stop=None):
         """Prove sum_l QJ_l^T Z_l QJ_l + shift I > 0 for every q in ``box`` (a list of (centre, radius) rationals),
@@ -282,15 +281,6 @@ def _frobenius(a):
 
 def _scalar(x, n):
     return arb_mat([[x if i == j else 0 for j in range(n)] for i in range(n)])
-
-def indefinite(a):
-    """Whether v^T a v < 0 for every symmetric matrix in the ball matrix ``a``, v the approximate eigenvector of
-    its midpoint's smallest eigenvalue: then none of them is positive semidefinite."""
-    values, u = eigen(a)
-    j = values.index(min(values))
-    v = arb_mat([[u[i, j]] for i in range(a.nrows())])
-    return (v.transpose() * a * v)[0, 0] < 0
-
 
 def eigen(a):
     """Approximate eigenvalues (floats) and eigenvectors (a real ball matrix) of the symmetric a's midpoint."""

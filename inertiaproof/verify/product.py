@@ -72,6 +72,7 @@ FORMULAS = {  # name: (relation, factor as r of sqrt(r) from (N, rate), [(slot, 
                      "the moving particles' share sqrt(r) sup_q lambda_max((QJ)^T QJ), r as declared (4 Psi*^2 times "
                      "the formula's factor, not re-derived)"),
 }
+DECLARED = {"chi_ramp", "chi_ramp_sharp", "moving_share"}  # the formulas with a declared r
 KEYS = {"schema", "claim", "ingredients", "provenance"}
 
 
@@ -117,6 +118,8 @@ def _parse(cert):
     if claim.get("relation") != relation:
         raise BadCertificate(f"claim.relation: {claim['formula']} is a {relation!r} claim")
     bound = rational(claim.get("bound"), "claim.bound")
+    if ("declared" in claim) != (claim["formula"] in DECLARED):
+        raise BadCertificate(f"claim.declared: the r of {sorted(DECLARED)}, and only theirs")
     rate = rational(claim.get("declared", "0"), "claim.declared")
     if rate < 0:
         raise BadCertificate("claim.declared: must be >= 0")
