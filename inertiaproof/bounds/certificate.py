@@ -1,11 +1,12 @@
 """Certificates of the certified sides of the mass-matrix brackets, for the independent checker.
 
 A certificate (schema ``inertiaproof.certificate/2``, documented in the README) is self-contained: the claim,
-the chain (each fixed transform as an origin {xyz, rpy}, from which the checker builds a rigid transform itself),
-the parameter sets and the configuration box, every number an exact rational ("p/q") equal to the float64 the
-prover used. A claim carries no statement: the checker writes it. ``inertiaproof verify`` (:mod:`inertiaproof.verify`, which shares no code with this
-package) re-proves it. :meth:`inertiaproof.bounds.extremes.Bracket.evidence` cites the certificate of its
-certified side; the runner writes it under ``OUT/certificates/``.
+the chain as its source writes it (each fixed transform as origins {xyz, rpy}, from which the checker builds a
+rigid transform itself), the parameter sets and how they were formed, and the configuration box, every other
+number an exact rational ("p/q") equal to the float64 the prover used. A claim carries no statement: the checker
+writes it. ``inertiaproof verify`` (:mod:`inertiaproof.verify`, which shares no code with this package)
+re-proves it; :meth:`inertiaproof.bounds.extremes.Bracket.evidence` cites the certificate of its certified side;
+the runner writes it under ``OUT/certificates/``.
 """
 
 from __future__ import annotations

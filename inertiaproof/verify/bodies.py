@@ -112,7 +112,8 @@ def _corner(base, loads, s, ds):
     for (kind, body, _, _, _), si, k in zip(loads, s, range(len(s))):
         if kind == "scaling":
             d = 0.0 if ds is None else ds[k]
-            theta[body], dot[body] = [si * x for x in theta[body]], [d * x + si * y for x, y in zip(theta[body], dot[body])]
+            row = theta[body]
+            theta[body], dot[body] = [si * x for x in row], [d * x + si * y for x, y in zip(row, dot[body])]
     for (kind, body, phi, _, _), si, k in zip(loads, s, range(len(s))):
         if kind == "payload":
             theta[body] = [x + si * p for x, p in zip(theta[body], phi)]

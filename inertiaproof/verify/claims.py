@@ -76,9 +76,11 @@ def _sets(cert):
     formation = cert.get("formation")
     if formation is None:
         return f"{len(cert['parameters'])} parameter set(s) as listed"
-    loads = "; ".join(f"{load['kind']} on body {load['body']}, s in [{decimal(rational(load['range'][0], 'range'), False)}"
-                      f", {decimal(rational(load['range'][1], 'range'), True)}], |s'| <= "
-                      f"{decimal(rational(load['rate'], 'rate'), True)}" for load in formation["loads"])
+    def ends(load):
+        (lo, hi), rate = (rational(x, "formation") for x in load["range"]), rational(load["rate"], "formation")
+        return f"[{decimal(lo, False)}, {decimal(hi, True)}], |s'| <= {decimal(rate, True)}"
+
+    loads = "; ".join(f"{load['kind']} on body {load['body']}, s in {ends(load)}" for load in formation["loads"])
     what = "Thetadot(t)" if formation["of"] == "rate" else "Theta(t)"
     return f"the {len(cert['parameters'])} vertex set(s) of {what} formed from its base and loads ({loads or 'none'})"
 

@@ -4,7 +4,8 @@ Joint l has a fixed transform ``before``, a turn about (slide along) its ``axis`
 fixed transform ``after``, so body l's frame is T_l = T_(l-1) before_l X_l(q_l) after_l. A fixed transform is a
 list of origins, each written as URDF writes one, ``xyz`` and ``rpy`` (decimal strings, read exactly), composed in
 order: the checker builds each rotation Rz(yaw) Ry(pitch) Rx(roll) itself with arb's sin and cos, so every
-transform is rigid by construction and R^T is its inverse. Optional ``limits``: the joint's [lower, upper]. M(q, Theta) = sum_l QJ_l^T
+transform is rigid by construction and R^T is its inverse. Optional ``limits``: the joint's [lower, upper].
+M(q, Theta) = sum_l QJ_l^T
 Z(Phi_l) QJ_l (MassMatrix, DefMatrixZ), QJ_l's rows the twist (R_l^T v_l, omega_l) of body l (VelocityRigidMass);
 it is never formed: :meth:`Chain.pivots` factors it from the tip as articulated-body inertias.
 """
@@ -126,7 +127,8 @@ class Chain:
         which depends on q_l alone. Both steps are monotone in the Loewner order, so a lower bound L_l of A_l
         over the box gives lower bounds of the pivots; the turn by q_l = c_l + delta, |delta| <= r_l, is bounded
         below by the turn by c_l less :func:`_turn_loss` (in the ``metric`` (kind, ridge) of
-        :func:`_metric_factor`, or the identity). The last turn is seen only along the base joint's column: a scalar (:func:`_turned_form`).
+        :func:`_metric_factor`, or the identity). The last turn is seen only along the base joint's column: a
+        scalar (:func:`_turned_form`).
         ``memo`` (a dict kept for one set of inertias, shift and metric) holds the recursion's state entering
         joint l by the coordinates beyond l: boxes that differ only in nearer coordinates share it. ``top``: the
         chain of joints 0..top only (body top's inertia as given); ``stop`` k: the pivots of joints beyond k only,
@@ -226,7 +228,8 @@ def _turn_terms(joint, t, radius):
     K = S(axis)); with s^2 = 2 c - c^2 the turned t is t + s G + c A + c^2 B + s c J, G = N^T t + t N,
     A = N^2 t + t N^2 + 2 H, B = N^2 t N^2 - H, J = N^T t N^2 + N^2 t N, H = N^T t N: coefficients of independent
     functions of delta, so all vanish for a t the turn leaves invariant. Up to NEAR, with |s| <= sin r and
-    0 <= c <= 1 - cos r, as they stand (the first order is the centre's derivative); beyond, by harmonics: (G + J) sin d - J/2 sin 2d - (A + 2 B) (cos d - 1) + B/2 (cos 2d - 1). A slide by delta
+    0 <= c <= 1 - cos r, as they stand (the first order is the centre's derivative); beyond, by harmonics:
+    (G + J) sin d - J/2 sin 2d - (A + 2 B) (cos d - 1) + B/2 (cos 2d - 1). A slide by delta
     is I + delta N, N = [[0, -S(axis)], [0, 0]]: t + delta G + delta^2 H."""
     n_map, q_map = joint.generators
     r = arb(radius)

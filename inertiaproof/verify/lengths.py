@@ -3,8 +3,8 @@ alone: the checker's own route to an upper claim that no tree of boxes could pro
 
 Column k of QJ_b (body b >= k) is joint k's column s_k carried to body b by the twist maps X_(k+1), ..., X_b of
 :mod:`.kinematics`. A map [[R^T, -R^T S(p)], [0, R^T]] takes (v, w) with |v| <= L, |w| <= A to one with
-|v| <= g (L + |p| A), |w| <= g A, g >= ||R||_2; a joint's own turn is a rotation (g = 1, p = 0), its slide by
-|q| <= r is p = axis q. With the blocks of Z_b bounded in the 2-norm by a, b, c (:func:`_block_norms`),
+|v| <= L + |p| A, |w| <= A: every R is a rotation, built by the checker from rpy (and a joint's own turn is one,
+p = 0), and its slide by |q| <= r is p = axis q. With the blocks of Z_b bounded in the 2-norm by a, b, c (:func:`_block_norms`),
 |x^T Z_b y| <= a L_x L_y + b (L_x A_y + A_x L_y) + c A_x A_y, so |M_il(q)| <= S_il = the sum over b >= max(i, l)
 (MassMatrix); in the term b = l, x_l is s_l itself: |x_i^T Z_l s_l| <= L |(Z_l s_l)_v| + A |(Z_l s_l)_w|, and
 s_l^T Z_l s_l exactly when i = l. Then |lambda|_max(M(q)) <= rho(|M(q)|) <= rho(S) <= max_i (S x)_i / x_i for any x > 0

@@ -165,7 +165,8 @@ def prove(cert):
     for l in range(1 if psi else len(sets[0])):
         total = sum((_rate(load, quantity) for load in loads if psi or load["body"] == l), arb(0))
         for v, rows in enumerate(sets):
-            if not _holds(_exact(finite(total, "the loads' sum").upper()), bound, [[fmpq(0)]] if psi else matrix(rows[l])):
+            f = [[fmpq(0)]] if psi else matrix(rows[l])
+            if not _holds(_exact(finite(total, "the loads' sum").upper()), bound, f):
                 return Outcome(UNPROVED, f"{'Psi' if psi else f'body {l + 1} of set {v + 1}'}: sigma_max(F) + the loads' "
                                f"{total.str(10)} is not <= {float(bound):.10g}", 0, {"quantity": quantity})
     return Outcome(REPROVED, f"{len(loads)} moving load(s) on {len(sets)} set(s): the sums decided", 0)

@@ -79,7 +79,8 @@ def prove(cert):
         return _flange(claim, sets, k, mass, centre, max(axes), cert.get("beta"))
     out = spectrum.prove(spectrum_of(cert, quantity, sets, k, mass, centre, axes))
     if quantity == "lambda_max" and out.status == REFUTED:
-        return Outcome(UNPROVED, f"the cover Phi_U of Young's epsilon is refuted, not the payloads: {out.why}", out.boxes)
+        return Outcome(UNPROVED, f"the cover Phi_U of Young's epsilon is refuted, not the payloads: {out.why}",
+                       out.boxes)
     return out
 
 

@@ -2,8 +2,8 @@
 ``sum`` claim of certified terms.
 
 A product names its ``formula`` from the closed list :data:`FORMULAS`: the relation, the factor (derived here from
-the chain's N, or from the claim's ``declared`` r) and, in order, what each ingredient must bound (its kind and quantity)
-and to which power. Every ingredient that concerns a chain concerns the same chain and domain, every parameter set
+the chain's N, or from the claim's ``declared`` r) and, in order, what each ingredient must bound (its kind and
+quantity) and to which power. Every ingredient that concerns a chain concerns the same chain and domain, every parameter set
 has one row per joint of it, and the ingredients of (QJ)^T QJ are claims on unit bodies (Z = I6). ``>=``: every
 ingredient x_i >= b_i with b_i >= 0, so factor * prod x_i^p_i >= factor * prod b_i^p_i. ``<=``: every x_i <= b_i;
 x_i >= 0 by its kind (norms, Gram matrices, a payload's M) except at most one, of power 1 (lambda_max of f or Z,
@@ -54,7 +54,8 @@ FORMULAS = {  # name: (relation, factor as r of sqrt(r) from (N, rate), [(slot, 
     "chi": ("<=", lambda n, rate: 69 * n, [("fdot_max", 2), ("QJ_max", 2)],
             "Theorem 4's chi = sqrt(69 N) max_l sup sigma_max(f(Phidot_l)) sup_q lambda_max((QJ)^T QJ)"),
     "chi_sharp": ("<=", lambda n, rate: 4, [("fdot_max", 2), ("QJ_max", 2)],
-                  "Theorem 4 with the key step's factor: 2 max_l sup sigma_max(f(Phidot_l)) sup_q lambda_max((QJ)^T QJ)"),
+                  "Theorem 4 with the key step's factor: 2 max_l sup sigma_max(f(Phidot_l)) "
+                  "sup_q lambda_max((QJ)^T QJ)"),
     "chi_z": ("<=", lambda n, rate: 1, [("Zdot_max", 2), ("QJ_max", 2)],
               "Theorem 4 at the level of Z: max_l sup sigma_max(Z(Phidot_l)) sup_q lambda_max((QJ)^T QJ)"),
     "chi_ramp": ("<=", lambda n, rate: 69 * n * rate**2, [("f_max", 2), ("QJ_max", 2)],

@@ -150,5 +150,6 @@ def prove(cert):
     if failed:
         node, why = failed
         return problem.refute([(lo + hi) / 2 for lo, hi in node.box], "at the centre q of a leaf", boxes) or Outcome(
-            UNPROVED, f"{label}: a leaf is not proved ({why})", boxes, {"box": [[str(lo), str(hi)] for lo, hi in node.box]})
+            UNPROVED, f"{label}: a leaf is not proved ({why})", boxes,
+            {"box": [[str(lo), str(hi)] for lo, hi in node.box]})
     return Outcome(REPROVED, f"every leaf of the tree proved: {boxes} boxes tested", boxes)

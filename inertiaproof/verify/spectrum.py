@@ -34,8 +34,8 @@ from .tree import parse, walk
 __all__ = ["KEYS", "Problem", "domain_of", "metric_of", "prove", "witness_of"]
 
 QUANTITIES = {"lambda_min": (1, -1), "lambda_max": (-1, 1)}  # (sign of Z, sign of the bound in the shift)
-KEYS = {"schema", "claim", "chain", "domain", "parameters", "formation", "tree", "metric", "method", "forms", "split", "witness",
-        "provenance"}
+KEYS = {"schema", "claim", "chain", "domain", "parameters", "formation", "tree", "metric", "method", "forms", "split",
+        "witness", "provenance"}
 METRICS = ("shift", "abs")
 
 
