@@ -2,8 +2,8 @@
 box, so that the checker walks them once and cuts nothing (:func:`inertiaproof.verify.tree.walk`).
 
 The prover's partitions are proved by its own numerics, which the checker's pivots in ball arithmetic do not
-always match; here each leaf the checker's test does not prove is halved at the coordinate that test names, within
-a count of boxes. A leaf still unproved when the count is spent stays a leaf: the checker then says "not re-proved"
+always match; here each leaf the checker's test does not prove (those the checker named, where it named them) is
+halved at the coordinate that test names, within a count of boxes. A leaf still unproved when the count is spent stays a leaf: the checker then says "not re-proved"
 and the run INCONCLUSIVE. An upper spectrum claim that the chain's lengths prove at once names ``method``
 "lengths" and needs no tree.
 """
@@ -15,36 +15,37 @@ from collections import deque
 from inertiaproof.verify import payload as checked_payload
 from inertiaproof.verify import skew, spectrum
 from inertiaproof.verify.lengths import perron_side
-from inertiaproof.verify.tree import encode
+from inertiaproof.verify.tree import encode, leaf_nodes
 
 __all__ = ["complete"]
 
 
-def complete(cert, boxes):
+def complete(cert, boxes, leaves=None):
     """``cert`` (a new dict) with its trees completed, and those of its ingredients and terms, testing at most
-    ``boxes`` boxes beyond each tree as given."""
+    ``boxes`` boxes beyond each tree as given; ``leaves``: the failing leaves by tree, as the checker named them
+    (``where["leaves"]``: only those are grown), or None (every tree is walked from its root)."""
     kind = cert["claim"]["kind"]
     if kind == "product":
         return {**cert, "ingredients": [complete(c, boxes) for c in cert["ingredients"]]}
     if kind == "sum":
         return {**cert, "terms": [complete(c, boxes) for c in cert["terms"]]}
     if kind == "mass-matrix-spectrum":
-        return {**cert, **_spectrum(cert, boxes)}
+        return {**cert, **_spectrum(cert, boxes, leaves)}
     if kind == "payload-envelope" and cert["claim"]["quantity"] != "lambda_max_f":
-        return {**cert, **_spectrum(checked_payload.inner_spectrum(cert), boxes)}
+        return {**cert, **_spectrum(checked_payload.inner_spectrum(cert), boxes, leaves)}
     if kind == "skew-partials":
         problem = skew.Problem(cert)
-        _grow(problem, problem.walks(), boxes)
+        _grow(problem, problem.walks(), boxes, leaves)
         return {**cert, "tree": encode(problem.root)}
     return cert
 
 
-def _spectrum(cert, boxes):
+def _spectrum(cert, boxes, leaves):
     """The fields of a spectrum certificate that say how it is proved: ``method`` and ``tree``, or ``split``."""
     problem = spectrum.Problem(cert)
     if problem.sign < 0 and _lengths(problem) <= problem.shift:
         return {"method": "lengths", "tree": "."}
-    _grow(problem, problem.walks(), boxes)
+    _grow(problem, problem.walks(), boxes, leaves)
     if problem.split is None:
         return {"method": "tree", "tree": encode(problem.root)}
     k, _, tail, head = problem.split
@@ -58,12 +59,13 @@ def _lengths(problem):
         return problem.shift + 1
 
 
-def _grow(problem, walks, boxes):
-    """Each tree of ``walks`` (label, root, test) grown in place: a leaf its test does not prove is cut at the
-    coordinate the test names first, until ``boxes`` boxes beyond the given tree are tested, or a leaf's centre
-    refutes the claim (no cut helps then)."""
-    for _, root, test in walks:
-        queue, tested = deque([root]), 0
+def _grow(problem, walks, boxes, leaves=None):
+    """Each tree of ``walks`` (label, name, root, test) grown in place from its root, or from the ``leaves`` named
+    for it: a leaf its test does not prove is cut at the coordinate the test names first, until ``boxes`` boxes
+    beyond the given tree are tested, or a leaf's centre refutes the claim (no cut helps then)."""
+    for _, name, root, test in walks:
+        start = [root] if not leaves else leaf_nodes(root, leaves.get(name, []))
+        queue, tested = deque(start), 0
         while queue:
             node = queue.popleft()
             cuts, _ = test([((lo + hi) / 2, (hi - lo) / 2) for lo, hi in node.box])

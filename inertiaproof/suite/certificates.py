@@ -89,6 +89,12 @@ def _verified(executor, folder, certs, memo):
     return [name for name, _ in named]
 
 
+def _complete(task, boxes):
+    """The certificate completed, growing the leaves the checker named (``where["leaves"]``) where it named them."""
+    cert, where = task
+    return complete(cert, boxes, (where or {}).get("leaves"))
+
+
 def settle(result, *, out_dir, boxes, verify, memo, executor=None):
     """Write the certificates ``result``'s evidence cites (into ``out_dir``/certificates, or a temporary folder)
     and, with ``verify``, re-prove each file once per run (``memo`` maps names to the checker's rows; the files go
@@ -108,8 +114,9 @@ def settle(result, *, out_dir, boxes, verify, memo, executor=None):
         else:
             names = _verified(executor, folder, certs, memo)
             again = [i for i, name in enumerate(names) if memo[name]["status"] == "not re-proved"]
-            grown = executor.map(functools.partial(complete, boxes=boxes), [certs[i] for i in again], kind="verify",
-                                 label="certificate trees")
+            grown = executor.map(functools.partial(_complete, boxes=boxes), [(certs[i], memo[names[i]]["where"])
+                                                                             for i in again],
+                                 kind="verify", label="certificate trees")
             for i, cert, name in zip(again, grown, _verified(executor, folder, grown, memo)):
                 if memo[name]["status"] != "not re-proved" or name == names[i]:
                     if out_dir is not None and name != names[i]:

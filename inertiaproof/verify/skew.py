@@ -25,9 +25,10 @@ from flint import arb, arb_mat
 
 from .exact import BadCertificate, rational
 from .kinematics import Chain, definite, eigen, twist_map
-from .outcome import REPROVED, UNPROVED, Outcome, refuted
+from .outcome import refuted
 from .spectrum import domain_of, witness_of
-from .tree import parse, walk
+from . import tree
+from .tree import parse
 
 __all__ = ["Problem", "prove"]
 
@@ -125,7 +126,7 @@ class Problem:
         return None
 
     def walks(self):
-        """[(label, root, test)]: ``test`` maps a box to (None, "") where the claim holds on it, else (the
+        """[(label, name, root, test)]: ``test`` maps a box to (None, "") where the claim holds on it, else (the
         coordinates to cut, largest r_i |dg/dq_i| first; why)."""
         bound = arb(self.bound)
 
@@ -133,7 +134,7 @@ class Problem:
             holds, weights, _ = _test(self.chain, box, bound, self.rss)
             cuts = sorted((k for k in range(self.chain.n) if weights[k] > 0), key=lambda k: -weights[k])
             return (None, "") if holds else (cuts, "the mean-value bound exceeds bound^2")
-        return [("the tree", self.root, test)]
+        return [("the tree", "tree", self.root, test)]
 
 
 def prove(cert):
@@ -145,11 +146,4 @@ def prove(cert):
     found = problem.witness and problem.refute(problem.witness, "at the witness q")
     if found:
         return found
-    (label, root, test), = problem.walks()
-    failed, boxes = walk(root, test)
-    if failed:
-        node, why = failed
-        return problem.refute([(lo + hi) / 2 for lo, hi in node.box], "at the centre q of a leaf", boxes) or Outcome(
-            UNPROVED, f"{label}: a leaf is not proved ({why})", boxes,
-            {"box": [[str(lo), str(hi)] for lo, hi in node.box]})
-    return Outcome(REPROVED, f"every leaf of the tree proved: {boxes} boxes tested", boxes)
+    return tree.prove(problem, problem.walks())

@@ -29,7 +29,8 @@ from .exact import BadCertificate, finite, rational, rational_matrix, semidefini
 from .kinematics import Chain, definite
 from .lengths import perron_side
 from .outcome import REPROVED, UNPROVED, Outcome, refuted
-from .tree import parse, walk
+from . import tree
+from .tree import parse
 
 __all__ = ["KEYS", "Problem", "domain_of", "metric_of", "prove", "witness_of"]
 
@@ -85,10 +86,6 @@ def metric_of(cert):
     if not 0 < ridge <= 1:
         raise BadCertificate("metric.ridge: must lie in (0, 1]")
     return metric["kind"], float(ridge)
-
-
-def _box(box):
-    return [[str(lo), str(hi)] for lo, hi in box]
 
 
 class Problem:
@@ -155,7 +152,7 @@ class Problem:
         return None
 
     def walks(self):
-        """(label, root, test) for each tree to walk: ``test`` maps a box (centres, radii) to (None, its smallest
+        """(label, name, root, test) for each tree to walk: ``test`` maps a box (centres, radii) to (None, its smallest
         pivot) where it is proved, else (the coordinates at which a cut could help, best first: those above the
         joint whose pivot failed, widest first; why)."""
         proving = self.real if self.forms is None else [[arb_mat(m) * self.sign for m in y] for y in self.forms]
@@ -163,7 +160,7 @@ class Problem:
         for v in range(len(self.bodies)):
             inertias = proving[v if len(proving) > 1 else 0]
             if self.split is None:
-                out.append((f"parameter set {v}", self.root, self._test(inertias, self.chain.n - 1)))
+                out.append((f"parameter set {v}", "tree", self.root, self._test(inertias, self.chain.n - 1)))
             else:
                 out += self._split_walks(v, inertias)
         return out
@@ -191,8 +188,8 @@ class Problem:
             return (None, lower) if definite(lower - interface) else (_cuts(box, k, last), "A_k - L not definite")
 
         heads = inertias[:k] + [interface] + inertias[k + 1:]
-        return [(f"parameter set {v}, the tail's tree", tail, tail_test),
-                (f"parameter set {v}, the head's tree", head, self._test(heads, k, top=k))]
+        return [(f"parameter set {v}, the tail's tree", "tail", tail, tail_test),
+                (f"parameter set {v}, the head's tree", "head", head, self._test(heads, k, top=k))]
 
     def forms_below(self):
         """None where every form lies below its Z(Phi_l) (decided exactly), else why not."""
@@ -229,13 +226,4 @@ def prove(cert):
                            "(Perron-Frobenius)")
         return Outcome(UNPROVED, f"rho of the entry sizes from the chain's lengths, {side.str(6)}, is not below the "
                        "bound")
-    boxes = 0
-    for label, root, test in problem.walks():
-        failed, boxes = walk(root, test, boxes)
-        if failed:
-            node, why = failed
-            centre = [(lo + hi) / 2 for lo, hi in node.box]
-            return problem.refute(centre, "at the centre q of a leaf", boxes) or Outcome(
-                UNPROVED, f"{label}: a leaf of the tree is not proved ({why})", boxes, {"box": _box(node.box)})
-    return Outcome(REPROVED, f"every leaf of the tree{'s' if problem.split else ''} proved: {boxes} boxes tested",
-                   boxes)
+    return tree.prove(problem, problem.walks())

@@ -7,10 +7,13 @@ from __future__ import annotations
 from collections import deque
 
 from .exact import BadCertificate
+from .outcome import REPROVED, UNPROVED, Outcome
 
-__all__ = ["LEAVES", "Node", "encode", "halves", "parse", "walk"]
+__all__ = ["LEAVES", "Node", "encode", "halves", "leaf_nodes", "parse", "prove", "walk"]
 
 LEAVES = 1_000_000  # the most leaves a certificate's tree may have
+TRIES = 8  # failing leaves whose centres are tried for a refutation
+REPORTED = 10_000  # failing leaves named in an outcome (more: none, the prover grows the whole tree)
 
 
 class Node:
@@ -53,6 +56,18 @@ def parse(tree, domain):
     return root
 
 
+def leaf_nodes(root, boxes):
+    """The leaves of the tree below ``root`` whose boxes (as an outcome writes them) are among ``boxes``."""
+    wanted, found, stack = {tuple(map(tuple, box)) for box in boxes}, [], [root]
+    while stack:
+        node = stack.pop()
+        if node.children is None:
+            found += [node] if tuple((str(lo), str(hi)) for lo, hi in node.box) in wanted else []
+        else:
+            stack.extend(node.children)
+    return found
+
+
 def encode(root):
     """The prefix code of the tree below ``root`` (the inverse of :func:`parse`)."""
     tokens, stack = [], [root]
@@ -63,10 +78,10 @@ def encode(root):
     return " ".join(tokens)
 
 
-def walk(root, test, boxes=0):
-    """(the first leaf of the tree below ``root`` that ``test`` does not prove and why, boxes tested): an inner box
+def walk(root, test):
+    """(every leaf of the tree below ``root`` that ``test`` does not prove, with why; boxes tested): an inner box
     that passes needs none of its own."""
-    queue = deque([root])
+    queue, failed, boxes = deque([root]), [], 0
     while queue:
         node = queue.popleft()
         boxes += 1
@@ -74,6 +89,31 @@ def walk(root, test, boxes=0):
         if cuts is None:
             continue
         if node.children is None:
-            return (node, why), boxes
-        queue.extend(node.children)
-    return None, boxes
+            failed.append((node, why))
+        else:
+            queue.extend(node.children)
+    return failed, boxes
+
+
+def prove(problem, walks):
+    """The :class:`.outcome.Outcome` of walking every tree of ``walks`` ((label, name, root, test)) once: re-proved
+    where every leaf is proved; refuted where ``problem.refute`` finds a witness at one of the first
+    :data:`TRIES` failing leaves' centres; else not re-proved, ``where`` naming the failing leaves by tree (up to
+    :data:`REPORTED`, for the prover to grow them)."""
+    boxes, failed = 0, []
+    for label, name, root, test in walks:
+        found, tested = walk(root, test)
+        boxes += tested
+        failed += [(label, name, node, why) for node, why in found]
+    for label, _, node, _ in failed[:TRIES]:
+        found = problem.refute([(lo + hi) / 2 for lo, hi in node.box], f"{label}: at the centre q of a leaf", boxes)
+        if found:
+            return found
+    if not failed:
+        return Outcome(REPROVED, f"every leaf proved: {boxes} boxes tested", boxes)
+    leaves = {}
+    for _, name, node, _ in failed[:REPORTED]:
+        leaves.setdefault(name, []).append([[str(lo), str(hi)] for lo, hi in node.box])
+    label, _, node, why = failed[0]
+    return Outcome(UNPROVED, f"{len(failed)} leaf box(es) not proved; the first: {label} ({why})", boxes,
+                   {"leaves": leaves if len(failed) <= REPORTED else {}})
