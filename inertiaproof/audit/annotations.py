@@ -4,19 +4,23 @@ One rule per kind of finding: a link or body that is inconsistent or
 degenerate, an ``<inertial>`` that urdfdom reads past (one result per error
 in it, on the element at fault), each sign of an authoring mistake, a chain
 whose M(q) can become singular, and a file that cannot be read (at the line
-of the error where the reader has one). A finding sits on the element of
+of the error where the reader has one), and each finding on the bodies inside a link's geometry
+(:mod:`.bodies_inside`; its fix: the geometry's uniform-density inertia). A finding sits on the element of
 the link's inertia (URDF ``<inertia>``, MJCF ``<inertial>``, or the
 ``<body>`` whose inertia MuJoCo computed from geoms) at the line and column
 the reader found; a repair comes as a SARIF fix that replaces that element's
 text. Levels: ``error`` for what the exit status counts (a moving link or a
 body that is not consistent, a problem in an inertial, an unreadable file), ``warning`` for the same
 on a link that does not move and for a chain whose M(q) can become singular,
-``note`` for the signs.
+``note`` for the signs and the soft findings on the geometry (a hard one is an ``error`` on a moving link, else
+a ``warning``).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+
+from .bodies_inside import HARD, SOFT
 
 __all__ = ["github_commands", "RULES", "sarif_log"]
 
@@ -34,6 +38,18 @@ RULES = {
                        "link as a point mass.",
     "malformed-inertial": "An <inertial> urdfdom cannot parse (a missing element or attribute, a value that is not a "
                           "finite number): urdfdom logs an error and reads the link as far as it got.",
+    "mass-exceeds-densest": "The mass exceeds what the densest material (--max-density) fits in the volume of the "
+                            "link's geometry: no body inside it has this mass.",
+    "com-outside-geometry": "The centre of mass lies outside the convex hull of the link's geometry: no mass "
+                            "distribution inside it has this centre.",
+    "second-moment-below-densest-ball": "tr(I_CoM) is below 6/5 m R^2, the least of any body of this mass and "
+                                        "density at most --max-density (a ball of radius R).",
+    "outside-bounding-ellipsoid": "The inertia fails tr(Q f(Phi)) >= 0 for an ellipsoid holding the link's geometry "
+                                  "(Wensing, Kim and Slotine): no mass distribution inside it has this inertia.",
+    "implausible-density": "Soft: the density implied by the mass and the geometry's volume is below that of solid "
+                           "parts (100 kg/m^3).",
+    "inertia-unlike-geometry": "Soft: the principal moments are more than 10x off those of the link's geometry filled "
+                               "uniformly at its mass.",
     "negative_mass": "Sign of an authoring mistake: negative mass.",
     "massless_with_inertia": "Sign of an authoring mistake: a massless link with an inertia.",
     "point_mass": "Sign of an authoring mistake: a positive mass with an all-zero inertia.",
@@ -82,6 +98,11 @@ def _findings(doc):
                 yield link["verdict"], level, path, where, f"link '{name}': {link['reason']}{moves}", link
             for sign in link["signs"]:
                 yield sign["sign"], "note", path, where, f"link '{name}': {sign['text']}", None
+            for found in (link.get("bodies_inside") or {}).get("findings", ()):
+                level = ("error" if link["moving"] else "warning") if found["hard"] else "note"
+                moves = "" if link["moving"] or not found["hard"] else \
+                    " (the link does not move: not counted in the exit status)"
+                yield found["rule"], level, path, where, found["message"] + moves, link
         for name, body in f["bodies"].items():
             if body["judged"] and body["verdict"] != "consistent" and len(body["links"]) > 1:
                 where = f["links"][name]["location"]
@@ -107,7 +128,8 @@ def sarif_log(doc, version="0"):
                   "locations": [{"physicalLocation": physical}]}
         if link is not None:
             result["properties"] = {"engines": link["engines"], "triangle_slack_rel": link["triangle_slack_rel"]}
-            fix = _fix(link["repair"]) if rule == link["verdict"] else None  # the verdict's result carries the fix
+            fix = _fix(link["repair"]) if rule == link["verdict"] else \
+                _uniform_fix(link, where) if rule in HARD + SOFT else None  # the verdict's result carries the fix
             if fix is not None:
                 result["fixes"] = [fix]
         results.append(result)
@@ -133,6 +155,19 @@ def _fix(repair):
     return {"description": {"text": f"nearest consistent inertia ({repair['note']})"},
             "artifactChanges": [{"artifactLocation": {"uri": _uri(r["path"])},
                                  "replacements": [{"deletedRegion": region, "insertedContent": {"text": r["text"]}}]}]}
+
+
+def _uniform_fix(link, where):
+    """A SARIF fix replacing the link's ``<inertial>`` by its geometry filled uniformly at its mass, when that is
+    defined (one primitive) and the element's columns are known."""
+    uniform = (link.get("bodies_inside") or {}).get("uniform") or {}
+    region = uniform.get("span")
+    if not uniform.get("text") or where is None or not region or "startColumn" not in region:
+        return None
+    return {"description": {"text": "the inertia of the link's geometry at uniform density and the declared mass"},
+            "artifactChanges": [{"artifactLocation": {"uri": _uri(where["path"])},
+                                 "replacements": [{"deletedRegion": region,
+                                                   "insertedContent": {"text": uniform["text"]}}]}]}
 
 
 def _escape(text, property_value=False):

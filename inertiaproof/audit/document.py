@@ -40,6 +40,7 @@ from inertiaproof.errors import InputError
 from inertiaproof.model.consistency import CONSISTENT, LABELS, physical_consistency
 from inertiaproof.result import quantity
 
+from .bodies_inside import DENSEST, link_findings
 from .engines import MJ_MINVAL, engine_column, unread_column
 from .kinematic_tree import LEFT_OUT, kinematic_tree
 from .mistakes import diagnose, entries
@@ -107,8 +108,11 @@ def is_serial_arm(chains):
 
 # -- one file ------------------------------------------------------------------
 
-def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False, slack=DEFAULT_SLACK, seed=0):
-    """The audit of one parsed robot as a JSON-ready dict (see README, ``inertiaproof audit``)."""
+def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False, slack=DEFAULT_SLACK, seed=0,
+                max_density=DENSEST):
+    """The audit of one parsed robot as a JSON-ready dict (see README, ``inertiaproof audit``); ``max_density``
+    (kg/m^3) is the premise of the theorems on the bodies inside each URDF link's geometry (:mod:`.bodies_inside`;
+    MJCF geoms are not read for them yet)."""
     tree = kinematic_tree(robot)
     links = robot.links
     written = [link.inertial for link in links]
@@ -148,6 +152,8 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
             from_geoms=source is not None and source.kind == "geoms")
         entry["repair"] = _repair(mass[k], inertia[k], slack, source) \
             if rows[k]["verdict"] != "consistent" and not massless[k] else None
+        entry["bodies_inside"] = link_findings(link.name, written[k], robot.geometry.get(link.name),
+                                               max_density=max_density) if robot.format == "urdf" else None
         if moving and not massless[k]:
             judged.append((link.name, rows[k]["verdict"]))
         link_out[link.name] = entry
@@ -186,6 +192,8 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
         "warnings": list(robot.warnings),
         "problems": [{"link": p.link, "kind": p.kind, "message": p.message, "reads": p.reads,
                       "location": _region(robot.path, p.span, p.expanded)} for p in robot.problems],
+        "geometry_errors": [f"{name}: {found['rule']}" for name, entry in link_out.items() if entry["moving"]
+                            for found in (entry["bodies_inside"] or {}).get("findings", ()) if found["hard"]],
         "serial_arm": arm,
         "consistent": not not_consistent,
         "not_consistent": not_consistent,
@@ -387,21 +395,25 @@ def _audit_one(path, options):
 
 
 def exit_status(files):
-    """2 some file cannot be read; 1 some moving link or body is not consistent, or some file has a problem that
-    the engines read past (:class:`.urdf.Problem`); else 0."""
+    """2 some file cannot be read; 1 some moving link or body is not consistent, some file has a problem that
+    the engines read past (:class:`.urdf.Problem`), or some moving link has a hard finding on the bodies inside
+    its geometry (``geometry_errors``, :mod:`.bodies_inside`); else 0."""
     if any(f["status"] == "error" for f in files.values()):
         return 2
-    return 0 if all(f["consistent"] and not f.get("problems") for f in files.values()) else 1
+    return 0 if all(f["consistent"] and not f.get("problems") and not f.get("geometry_errors")
+                    for f in files.values()) else 1
 
 
 def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s, versions):
 
     ok = [f for f in files.values() if f["status"] == "ok"]
-    signs = {}
+    signs, inside = {}, {}
     for f in ok:
         for link in f["links"].values():
             for s in link["signs"]:
                 signs[s["sign"]] = signs.get(s["sign"], 0) + 1
+            for found in (link.get("bodies_inside") or {}).get("findings", ()):
+                inside[found["rule"]] = inside.get(found["rule"], 0) + 1
     return {
         "schema": SCHEMA,
         "profile": profile, "seed": seed, "bounds": bounds, "floating_base": floating_base, "repair_slack": slack,
@@ -418,6 +430,8 @@ def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s, v
             "moving_not_consistent": sum(len(f["not_consistent"]) for f in ok),
             "problems": sum(len(f.get("problems", ())) for f in ok),
             "signs": signs,
+            "bodies_inside": inside,  # links per finding of :mod:`.bodies_inside`, moving or not
+            "geometry_errors": sum(len(f.get("geometry_errors", ())) for f in ok),
             "exit_status": exit_status(files),
         },
         "files": files,

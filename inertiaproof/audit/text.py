@@ -47,6 +47,8 @@ def headline(f):
     state = "consistent" if f["consistent"] else f"NOT CONSISTENT: {', '.join(f['not_consistent'])}"
     if f.get("problems"):
         state += f"; {_count(f['problems'], 'problem')} in inertials"
+    if f.get("geometry_errors"):
+        state += f"; {_count(f['geometry_errors'], 'hard finding')} on the bodies inside the geometry"
     links = _count(f["links"], "link")
     bodies = [b for b in f["bodies"].values() if b.get("judged", True)]
     if "counts" in f:
@@ -108,6 +110,12 @@ def format_file(path, f):
         for s in link["signs"]:
             out.append(f"  sign    {name}: {s['text']}")
     for name, link in links.items():
+        inside = link.get("bodies_inside") or {}
+        for found in inside.get("findings", ()):
+            out.append(f"  {'finding' if found['hard'] else 'soft'} {found['rule']}: {found['message']}")
+        if inside.get("findings") and (inside.get("uniform") or {}).get("text"):
+            out.append(f"  uniform {name}: {inside['uniform']['text']} (its geometry at uniform density)")
+    for name, link in links.items():
         if link["engines"] and any(e["action"] != "loads" for e in link["engines"].values()):
             out.append(f"  engines {name}: " + "; ".join(f"{ENGINE_NAMES[k]} {e['text']}" for k, e in link["engines"].items()))
     for name, link in links.items():
@@ -157,6 +165,9 @@ def totals(summary):
         f"{n} {label}" for label, n in bodies.items() if label != "not_judged") + "; "
     signs = ", ".join(f"{k} {v}" for k, v in sorted(summary["signs"].items())) or "none"
     problems = f"; problems in inertials: {summary['problems']}" if summary.get("problems") else ""
+    inside = summary.get("bodies_inside")
+    if inside:
+        problems += "; bodies inside the geometry: " + ", ".join(f"{k} {v}" for k, v in sorted(inside.items()))
     return (f"{summary['files_consistent']} consistent, {summary['files_not_consistent']} not consistent, "
             f"{summary['unreadable']} unreadable; judged links: {links}; {judged_bodies}moving links or bodies not "
             f"consistent: {summary['moving_not_consistent']}; signs: {signs}{problems}")

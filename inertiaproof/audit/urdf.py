@@ -30,7 +30,8 @@ mass at the origin's CoM (zero rotational inertia) when only the inertia fails, 
 (checked against Pinocchio in ``tests/test_audit_problems.py``).
 Internal DTD entities (``<!DOCTYPE robot [<!ENTITY m "2.5">]>``, ``value="&m;"``)
 are expanded after checks, external ones refused (:mod:`.entities`).
-Geometry (``<visual>``, ``<collision>``) is not read at all. The decimals of
+Geometry (``<visual>``, ``<collision>``) is read by :mod:`.geometry` into :attr:`Robot.geometry` and is not
+passed to yourdfpy (whose engine-specific shapes it rejects). The decimals of
 ``<mass>`` and ``<inertia>`` are kept as written: the verdict is decided on them.
 
 URDF conventions (https://wiki.ros.org/urdf/XML): ``<inertia>`` is about the
@@ -57,6 +58,7 @@ from inertiaproof.errors import LARGEST, InputError
 from inertiaproof.model.inertia import from_urdf, pack, rotation_rpy, urdf_inertia
 
 from . import entities
+from .geometry import read_geometry
 from .locate import decode, element_spans, urdf_sources
 
 __all__ = [
@@ -172,6 +174,7 @@ class Robot:
     warnings: tuple = ()  # what was odd but read as engines read it
     problems: tuple = ()  # of Problem: what is wrong in a link's <inertial> and read past, as urdfdom does
     sha256: str = ""  # of the bytes read
+    geometry: dict = field(default_factory=dict, compare=False)  # link name -> geometry.LinkGeometry (URDF only)
 
     def link(self, name):
         return next(link for link in self.links if link.name == name)
@@ -211,11 +214,13 @@ def read_urdf(path, *, data=None, expanded=None, warnings=()):
     if expanded is not None:
         sources = {name: replace(source, expanded=expanded) for name, source in sources.items()}
     problems = tuple(replace(problem, span=spans.get(element), expanded=expanded) for problem, element in found)
+    geometry = read_geometry(root, path, spans)  # before _as_engines_read_it strips it
     spherical = {j.get("name") for j in root.iter("joint") if j.get("type") == "spherical"}
     robot = _from_yourdfpy(_as_engines_read_it(root, unread), path, written, unlimited | spherical, spherical)
     joints = tuple(replace(j, written=origins.get(j.name)) for j in robot.joints)
     return replace(robot, links=_as_urdfdom_reads(robot.links, unread), joints=joints, sources=sources,
-                   warnings=tuple(warnings), problems=problems, sha256=hashlib.sha256(data).hexdigest())
+                   warnings=tuple(warnings), problems=problems, sha256=hashlib.sha256(data).hexdigest(),
+                   geometry=geometry)
 
 
 _DECLARATION = re.compile(rb"^(\s*)(<\?xml\b[^>]*?\?>)", re.S)
@@ -542,7 +547,7 @@ def _check_tree(path, names, parent_of, links):
 
 
 def _as_engines_read_it(root, unread=()):
-    """The checked document as bytes for yourdfpy: without geometry (which the audit does not read, and whose
+    """The checked document as bytes for yourdfpy: without geometry (which :mod:`.geometry` has read, and whose
     engine-specific shapes yourdfpy rejects), spherical joints as floating ones (both are left out), and without
     the ``<inertial>`` of the links in ``unread`` (:func:`_as_urdfdom_reads` reads those)."""
     from lxml import etree

@@ -7,7 +7,8 @@ of the expanded text. Printed as tables, or as JSON (``--json``), GitHub Actions
 also as SARIF 2.1.0 (``--sarif FILE``) and as a report (``--report DIR``).
 When stdout carries annotations or a diff, the tables go to stderr.
 
-Exit status: 0 every moving link and every body is consistent; 1 some is not;
+Exit status: 0 every moving link and every body is consistent and no moving link has a hard finding on the
+bodies inside its geometry (``--max-density``); 1 some is not or has;
 2 some input could not be read (the others are still audited).
 """
 
@@ -20,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from inertiaproof.audit.bodies_inside import DENSEST
 from inertiaproof.audit.annotations import github_commands, sarif_log
 from inertiaproof.audit.document import BOUNDS_MODES, audit_paths, document
 from inertiaproof.audit.repair import DEFAULT_SLACK
@@ -60,6 +62,9 @@ def configure(parser):
                         help="the root moves (legged robots, humanoids): judge its links too")
     parser.add_argument("--repair-slack", type=float, default=DEFAULT_SLACK, metavar="EPS",
                         help="relative triangle slack the repaired inertia keeps (default %(default)g)")
+    parser.add_argument("--max-density", type=float, default=DENSEST, metavar="KG_M3",
+                        help="the densest material a link may be made of, the premise of the findings on the bodies "
+                             "inside each link's geometry (default %(default)g kg/m^3, osmium's)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
                         help="an argument for the xacro files (repeat for more); their positions are in the expanded "
@@ -73,13 +78,16 @@ def configure(parser):
 def main(args):
     if args.seed < 0:
         raise InputError(f"--seed must be a nonnegative integer, got {args.seed}")
+    if not 0 < args.max_density < float("inf"):
+        raise InputError(f"--max-density must be a positive number of kg/m^3, got {args.max_density}")
     if not 0 < args.repair_slack < 1:
         raise InputError(f"--repair-slack must lie in (0, 1), got {args.repair_slack}")
     profile = PROFILES[args.profile]
     start = time.perf_counter()
     samples, refine_s = profile.audit_budget(args.bounds)
     options = dict(samples=samples, refine_s=refine_s, bounds=args.bounds,
-                   floating_base=args.floating_base, slack=args.repair_slack, seed=args.seed)
+                   floating_base=args.floating_base, slack=args.repair_slack, seed=args.seed,
+                   max_density=args.max_density)
     xacro_args = parse_arguments(args.xacro_arg)
     if xacro_args:
         options["xacro_args"] = xacro_args
