@@ -22,7 +22,7 @@ from pathlib import Path
 
 from .bodies_inside import HARD, SOFT
 
-__all__ = ["github_commands", "RULES", "sarif_log"]
+__all__ = ["findings", "github_commands", "keyed_findings", "RULES", "sarif_log"]
 
 SARIF_SCHEMA = "https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/sarif-schema-2.1.0.json"
 RULES = {
@@ -46,6 +46,8 @@ RULES = {
                                         "density at most --max-density (a ball of radius R).",
     "outside-bounding-ellipsoid": "The inertia fails tr(Q f(Phi)) >= 0 for an ellipsoid holding the link's geometry "
                                   "(Wensing, Kim and Slotine): no mass distribution inside it has this inertia.",
+    "total-mass-mismatch": "The model's total mass (the sum of its links' masses) is not the expected one "
+                           "(--expect-mass) within --mass-tolerance (relative).",
     "implausible-density": "Soft: the density implied by the mass and the geometry's volume is below that of solid "
                            "parts (100 kg/m^3).",
     "inertia-unlike-geometry": "Soft: the principal moments are more than 10x off those of the link's geometry filled "
@@ -75,75 +77,115 @@ def findings(doc):
     """(rule, level, file, location or None, message, link entry or None) for every finding, in file order.
 
     A location in an expanded text (a xacro file's) is not one in the file: the message names its line instead."""
-    for rule, level, path, where, message, link in _findings(doc):
+    for rule, level, path, where, message, link, _ in keyed_findings(doc):
+        yield rule, level, path, where, message, link
+
+
+def keyed_findings(doc):
+    """As :func:`findings`, each with its subject last: ``"link NAME"``, ``"body NAME"``, ``"chain NAME"``,
+    ``"model"`` (the file's total mass) or ``"file"`` (an unreadable one); rule, file and subject identify a finding
+    across versions of the file (:mod:`.baseline`), whatever lines it moved to."""
+    for rule, level, path, where, message, link, subject in _findings(doc):
         if where is not None and where.get("expanded"):
             message += f" (line {where['startLine']} of the text {where['expanded']} expands the file to)"
             where = None
-        yield rule, level, path, where, message, link
+        yield rule, level, path, where, message, link, subject
 
 
 def _findings(doc):
     for path, f in doc["files"].items():
         if f["status"] != "ok":
-            yield "unreadable", "error", path, f.get("location"), f["error"], None
+            yield "unreadable", "error", path, f.get("location"), f["error"], None, "file"
             continue
         for problem in f.get("problems", ()):
             yield (problem["kind"].replace("_", "-"), "error", path, problem["location"],
-                   problem["message"], f["links"][problem["link"]])
+                   problem["message"], f["links"][problem["link"]], f"link {problem['link']}")
+        mass = f.get("total_mass") or {}
+        if mass.get("matches") is False:
+            yield "total-mass-mismatch", "error", path, None, mass["message"], None, "model"
         for name, link in f["links"].items():
-            where = link["location"]
+            where, subject = link["location"], f"link {name}"
             if link["verdict"] != "consistent" and not link["massless_frame"]:
                 level = "error" if link["moving"] else "warning"
                 moves = "" if link["moving"] else " (the link does not move: not counted in the exit status)"
-                yield link["verdict"], level, path, where, f"link '{name}': {link['reason']}{moves}", link
+                yield link["verdict"], level, path, where, f"link '{name}': {link['reason']}{moves}", link, subject
             for sign in link["signs"]:
-                yield sign["sign"], "note", path, where, f"link '{name}': {sign['text']}", None
+                yield sign["sign"], "note", path, where, f"link '{name}': {sign['text']}", None, subject
             for found in (link.get("bodies_inside") or {}).get("findings", ()):
                 level = ("error" if link["moving"] else "warning") if found["hard"] else "note"
                 moves = "" if link["moving"] or not found["hard"] else \
                     " (the link does not move: not counted in the exit status)"
-                yield found["rule"], level, path, where, found["message"] + moves, link
+                yield found["rule"], level, path, where, found["message"] + moves, link, subject
         for name, body in f["bodies"].items():
-            if body["judged"] and body["verdict"] != "consistent" and len(body["links"]) > 1:
+            # one link with mass has the body's verdict as its own; a body of massless frames has no link result
+            if body["judged"] and body["verdict"] != "consistent" and (len(body["links"]) > 1 or body["massless"]):
                 where = f["links"][name]["location"]
                 yield ("body-not-consistent", "error", path, where,
-                       f"body '{name}' (links {', '.join(body['links'])}): {body['verdict']}: {body['reason']}", None)
+                       f"body '{name}' (links {', '.join(body['links'])}): {body['verdict']}: {body['reason']}", None,
+                       f"body {name}")
         for leaf, chain in f["chains"].items():
             if chain["singular"]["verdict"] in SINGULAR:
                 where = f["links"][leaf]["location"]
-                yield ("singular-mass-matrix", "warning", path, where,
-                       f"chain {chain['name']}: M(q) singular {chain['singular']['verdict']}: "
-                       f"{chain['singular']['argument']}", None)
+                said = f"chain {chain['name']}: M(q) singular {chain['singular']['verdict']}: " \
+                    f"{chain['singular']['argument']}"
+                yield "singular-mass-matrix", "warning", path, where, said, None, f"chain {chain['name']}"
+
+
+def _states(doc):
+    """The baseline state of each finding of :func:`keyed_findings`, in its order (None without a baseline)."""
+    listed = doc.get("findings") or ()
+    return [found.get("baseline_state") for found in listed]
 
 
 def sarif_log(doc, version="0"):
-    """The audit as a SARIF 2.1.0 log (a dict ready for ``json.dumps``)."""
+    """The audit as a SARIF 2.1.0 log (a dict ready for ``json.dumps``).
+
+    Each result names its subject and audited file in ``properties`` (``subject``: ``link NAME``, ...; ``file``);
+    against a baseline (``--baseline``) each has its ``baselineState``, and the baseline's findings this run does
+    not have follow as results of level ``none`` and state ``absent``."""
     rule_ids = list(RULES)
     results = []
-    for rule, level, path, where, message, link in findings(doc):
+    states = _states(doc)
+    for i, (rule, level, path, where, message, link, subject) in enumerate(keyed_findings(doc)):
         physical = {"artifactLocation": {"uri": _uri(where["path"] if where else path)}}
         if where is not None:
             physical["region"] = {k: v for k, v in where.items() if k != "path"}
         result = {"ruleId": rule, "ruleIndex": rule_ids.index(rule), "level": level, "message": {"text": message},
-                  "locations": [{"physicalLocation": physical}]}
+                  "locations": [{"physicalLocation": physical}], "properties": {"subject": subject, "file": _uri(path)}}
+        if i < len(states) and states[i] is not None:
+            result["baselineState"] = states[i]
         if link is not None:
-            result["properties"] = {"engines": link["engines"], "triangle_slack_rel": link["triangle_slack_rel"]}
+            result["properties"].update(engines=link["engines"], triangle_slack_rel=link["triangle_slack_rel"])
             fix = _fix(link["repair"]) if rule == link["verdict"] else \
                 _uniform_fix(link, where) if rule in HARD + SOFT else None  # the verdict's result carries the fix
             if fix is not None:
                 result["fixes"] = [fix]
         results.append(result)
-    return {
-        "$schema": SARIF_SCHEMA,
-        "version": "2.1.0",
-        "runs": [{
-            "tool": {"driver": {"name": "inertiaproof", "version": version,
-                                "rules": [{"id": rule, "shortDescription": {"text": text.split(":")[0].split(".")[0]},
-                                           "fullDescription": {"text": text}} for rule, text in RULES.items()]}},
-            "columnKind": "unicodeCodePoints",
-            "results": results,
-        }],
+    results += [_absent(found, rule_ids) for found in (doc.get("baseline") or {}).get("absent", ())]
+    run = {
+        "tool": {"driver": {"name": "inertiaproof", "version": version,
+                            "rules": [{"id": rule, "shortDescription": {"text": text.split(":")[0].split(".")[0]},
+                                       "fullDescription": {"text": text}} for rule, text in RULES.items()]}},
+        "columnKind": "unicodeCodePoints",
+        "results": results,
     }
+    if doc.get("baseline"):
+        run["properties"] = {"baseline": doc["baseline"]["path"], "baseline_counts": doc["baseline"]["counts"]}
+    return {"$schema": SARIF_SCHEMA, "version": "2.1.0", "runs": [run]}
+
+
+def _absent(found, rule_ids):
+    """A SARIF result for a finding of the baseline that this run does not have."""
+    old = found.get("sarif") or {}
+    locations = old.get("locations") or [{"physicalLocation": {"artifactLocation": {"uri": _uri(found["file"])}}}]
+    result = {"ruleId": found["rule"], "level": "none",
+              "message": {"text": f"in the baseline, not in this run: {found['message']}"}, "locations": locations,
+              "baselineState": "absent",
+              "properties": {"subject": found["subject"], "file": _uri(found["file"]),
+                             "baseline_level": found["level"]}}
+    if found["rule"] in rule_ids:
+        result["ruleIndex"] = rule_ids.index(found["rule"])
+    return result
 
 
 def _fix(repair):
@@ -176,9 +218,19 @@ def _escape(text, property_value=False):
 
 
 def github_commands(doc):
-    """GitHub Actions workflow commands (``::error file=...,line=...::message``), one line per finding."""
+    """GitHub Actions workflow commands (``::error file=...,line=...::message``), one line per finding.
+
+    Against a baseline, an error the baseline has unchanged is a ``warning`` (it does not fail the run) and its
+    message says so; the baseline's findings this run does not have are not annotated."""
     out = []
-    for rule, level, path, where, message, _ in findings(doc):
+    states = _states(doc)
+    for i, (rule, level, path, where, message, _, _) in enumerate(keyed_findings(doc)):
+        state = states[i] if i < len(states) else None
+        if state == "unchanged":
+            level = "warning" if level == "error" else level
+            message += " [unchanged since the baseline]"
+        elif state is not None:
+            message += f" [{state} since the baseline]"
         command = {"error": "error", "warning": "warning", "note": "notice"}[level]
         props = [f"file={_escape(str(where['path'] if where else path), True)}"]
         if where is not None:

@@ -18,7 +18,9 @@ Exit status: 0 every moving link and every body is consistent; 1 some is not,
 or some URDF ``<inertial>`` has a problem that urdfdom reads past (``problems``,
 each with its line: :class:`inertiaproof.audit.urdf.Problem`); 2 some input
 could not be read (the others are still audited; its ``location`` is the line
-of the error, where the reader has one). A link moves
+of the error, where the reader has one). A file whose total mass is not the expected (``--expect-mass``,
+:mod:`.total_mass`) is 1 too; with a baseline (``--baseline``, :mod:`.baseline`) 1 counts only the new and
+updated errors (``findings`` lists every finding with its ``baseline_state``). A link moves
 when a movable joint moves it; a massless frame (no mass, no inertia) is not
 a body and is not judged, but a body made only of massless frames is. The
 counts (``counts``, ``not_judged``, ``body_counts`` per file; ``summary``)
@@ -40,6 +42,8 @@ from inertiaproof.errors import InputError
 from inertiaproof.model.consistency import CONSISTENT, LABELS, physical_consistency
 from inertiaproof.result import quantity
 
+from .annotations import keyed_findings
+from .baseline import COUNTED, STATES, compare
 from .bodies_inside import DENSEST, link_findings
 from .engines import MJ_MINVAL, engine_column, unread_column
 from .kinematic_tree import LEFT_OUT, kinematic_tree
@@ -47,12 +51,13 @@ from .mistakes import diagnose, entries
 from .mjcf import is_mjcf, read_mjcf
 from .repair import DEFAULT_SLACK, nearest_consistent_inertia, written_inertia
 from .rewrite import replacement
+from .total_mass import check_total_mass
 from .urdf import read_urdf
 from .xacro_files import is_xacro, read_xacro
 
 __all__ = [
     "audit_paths", "audit_robot", "BOUNDS_MODES", "chain_bounds", "document", "exit_status",
-    "is_serial_arm", "NOT_JUDGED_LINKS", "read_robot", "SCHEMA",
+    "is_serial_arm", "listed_findings", "NOT_JUDGED_LINKS", "read_robot", "SCHEMA",
 ]
 
 SCHEMA = "inertiaproof.audit/1"
@@ -394,17 +399,52 @@ def _audit_one(path, options):
         return {"status": "error", "error": f"{path}: out of memory: the audit needs more than its memory budget"}
 
 
-def exit_status(files):
+def exit_status(files, findings=None):
     """2 some file cannot be read; 1 some moving link or body is not consistent, some file has a problem that
-    the engines read past (:class:`.urdf.Problem`), or some moving link has a hard finding on the bodies inside
-    its geometry (``geometry_errors``, :mod:`.bodies_inside`); else 0."""
+    the engines read past (:class:`.urdf.Problem`), some moving link has a hard finding on the bodies inside
+    its geometry (``geometry_errors``, :mod:`.bodies_inside`) or some file's total mass is not the expected
+    (``total_mass``, :mod:`.total_mass`); else 0.
+
+    With a baseline (``findings`` carrying a ``baseline_state``, :mod:`.baseline`), 1 counts only the findings of
+    level ``error`` that are ``new`` or ``updated``: the known ones are left to be fixed."""
     if any(f["status"] == "error" for f in files.values()):
         return 2
+    if findings is not None and any("baseline_state" in found for found in findings):
+        return int(any(found["level"] == "error" and found["baseline_state"] in COUNTED for found in findings))
     return 0 if all(f["consistent"] and not f.get("problems") and not f.get("geometry_errors")
+                    and (f.get("total_mass") or {}).get("matches") is not False
                     for f in files.values()) else 1
 
 
-def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s, versions):
+def listed_findings(files, baseline=None):
+    """Every finding of the audit (:func:`.annotations.keyed_findings`) as ``{"rule", "level", "file",
+    "subject", "message", "location"}``, with ``baseline_state`` against a ``baseline`` (:func:`.baseline.
+    read_baseline`); and the baseline's summary (counts per state, the absent findings) or None."""
+    out = [{"rule": rule, "level": level, "file": path, "subject": subject, "message": message, "location": where}
+           for rule, level, path, where, message, _, subject in keyed_findings({"files": files})]
+    if baseline is None:
+        return out, None
+    states, absent = compare(out, baseline["findings"])
+    for found, state in zip(out, states):
+        found["baseline_state"] = state
+    counts = {state: states.count(state) for state in STATES[:3]} | {"absent": len(absent)}
+    return out, {"path": baseline["path"], "format": baseline["format"], "counts": counts,
+                 "counted": sum(f["level"] == "error" and f["baseline_state"] in COUNTED for f in out),
+                 "absent": [{"rule": b["rule"], "level": b["level"], "file": b["file"], "subject": b["subject"],
+                             "message": b["message"], "baseline_state": "absent",
+                             **({"sarif": b["result"]} if b.get("result") else {})} for b in absent]}
+
+
+def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s, versions, expected_mass=None,
+             baseline=None):
+    """The audit of ``files`` as one JSON-ready document (schema :data:`SCHEMA`).
+
+    ``expected_mass``: :func:`.total_mass.parse_expectations` (``--expect-mass``; each readable file gets its
+    ``total_mass``); ``baseline``: :func:`.baseline.read_baseline` (``--baseline``): every entry of ``findings``
+    gets its ``baseline_state``, ``baseline`` lists the absent ones, and the exit status counts only the new and
+    updated errors."""
+    check_total_mass(files, expected_mass)
+    listed, compared = listed_findings(files, baseline)
 
     ok = [f for f in files.values() if f["status"] == "ok"]
     signs, inside = {}, {}
@@ -432,7 +472,12 @@ def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s, v
             "signs": signs,
             "bodies_inside": inside,  # links per finding of :mod:`.bodies_inside`, moving or not
             "geometry_errors": sum(len(f.get("geometry_errors", ())) for f in ok),
-            "exit_status": exit_status(files),
+            "mass_mismatches": sum((f.get("total_mass") or {}).get("matches") is False for f in ok),
+            **({"baseline": {k: compared[k] for k in ("path", "counts", "counted")}} if compared else {}),
+            "exit_status": exit_status(files, listed),
         },
+        "expected_mass": expected_mass,
         "files": files,
+        "findings": listed,  # every finding, as SARIF and the annotations give them (with baseline_state)
+        **({"baseline": compared} if compared else {}),
     }

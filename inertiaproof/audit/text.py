@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 __all__ = [
-    "engine_actions", "format_audit", "format_file", "headline", "line_of", "NOT_JUDGED_WORDS", "reason", "remarks",
-    "role", "totals", "verdict",
+    "engine_actions", "format_audit", "format_baseline", "format_file", "headline", "line_of", "NOT_JUDGED_WORDS",
+    "reason", "remarks", "role", "totals", "verdict",
 ]
 
 
@@ -49,6 +49,8 @@ def headline(f):
         state += f"; {_count(f['problems'], 'problem')} in inertials"
     if f.get("geometry_errors"):
         state += f"; {_count(f['geometry_errors'], 'hard finding')} on the bodies inside the geometry"
+    if (f.get("total_mass") or {}).get("matches") is False:
+        state += "; total mass not the expected"
     links = _count(f["links"], "link")
     bodies = [b for b in f["bodies"].values() if b.get("judged", True)]
     if "counts" in f:
@@ -95,6 +97,11 @@ def format_file(path, f):
     links = f["links"]
     out = [f"== {path}: {headline(f)}"] + [f"  {line}" for line in remarks(f)]
     out += [f"  problem {p['link']} ({line_of(p['location'])}): {p['message']}" for p in f.get("problems", ())]
+    mass = f.get("total_mass") or {}
+    if mass.get("expected") is not None:
+        out.append(f"  mass    {mass['message']}" if mass["matches"] is False else
+                   f"  mass    total {mass['total']['value']:.6g} kg, as expected ({mass['expected']['value']:.6g} kg "
+                   f"within {mass['tolerance_rel']:.3g} relative)")
     width = max(len(name) for name in links)
     roles = {name: role(link) for name, link in links.items()}
     role_width = max(len(r) for r in roles.values())
@@ -165,6 +172,8 @@ def totals(summary):
         f"{n} {label}" for label, n in bodies.items() if label != "not_judged") + "; "
     signs = ", ".join(f"{k} {v}" for k, v in sorted(summary["signs"].items())) or "none"
     problems = f"; problems in inertials: {summary['problems']}" if summary.get("problems") else ""
+    if summary.get("mass_mismatches"):
+        problems += f"; total mass not the expected: {summary['mass_mismatches']}"
     inside = summary.get("bodies_inside")
     if inside:
         problems += "; bodies inside the geometry: " + ", ".join(f"{k} {v}" for k, v in sorted(inside.items()))
@@ -173,7 +182,28 @@ def totals(summary):
             f"consistent: {summary['moving_not_consistent']}; signs: {signs}{problems}")
 
 
+def format_baseline(doc):
+    """The findings against the baseline (``--baseline``): counts per state, then each new, updated or absent
+    one."""
+    compared = doc.get("baseline")
+    if not compared:
+        return None
+    counts = ", ".join(f"{n} {state}" for state, n in compared["counts"].items())
+    errors = "error" if compared["counted"] == 1 else "errors"
+    out = [f"baseline {compared['path']}: {counts}; the exit status counts the {compared['counted']} new or updated "
+           + errors]
+    for found in doc.get("findings", ()):
+        if found.get("baseline_state") in ("new", "updated"):
+            out.append(f"  {found['baseline_state']:<8} {found['level']:<7} {found['rule']} {found['file']} "
+                       f"{found['subject']}: {found['message']}")
+    out += [f"  absent   {found['rule']} {found['file']} {found['subject']}: {found['message']}"
+            for found in compared["absent"]]
+    return "\n".join(out)
+
+
 def format_audit(doc):
     parts = [format_file(path, f) for path, f in doc["files"].items()]
+    if doc.get("baseline"):
+        parts.append(format_baseline(doc))
     parts.append(f"audited {doc['summary']['files']} files in {doc['runtime_s']:.2f} s: {totals(doc['summary'])}")
     return "\n\n".join(parts)

@@ -22,7 +22,8 @@ from inertiaproof.model.inertia import rotation_rpy
 
 from .domain import certification_obstacle, search_box
 
-__all__ = ["PayloadClaim", "SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "exact", "key_step_certificate",
+__all__ = ["PayloadClaim", "SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "distinct", "exact",
+           "key_step_certificate",
            "moving_mass_certificate", "payload_f_certificate", "product_certificate", "pseudo_exact",
            "skew_certificate", "SkewClaim", "spatial_exact", "spatial_psd", "spectrum_certificate", "sum_certificate",
            "ZERO_FLOOR"]
@@ -31,10 +32,12 @@ SCHEMA = "inertiaproof.certificate/2"
 RIGID = 1e-12  # how far a fixed transform's rotation may lie from the one its rpy builds: farther, no certificate
 
 
-def _distinct(stack):
-    """The distinct parameter sets of a stack (V, N, 10)."""
+def distinct(stack):
+    """The distinct entries of a stack (V, ...) along its first axis, in lexicographic order of their flat rows
+    (as ``np.unique(axis=0)``, which once failed at random here comparing its structured view: a TypeError)."""
     stack = np.asarray(stack, float)
-    return np.unique(stack.reshape(len(stack), -1), axis=0).reshape(-1, *stack.shape[1:])
+    rows = sorted({tuple(row) for row in stack.reshape(len(stack), -1).tolist()})
+    return np.array(rows, float).reshape(-1, *stack.shape[1:])
 
 
 def exact(x):
@@ -195,7 +198,7 @@ def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=
     if isinstance(proof, SplitProof) or forms is not None and len(forms) == len(thetas) > 1:  # paired: keep the order
         sets = thetas
     else:
-        sets = _distinct(thetas)
+        sets = distinct(thetas)
     return {"schema": SCHEMA,
             "claim": {"kind": "mass-matrix-spectrum", "quantity": quantity, "bound": exact(bound)},
             "chain": written,
@@ -242,7 +245,7 @@ def spatial_exact(row):
 def spatial_psd(thetas):
     """Whether Z(Phi_l) >= 0 for every row of ``thetas`` (..., 10), decided exactly (so on their convex hull: Z is
     linear in Phi); False where a row is not finite."""
-    rows = np.unique(np.asarray(thetas, float).reshape(-1, 10), axis=0)
+    rows = distinct(np.asarray(thetas, float).reshape(-1, 10))
     return bool(np.all(np.isfinite(rows))) and all(
         definiteness(integer_matrix(spatial_exact(row)))[0] in ("pd", "psd")
         for row in rows)
@@ -265,7 +268,7 @@ class PayloadClaim:
         cert = self.inner(bound, note, witness, proof) if self.inner else None
         if cert is None or "parameters" not in cert:
             return None
-        sets = _distinct(self.arm)
+        sets = distinct(self.arm)
         if len(cert["parameters"]) != len(sets):
             return None
         claim = {**cert["claim"], "kind": "payload-envelope"}
@@ -296,7 +299,7 @@ def payload_f_certificate(arm, payloads, beta):
     while not all(definiteness(integer_matrix([[(bound - lift if i == j else 0) - f[i][j] for j in range(4)]
                                                for i in range(4)]))[0] != "indefinite" for f, lift in pseudo):
         bound += step
-    sets = _distinct(arm)
+    sets = distinct(arm)
     return {"schema": SCHEMA,
             "claim": {"kind": "payload-envelope", "quantity": "lambda_max_f", "bound": exact(bound)},
             "parameters": [_rows(s) for s in sets], "payload": payloads.to_json(), "beta": exact(beta)}
@@ -319,7 +322,7 @@ def body_spectrum_certificate(stack, name, bound, provenance="", directions=None
     if not (np.all(np.isfinite(stack)) and np.isfinite(float(bound))):
         return None
     matrix, quantity = BODY_CLAIMS[name]
-    sets = _distinct(stack)
+    sets = distinct(stack)
     return {"schema": SCHEMA,
             "claim": {"kind": "body-spectrum", "matrix": matrix, "quantity": quantity, "bound": exact(bound)},
             "parameters": [_rows(s) for s in sets],
@@ -386,7 +389,7 @@ def moving_mass_certificate(trajectory, name, bound, provenance, stack):
                                                    "duration": exact(load.path.profile.duration),
                                                    "rate": exact(load.path.profile.rate)}}
              for load in trajectory.loads if isinstance(load, MovingMass)]
-    sets = _distinct(stack)
+    sets = distinct(stack)
     return {"schema": SCHEMA,
             "claim": {"kind": "moving-mass", "quantity": quantity, "bound": exact(bound)},
             "parameters": [_rows(s) for s in sets], "loads": loads, "provenance": provenance}

@@ -56,7 +56,7 @@ from .domain import (
 from .extremes import bracket_extreme
 from .fourier import PAIR_CELLS, SINGLE_CELLS, FourierFamily, certified_entry_sups, perron_of
 from .axial_form import axial_lower_form, form_lmin
-from .certificate import PivotProof, SkewClaim, SpectrumClaim, partition_tree
+from .certificate import PivotProof, SkewClaim, SpectrumClaim, distinct, partition_tree
 from .interface import EVIDENCE, split_ladder
 from .lengths import _block_rows, _unit_bodies, column_bounds, lever_bounds
 from .pivot_search import DEEP_S, EXTRA, ladder_budget, ladder_goal, pivot_ladder
@@ -712,7 +712,7 @@ def _tighten_by_ladder(result, chain, thetas, refine_s, square, goal=None, boxes
     if not wide:  # narrow already: the ladder aims at the side it has, to hand the checker a partition
         goal = (result.upper if square else result.upper**2) / observed
     thetas = np.asarray(thetas, float)
-    thetas = np.unique(thetas.reshape(len(thetas), -1), axis=0).reshape((-1,) + thetas.shape[1:])  # the set once
+    thetas = distinct(thetas)  # the set once
     key = (chain_key(chain), refine_s, goal, boxes, thetas.shape, thetas.tobytes(), observed,
            np.asarray(result.witness).tobytes())
     gamma, how, proof = content_memo(_PIVOT_CACHE, key, lambda: _pivot_sup(chain, thetas, refine_s, observed,

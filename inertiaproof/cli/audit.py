@@ -7,9 +7,10 @@ of the expanded text. Printed as tables, or as JSON (``--json``), GitHub Actions
 also as SARIF 2.1.0 (``--sarif FILE``) and as a report (``--report DIR``).
 When stdout carries annotations or a diff, the tables go to stderr.
 
-Exit status: 0 every moving link and every body is consistent and no moving link has a hard finding on the
-bodies inside its geometry (``--max-density``); 1 some is not or has;
-2 some input could not be read (the others are still audited).
+Exit status: 0 every moving link and every body is consistent, no moving link has a hard finding on the
+bodies inside its geometry (``--max-density``) and every total mass is the expected (``--expect-mass``); 1 some
+is not or has; with ``--baseline FILE`` 1 only for a new or updated error (one the earlier audit in FILE does not
+have as it is now); 2 some input could not be read (the others are still audited), or a bad option value.
 """
 
 from __future__ import annotations
@@ -23,10 +24,12 @@ import numpy as np
 
 from inertiaproof.audit.bodies_inside import DENSEST
 from inertiaproof.audit.annotations import github_commands, sarif_log
+from inertiaproof.audit.baseline import read_baseline
 from inertiaproof.audit.document import BOUNDS_MODES, audit_paths, document
 from inertiaproof.audit.repair import DEFAULT_SLACK
 from inertiaproof.audit.rewrite import repaired_copies, unified_diff
 from inertiaproof.audit.text import format_audit
+from inertiaproof.audit.total_mass import DEFAULT_TOLERANCE, parse_expectations
 from inertiaproof.audit.xacro_files import parse_arguments
 from inertiaproof.budget import Budget, enforced
 from inertiaproof.errors import InputError
@@ -65,6 +68,16 @@ def configure(parser):
     parser.add_argument("--max-density", type=float, default=DENSEST, metavar="KG_M3",
                         help="the densest material a link may be made of, the premise of the findings on the bodies "
                              "inside each link's geometry (default %(default)g kg/m^3, osmium's)")
+    parser.add_argument("--expect-mass", action="append", default=[], metavar="KG|NAME=KG",
+                        help="the model's total mass (the sum of its links' masses): KG for every file audited, "
+                             "NAME=KG for the file whose path, file name or robot name is NAME (repeat for more); a "
+                             "total off by more than --mass-tolerance is a finding counted in the exit status")
+    parser.add_argument("--mass-tolerance", type=float, default=DEFAULT_TOLERANCE, metavar="REL",
+                        help="relative tolerance of --expect-mass, of the expected mass (default %(default)g)")
+    parser.add_argument("--baseline", metavar="FILE",
+                        help="an earlier SARIF or JSON output of the audit of the same files: every finding is new, "
+                             "updated, unchanged or absent (SARIF baselineState; matched by rule, file and link, not "
+                             "by line) and the exit status counts only the new and updated errors")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
                         help="an argument for the xacro files (repeat for more); their positions are in the expanded "
@@ -82,6 +95,8 @@ def main(args):
         raise InputError(f"--max-density must be a positive number of kg/m^3, got {args.max_density}")
     if not 0 < args.repair_slack < 1:
         raise InputError(f"--repair-slack must lie in (0, 1), got {args.repair_slack}")
+    expected_mass = parse_expectations(args.expect_mass, args.mass_tolerance)
+    baseline = read_baseline(args.baseline) if args.baseline else None
     profile = PROFILES[args.profile]
     start = time.perf_counter()
     samples, refine_s = profile.audit_budget(args.bounds)
@@ -101,7 +116,8 @@ def main(args):
         executor.say = say
         files = audit_paths(args.paths, executor=executor, **options)  # overflow inside margins falls back to LAPACK
     doc = document(files, profile=args.profile, seed=args.seed, bounds=args.bounds, floating_base=args.floating_base,
-                   slack=args.repair_slack, runtime_s=time.perf_counter() - start, versions=versions("yourdfpy", "mujoco"))
+                   slack=args.repair_slack, runtime_s=time.perf_counter() - start, versions=versions("yourdfpy", "mujoco"),
+                   expected_mass=expected_mass, baseline=baseline)
     for path, f in files.items():
         if f["status"] == "error":
             print(f"inertiaproof: error: {f['error']}", file=sys.stderr)
