@@ -36,8 +36,10 @@ EXIT_STATUS = {  # command -> the meaning of its exit status (shown by --help)
     "envelope": f"exit status: {HOLDS} every constant certified and re-proved, no payload of the set beyond one; "
                 f"{VIOLATED} a payload of the set beyond a constant, or a certificate refuted; {BAD_INPUT} bad usage "
                 f"or input; {INCONCLUSIVE} something not certified or not re-proved",
-    "audit": f"exit status: {HOLDS} every moving link and every body is consistent; {VIOLATED} some is not; "
-             f"{BAD_INPUT} some file cannot be read (the others are still audited)",
+    "audit": f"exit status: {HOLDS} every moving link and every body is consistent, no body inside a link's geometry "
+             f"is ruled out and every total mass is as expected (with --baseline: no new such finding); {VIOLATED} "
+             f"some finding of level error (new against the baseline); {BAD_INPUT} some file cannot be read (the "
+             "others are still audited) or bad usage",
 }
 
 
