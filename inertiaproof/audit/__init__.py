@@ -2,6 +2,7 @@
 
 - ``urdf``, ``mjcf``: URDF files read strictly, MJCF files read by MuJoCo, into links and joints
 - ``geometry``, ``bodies_inside``: each URDF link's primitives; theorems on every body inside them
+- ``mirror_twins``: left/right links placed mirrored whose inertials must be reflections of each other
 - ``locate``: where each inertia element stands in its file (line, column, span)
 - ``kinematic_tree``: the bodies of movable joints and their serial chains
 - ``mistakes``, ``repair``: signs of common authoring mistakes; the nearest consistent inertia, printed consistent

@@ -13,7 +13,8 @@ text. Levels: ``error`` for what the exit status counts (a moving link or a
 body that is not consistent, a problem in an inertial, an unreadable file), ``warning`` for the same
 on a link that does not move and for a chain whose M(q) can become singular,
 ``note`` for the signs and the soft findings on the geometry (a hard one is an ``error`` on a moving link, else
-a ``warning``).
+a ``warning``); a pair of mirror twins whose inertials are not reflections (:mod:`.mirror_twins`) is a ``warning``
+on the right link's inertia, naming both links.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .bodies_inside import HARD, SOFT
+from .mirror_twins import RULE as RULE_MIRROR
 
 __all__ = ["findings", "github_commands", "keyed_findings", "RULES", "sarif_log"]
 
@@ -48,6 +50,9 @@ RULES = {
                                   "(Wensing, Kim and Slotine): no mass distribution inside it has this inertia.",
     "total-mass-mismatch": "The model's total mass (the sum of its links' masses) is not the expected one "
                            "(--expect-mass) within --mass-tolerance (relative).",
+    "mirror-twin-mismatch": "Soft: two links named and placed as left/right mirror twins have inertials that are not "
+                            "reflections of each other (mass, centre of mass or an entry of the inertia, in the base "
+                            "frame at q = 0).",
     "implausible-density": "Soft: the density implied by the mass and the geometry's volume is below that of solid "
                            "parts (100 kg/m^3).",
     "inertia-unlike-geometry": "Soft: the principal moments are more than 10x off those of the link's geometry filled "
@@ -116,6 +121,10 @@ def _findings(doc):
                 moves = "" if link["moving"] or not found["hard"] else \
                     " (the link does not move: not counted in the exit status)"
                 yield found["rule"], level, path, where, found["message"] + moves, link, subject
+        for pair in (f.get("mirror_twins") or {}).get("pairs", ()):
+            if not pair["matches"]:
+                yield (RULE_MIRROR, "warning", path, f["links"][pair["right"]]["location"], pair["message"], None,
+                       f"links {pair['left']} {pair['right']}")
         for name, body in f["bodies"].items():
             # one link with mass has the body's verdict as its own; a body of massless frames has no link result
             if body["judged"] and body["verdict"] != "consistent" and (len(body["links"]) > 1 or body["massless"]):

@@ -48,6 +48,7 @@ from .bodies_inside import DENSEST, link_findings
 from .engines import MJ_MINVAL, engine_column, unread_column
 from .kinematic_tree import LEFT_OUT, kinematic_tree
 from .mistakes import diagnose, entries
+from .mirror_twins import mirror_twins
 from .mjcf import is_mjcf, read_mjcf
 from .repair import DEFAULT_SLACK, nearest_consistent_inertia, written_inertia
 from .rewrite import replacement
@@ -214,6 +215,7 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
         "links": link_out,
         "bodies": body_out,
         "chains": chains_out,
+        "mirror_twins": mirror_twins(robot),  # left/right pairs placed mirrored (:mod:`.mirror_twins`; soft)
     }
 
 
@@ -473,6 +475,8 @@ def document(files, *, profile, seed, bounds, floating_base, slack, runtime_s, v
             "bodies_inside": inside,  # links per finding of :mod:`.bodies_inside`, moving or not
             "geometry_errors": sum(len(f.get("geometry_errors", ())) for f in ok),
             "mass_mismatches": sum((f.get("total_mass") or {}).get("matches") is False for f in ok),
+            "mirror_twins": {"pairs": sum(len((f.get("mirror_twins") or {}).get("pairs", ())) for f in ok),
+                             "mismatches": sum((f.get("mirror_twins") or {}).get("mismatches", 0) for f in ok)},
             **({"baseline": {k: compared[k] for k in ("path", "counts", "counted")}} if compared else {}),
             "exit_status": exit_status(files, listed),
         },

@@ -51,6 +51,9 @@ def headline(f):
         state += f"; {_count(f['geometry_errors'], 'hard finding')} on the bodies inside the geometry"
     if (f.get("total_mass") or {}).get("matches") is False:
         state += "; total mass not the expected"
+    twins = f.get("mirror_twins") or {}
+    if twins.get("mismatches"):
+        state += f"; {twins['mismatches']} of {_count(twins['pairs'], 'mirror pair')} not mirrored"
     links = _count(f["links"], "link")
     bodies = [b for b in f["bodies"].values() if b.get("judged", True)]
     if "counts" in f:
@@ -138,6 +141,9 @@ def format_file(path, f):
         out.append(f"  repair  {name}: nearest consistent I_CoM changes it by {r['change_frobenius_rel']['value']:.3g} "
                    f"(relative Frobenius), {r['change_spectral']['value']:.3g} kg m^2 (spectral); principal moments "
                    f"({moments}) -> ({fixed}); <inertia {six}/> ({r['note']})")
+    for pair in (f.get("mirror_twins") or {}).get("pairs", ()):
+        if not pair["matches"]:
+            out.append(f"  mirror  {pair['message']}")
     for name, body in f["bodies"].items():
         if body["verdict"] != "consistent" and body.get("judged", True):  # not MuJoCo joint frames, massless bases
             out.append(f"  body    {name} (joint {body['joint']}; links {', '.join(body['links'])}): "
@@ -174,6 +180,9 @@ def totals(summary):
     problems = f"; problems in inertials: {summary['problems']}" if summary.get("problems") else ""
     if summary.get("mass_mismatches"):
         problems += f"; total mass not the expected: {summary['mass_mismatches']}"
+    twins = summary.get("mirror_twins")
+    if twins and twins["pairs"]:
+        problems += f"; mirror pairs: {twins['pairs']}, not mirrored: {twins['mismatches']}"
     inside = summary.get("bodies_inside")
     if inside:
         problems += "; bodies inside the geometry: " + ", ".join(f"{k} {v}" for k, v in sorted(inside.items()))
