@@ -76,17 +76,23 @@ def _root(holder, cert):
             and Fraction(value) ** 2 == Fraction(bound))
 
 
-def _verified(executor, folder, certs, memo):
-    """Write ``certs`` into ``folder`` and re-prove the files not yet in ``memo`` (names to the checker's rows), in
-    chunks over the executor's workers, one checker process each."""
+def _written(folder, certs):
+    """The names of ``certs``, each written into ``folder`` under its name."""
     named = [certificate_name(cert) for cert in certs]
     for name, text in named:
         (folder / name).write_text(text)
-    todo = sorted({name for name, _ in named if name not in memo})
+    return [name for name, _ in named]
+
+
+def _verified(executor, folder, certs, memo):
+    """Write ``certs`` into ``folder`` and re-prove the files not yet in ``memo`` (names to the checker's rows), in
+    chunks over the executor's workers, one checker process each; their names."""
+    names = _written(folder, certs)
+    todo = sorted(set(names) - set(memo))
     chunks = [[folder / n for n in todo[i::executor.workers]] for i in range(min(executor.workers, len(todo)))]
     for chunk, rows in zip(chunks, executor.map(check_files, chunks, kind="verify", label="certificates")):
         memo.update({path.name: row for path, row in zip(chunk, rows)})
-    return [name for name, _ in named]
+    return names
 
 
 def _complete(task, boxes):
@@ -108,9 +114,7 @@ def settle(result, *, out_dir, boxes, verify, memo, executor=None):
         folder = Path(out_dir if out_dir is not None else scratch) / "certificates"
         folder.mkdir(parents=True, exist_ok=True)
         if not verify:
-            names = [certificate_name(cert)[0] for cert in certs]
-            for cert, name in zip(certs, names):
-                (folder / name).write_text(certificate_name(cert)[1])
+            names = _written(folder, certs)
         else:
             names = _verified(executor, folder, certs, memo)
             again = [i for i, name in enumerate(names) if memo[name]["status"] == "not re-proved"]
@@ -118,9 +122,10 @@ def settle(result, *, out_dir, boxes, verify, memo, executor=None):
                                                                              for i in again],
                                  kind="verify", label="certificate trees")
             for i, cert, name in zip(again, grown, _verified(executor, folder, grown, memo)):
-                if memo[name]["status"] != "not re-proved" or name == names[i]:
-                    if out_dir is not None and name != names[i]:
-                        (folder / names[i]).unlink(missing_ok=True)
+                better = memo[name]["status"] != "not re-proved"  # else the prover's own tree stays cited
+                if name != names[i]:
+                    (folder / (names[i] if better else name)).unlink(missing_ok=True)  # the file no one cites
+                if better:
                     certs[i], names[i] = cert, name
     named = list(zip(names, certs))
     failed, unproved = None, []
