@@ -201,6 +201,11 @@ def test_verify_reads_results_json(run_out, tmp_path):
     (out / "results.json").write_text(json.dumps(results))
     done = _verify(out)
     assert done.returncode == 2 and "not implied by the claim" in done.stderr, done.stderr[-2000:]
+    number["value"] *= 10
+    number["certificate"] = cited  # a citation that is no entry at all
+    (out / "results.json").write_text(json.dumps(results))
+    done = _verify(out)
+    assert done.returncode == 2 and "not among the certificates" in done.stderr, done.stderr[-2000:]
     shutil.copy(run_out / "results.json", out / "results.json")
     (out / cited).unlink()
     done = _verify(out)

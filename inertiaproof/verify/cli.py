@@ -143,11 +143,12 @@ def results_problems(out, rows):
     for result in checks:
         for path, number, entry in _numbers(result.get("evidence"), str(result.get("id"))):
             numbers += number is not None
-            row = rows.get(entry.get("file", "")) if isinstance(entry, dict) else None
+            row = rows.get(entry.get("file")) if isinstance(entry, dict) else None
             if entry is None:
                 problems.append(f"{path}: a certified number that cites no certificate")
             elif row is None:
-                problems.append(f"{path}: cites {entry.get('file')!r}, which is not among the certificates")
+                cited = entry.get("file") if isinstance(entry, dict) else entry
+                problems.append(f"{path}: cites {cited!r}, which is not among the certificates")
             elif row["status"] != REPROVED:
                 problems.append(f"{path}: cites {entry['file']}, {row['status']}")
             elif entry.get("claim") != row["claim"]:
