@@ -1,0 +1,45 @@
+"""The prover's and the checker's seconds side by side, per check of a run's OUT folder: each check's own runtime
+(the prover; the completion of its certificates' trees is not in it) against the seconds the independent checker
+spent on the certificates it cites, and at the end every certificate counted once.
+
+    python bench/certificate_times.py OUT [RESULT.md]
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+
+def entries(node):
+    """The settled certificate entries of a check's evidence."""
+    if isinstance(node, dict):
+        cited = node.get("certificate")
+        if isinstance(cited, dict) and "file" in cited:
+            yield cited
+        for value in node.values():
+            yield from entries(value)
+    elif isinstance(node, list):
+        for value in node:
+            yield from entries(value)
+
+
+def table(out):
+    results = json.loads((Path(out) / "results.json").read_text())
+    rows, seen, prover = ["| check | prover s | certificates | checker s |", "|---|---|---|---|"], {}, 0.0
+    for check in results["checks"]:
+        files = {e["file"]: e.get("seconds", 0.0) for e in entries(check.get("evidence"))}
+        if files:
+            prover += check["runtime_s"]
+            seen.update(files)
+            rows.append(f"| {check['id']} | {check['runtime_s']:.1f} | {len(files)} | {sum(files.values()):.1f} |")
+    rows.append(f"| all (each certificate once) | {prover:.1f} | {len(seen)} | {sum(seen.values()):.1f} |")
+    return "\n".join(rows) + "\n"
+
+
+if __name__ == "__main__":
+    text = table(sys.argv[1])
+    print(text, end="")
+    if len(sys.argv) > 2:
+        Path(sys.argv[2]).write_text(text)
