@@ -11,25 +11,14 @@ import json
 import sys
 from pathlib import Path
 
-
-def entries(node):
-    """The settled certificate entries of a check's evidence."""
-    if isinstance(node, dict):
-        cited = node.get("certificate")
-        if isinstance(cited, dict) and "file" in cited:
-            yield cited
-        for value in node.values():
-            yield from entries(value)
-    elif isinstance(node, list):
-        for value in node:
-            yield from entries(value)
+from inertiaproof.suite.certificates import cited_entries
 
 
 def table(out):
     results = json.loads((Path(out) / "results.json").read_text())
     rows, seen, prover = ["| check | prover s | certificates | checker s |", "|---|---|---|---|"], {}, 0.0
     for check in results["checks"]:
-        files = {e["file"]: e.get("seconds", 0.0) for e in entries(check.get("evidence"))}
+        files = {e["file"]: e.get("seconds", 0.0) for e in cited_entries(check.get("evidence"))}
         if files:
             prover += check["runtime_s"]
             seen.update(files)
