@@ -43,7 +43,7 @@ def complete(cert, boxes, leaves=None):
 def _spectrum(cert, boxes, leaves):
     """The fields of a spectrum certificate that say how it is proved: ``method`` and ``tree``, or ``split``."""
     problem = spectrum.Problem(cert)
-    if problem.sign < 0 and _lengths(problem) <= problem.shift:
+    if problem.sign < 0 and _lengths_prove(problem):
         return {"method": "lengths", "tree": "."}
     _grow(problem, problem.walks(), boxes, leaves)
     if problem.split is None:
@@ -52,11 +52,12 @@ def _spectrum(cert, boxes, leaves):
     return {"method": "tree", "split": {**cert["split"], "tail": encode(tail), "head": encode(head)}}
 
 
-def _lengths(problem):
+def _lengths_prove(problem):
+    """Whether the chain's lengths prove the upper claim at once (a ball that is not finite proves nothing)."""
     try:
-        return perron_side(problem.chain, problem.domain, problem.bodies)
-    except ArithmeticError:  # a ball that is not finite: the lengths prove nothing
-        return problem.shift + 1
+        return perron_side(problem.chain, problem.domain, problem.bodies) <= problem.shift
+    except ArithmeticError:
+        return False
 
 
 def _grow(problem, walks, boxes, leaves=None):

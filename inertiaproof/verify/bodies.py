@@ -24,7 +24,7 @@ from flint import fmpq
 from .exact import BadCertificate, rational, semidefinite
 from .outcome import REPROVED, refuted, Outcome
 
-__all__ = ["formed", "parameter_sets", "pseudo_inertia", "prove", "spatial_inertia"]
+__all__ = ["formed", "parameter_sets", "prove", "pseudo_inertia", "rows_of", "spatial_inertia"]
 
 QUANTITIES = {"lambda_min": ((1, -1, "F - bound I"),), "lambda_max": ((-1, 1, "bound I - F"),),
               "sigma_max": ((-1, 1, "bound I - F"), (1, 1, "bound I + F"))}  # (sign of F, sign of bound I, which)
@@ -55,10 +55,17 @@ def spatial_inertia(phi):
 MATRICES = {"pseudo_inertia": pseudo_inertia, "spatial_inertia": spatial_inertia}
 
 
-def parameter_sets(cert, bodies=None, key="parameters"):
-    """The exact rows (V lists of N rows of 10) of a certificate's ``parameters`` (``key``); ``bodies`` N when known.
-    With a ``formation``, the sets must be the vertices it forms (:func:`formed`), no more and no fewer."""
-    sets = cert.get(key)
+def parameter_sets(cert, bodies=None):
+    """The exact rows (V lists of N rows of 10) of a certificate's ``parameters``; ``bodies`` N when known. With a
+    ``formation``, the sets must be the vertices it forms (:func:`formed`), no more and no fewer."""
+    rows = rows_of(cert.get("parameters"), bodies, "parameters")
+    if "formation" in cert and _keyed(rows) != _keyed(formed(cert["formation"], len(rows[0]))):
+        raise BadCertificate("parameters: not the vertices the formation forms")
+    return rows
+
+
+def rows_of(sets, bodies, key):
+    """The exact rows of the sets ``sets`` (V lists of N rows of 10; the field ``key``); ``bodies`` N when known."""
     if not isinstance(sets, list) or not sets or not isinstance(sets[0], list) or not sets[0]:
         raise BadCertificate(f"{key}: a nonempty list of parameter sets, each a nonempty list of bodies")
     bodies, rows = bodies or len(sets[0]), []
@@ -70,8 +77,6 @@ def parameter_sets(cert, bodies=None, key="parameters"):
                 raise BadCertificate(f"{key}[{v}][{l}]: 10 numbers")
         rows.append([[rational(x, f"{key}[{v}][{l}][{i}]") for i, x in enumerate(row)]
                      for l, row in enumerate(body_rows)])
-    if key == "parameters" and "formation" in cert and _keyed(rows) != _keyed(formed(cert["formation"], bodies)):
-        raise BadCertificate("parameters: not the vertices the formation forms")
     return rows
 
 
@@ -87,7 +92,7 @@ def formed(formation, bodies):
     if not isinstance(formation, dict) or set(formation) != {"of", "base", "loads"} \
             or formation["of"] not in ("theta", "rate") or not isinstance(formation["loads"], list):
         raise BadCertificate("formation: {of: theta or rate, base, loads}")
-    base = [[float(x) for x in row] for row in parameter_sets({"base": [formation["base"]]}, bodies, "base")[0]]
+    base = [[float(x) for x in row] for row in rows_of([formation["base"]], bodies, "formation.base")[0]]
     loads = []
     for i, load in enumerate(formation["loads"]):
         kind = load.get("kind") if isinstance(load, dict) else None
@@ -109,12 +114,12 @@ def formed(formation, bodies):
 
 def _corner(base, loads, s, ds):
     theta, dot = [list(row) for row in base], [[0.0] * 10 for _ in base]
-    for (kind, body, _, _, _), si, k in zip(loads, s, range(len(s))):
+    for k, ((kind, body, _, _, _), si) in enumerate(zip(loads, s)):
         if kind == "scaling":
             d = 0.0 if ds is None else ds[k]
             row = theta[body]
             theta[body], dot[body] = [si * x for x in row], [d * x + si * y for x, y in zip(row, dot[body])]
-    for (kind, body, phi, _, _), si, k in zip(loads, s, range(len(s))):
+    for k, ((kind, body, phi, _, _), si) in enumerate(zip(loads, s)):
         if kind == "payload":
             theta[body] = [x + si * p for x, p in zip(theta[body], phi)]
             dot[body] = [x + (0.0 if ds is None else ds[k]) * p for x, p in zip(dot[body], phi)]
@@ -143,7 +148,7 @@ def prove(cert):
     if "directions" in cert:
         if quantity != "lambda_min":
             raise BadCertificate("directions: only for a lambda_min claim")
-        for l, row in enumerate(parameter_sets({"directions": [cert["directions"]]}, len(sets[0]), "directions")[0]):
+        for l, row in enumerate(rows_of([cert["directions"]], len(sets[0]), "directions")[0]):
             tested += 1
             if not semidefinite(build(row)):
                 return refuted(f"direction of body {l + 1}: {matrix}(D) is not positive semidefinite, so lambda_min "

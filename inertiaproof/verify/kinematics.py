@@ -111,7 +111,7 @@ class Chain:
     def __init__(self, data):
         joints = data.get("joints") if isinstance(data, dict) and set(data) <= {"name", "source", "joints"} else None
         if not isinstance(joints, list) or not joints or len(joints) > JOINTS:
-            raise BadCertificate(f"chain: {{name, joints}}, a list of 1 to {JOINTS} joints")
+            raise BadCertificate(f"chain: {{name, source, joints}}, a list of 1 to {JOINTS} joints")
         self.name, self.source = str(data.get("name", "chain")), _source(data.get("source"))
         self.joints = [Joint(j, f"chain.joints[{i}]") for i, j in enumerate(joints)]
         self.n = len(self.joints)
