@@ -169,6 +169,7 @@ def _git_repo(tmp_path, text):
     return repo
 
 
+@pytest.mark.slow
 def test_pre_commit_hook_fails_a_bad_urdf_and_passes_its_repair(tmp_path):
     pytest.importorskip("pre_commit", reason="pre-commit is not installed")
     from pre_commit.clientlib import load_manifest
@@ -226,6 +227,7 @@ def test_python_api_records_and_html(tmp_path):
     assert "<table>" in page and "l3&lt;" in page and "l3<" not in page
 
 
+@pytest.mark.slow
 def test_example_robot_data_repairs_are_consistent_as_written(tmp_path, capsys):
     """Every printed repair of the example-robot-data robots, read back with the smallest slack, is consistent."""
     folder = robots_folder()

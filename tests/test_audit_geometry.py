@@ -185,8 +185,8 @@ def test_geometry_not_read_is_named_and_visual_is_used_without_collision(tmp_pat
     visual = _link("visual", 1, xyz="0 0 1", geometry=[('<sphere radius="0.1"/>', "0 0 0", "0 0 0")], tag="visual")
     bad = _link("bad", 1, geometry=[('<box size="0.1 0.1"/>', "0 0 0", "0 0 0")])
     code, f = _audit(capsys, _file(tmp_path, mesh, visual, bad))
-    assert f["links"]["mesh"]["bodies_inside"]["geometry"]["not_read"].endswith(
-        "link 'mesh': <collision> is a <mesh>, not a URDF primitive (box, cylinder, sphere)")
+    assert f["links"]["mesh"]["bodies_inside"]["geometry"]["not_read"].startswith(
+        "link 'mesh': package://x/a.stl: package 'x' not found")  # meshes: tests/test_audit_meshes.py
     assert _rules(f, "mesh") == ["second-moment-below-densest-ball"]  # needs no geometry
     assert f["links"]["bad"]["bodies_inside"]["geometry"]["not_read"].endswith(
         "link 'bad': <box size=\"0.1 0.1\"> is not 3 decimal numbers")

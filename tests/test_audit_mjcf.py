@@ -21,7 +21,7 @@ from urdf_samples import inertial, joint, link, robot, write
 
 mujoco = pytest.importorskip("mujoco", reason="MJCF reading needs the mujoco package (inertiaproof[mjcf])")
 
-NONE = dict(samples=64, refine_s=0.0, bounds="none")
+NONE = dict(samples=64, rounds=0, bounds="none")
 BAD = (0.01, 0.01, 0.03, 0.002, -0.001, 0.0005)  # ixx iyy izz ixy iyz ixz: the triangle inequality fails
 
 
@@ -146,8 +146,11 @@ def test_mjcf_that_mujoco_cannot_read_is_one_line_naming_mujoco(tmp_path):
 @pytest.mark.parametrize("kind", ["fullinertia", "diaginertia"])
 def test_write_repaired_mjcf_loads_in_mujoco_and_passes_the_audit(tmp_path, capsys, kind):
     numbers = "0.01 0.01 0.03 0.002 0.0005 -0.001" if kind == "fullinertia" else "0.01 0.01 0.03"
-    path = write(tmp_path, mjcf(f'<inertial pos="0 0 0.01" mass="0.7" euler="0 0 0" {kind}="{numbers}"/>'
-                                .replace('euler="0 0 0" ', "" if kind == "fullinertia" else 'euler="0 0 0" ')), "m.xml")
+    body = mjcf(f'<inertial pos="0 0 0.01" mass="0.7" euler="0 0 0" {kind}="{numbers}"/>'
+                .replace('euler="0 0 0" ', "" if kind == "fullinertia" else 'euler="0 0 0" '))
+    # a geom large enough to hold the repaired inertia (no 0.7 kg body in a 0.1 m cube has moments of 0.01 kg m^2:
+    # the audit's bounding-ellipsoid finding, :mod:`inertiaproof.audit.mjcf_geometry`)
+    path = write(tmp_path, body.replace('size=".05 .05 .05"', 'size=".3 .3 .3"'), "m.xml")
     before = path.read_bytes()
     out = tmp_path / "fixed.xml"
     assert cli.main(["audit", str(path), "--bounds", "none", "--write-repaired", str(out)]) == 1
@@ -244,7 +247,7 @@ def test_engines_disagree_where_their_tolerances_differ():
 def _collection(folder):
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
-        return audit_paths(sorted(glob.glob(os.path.join(folder, "*.xml"))), samples=64, refine_s=0.0, bounds="arms")
+        return audit_paths(sorted(glob.glob(os.path.join(folder, "*.xml"))), samples=64, rounds=0, bounds="arms")
 
 
 def _check_collection(files):

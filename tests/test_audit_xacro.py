@@ -98,7 +98,7 @@ def test_positions_are_lines_of_the_expanded_text(tmp_path):
     xacro_file, _ = _files(tmp_path)
     text, _ = expand(xacro_file, {"tip_izz": "0.03"})
     lines = text.split("\n")
-    entry = audit_paths([xacro_file], samples=64, refine_s=0.0, bounds="none",
+    entry = audit_paths([xacro_file], samples=64, rounds=0, bounds="none",
                         xacro_args={"tip_izz": "0.03"})[str(xacro_file)]
     for name in ("upper", "fore"):
         where = entry["links"][name]["location"]

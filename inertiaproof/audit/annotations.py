@@ -40,6 +40,8 @@ RULES = {
                        "link as a point mass.",
     "malformed-inertial": "An <inertial> urdfdom cannot parse (a missing element or attribute, a value that is not a "
                           "finite number): urdfdom logs an error and reads the link as far as it got.",
+    "sdformat-default": "An SDFormat link lacks <inertial>, <mass>, <inertia> or a diagonal moment: sdformat and "
+                        "Gazebo read the specification's default (mass 1 kg, ixx = iyy = izz = 1 kg m^2).",
     "mass-exceeds-densest": "The mass exceeds what the densest material (--max-density) fits in the volume of the "
                             "link's geometry: no body inside it has this mass.",
     "com-outside-geometry": "The centre of mass lies outside the convex hull of the link's geometry: no mass "
@@ -55,6 +57,9 @@ RULES = {
                             "frame at q = 0).",
     "implausible-density": "Soft: the density implied by the mass and the geometry's volume is below that of solid "
                            "parts (100 kg/m^3).",
+    "unlike-mujoco-inertia": "Soft: an MJCF body's declared <inertial> is far from MuJoCo's own inertia from its geoms "
+                             "(inertiafromgeom, at the declared mass): a principal moment more than 10x off, or the "
+                             "centre farther than MuJoCo's radius of gyration.",
     "inertia-unlike-geometry": "Soft: the principal moments are more than 10x off those of the link's geometry filled "
                                "uniformly at its mass.",
     "negative_mass": "Sign of an authoring mistake: negative mass.",

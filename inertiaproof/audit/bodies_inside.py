@@ -314,10 +314,11 @@ def link_findings(name, inertial, geometry, *, max_density=DENSEST):
     elif ball is None:
         not_decided.append("second-moment-below-densest-ball: the bound is not decided at 1024 bits")
     out = {"geometry": None, "findings": findings, "not_decided": not_decided, "uniform": None}
-    if geometry is None or geometry.unread or body.pose is None:
-        if geometry is not None:
+    if geometry is None or geometry.unread or body.pose is None or getattr(geometry, "meshes", ()):
+        if geometry is not None:  # a mesh is decided by .mesh_bodies, which calls this without the geometry
             out["geometry"] = {"source": geometry.source, "primitives": [],
-                               "not_read": geometry.unread or "the <inertial> origin is not read"}
+                               "not_read": geometry.unread or ("the <inertial> origin is not read" if body.pose is None
+                                                               else "a <mesh>: decided by audit.mesh_bodies")}
         return out
     shapes = geometry.primitives
     where = f"its {geometry.source} " + "; ".join(p.describe() for p in shapes)

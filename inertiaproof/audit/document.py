@@ -44,13 +44,16 @@ from inertiaproof.result import quantity
 
 from .annotations import keyed_findings
 from .baseline import COUNTED, STATES, compare
-from .bodies_inside import DENSEST, link_findings
+from .bodies_inside import DENSEST
 from .engines import MJ_MINVAL, engine_column, unread_column
 from .kinematic_tree import LEFT_OUT, kinematic_tree
+from .mesh_bodies import link_findings
 from .mistakes import diagnose, entries
 from .mirror_twins import mirror_twins
 from .mjcf import is_mjcf, read_mjcf
+from .mjcf_geometry import with_mujoco
 from .repair import DEFAULT_SLACK, nearest_consistent_inertia, written_inertia
+from .sdf import is_sdf, read_sdf, sdf_inertial_text
 from .rewrite import replacement
 from .total_mass import check_total_mass
 from .urdf import read_urdf
@@ -65,7 +68,7 @@ SCHEMA = "inertiaproof.audit/1"
 BOUNDS_MODES = ("arms", "all", "none")
 NOT_JUDGED_LINKS = ("joint_frames", "massless_frames", "fixed_base")  # why a link is not judged, in that order
 
-def chain_bounds(chain, theta, *, samples, refine_s, seed=0):
+def chain_bounds(chain, theta, *, samples, rounds, seed=0):
     """Theorems 2 and 3 on one chain over its joint limits, from :func:`inertiaproof.bounds.mass_matrix_bounds`.
 
     ``lambda_min`` is the side that decides whether M(q) can become singular:
@@ -74,9 +77,9 @@ def chain_bounds(chain, theta, *, samples, refine_s, seed=0):
     ``lambda_max`` is the largest sampled value (a lower estimate of the
     supremum); the certified sides, alpha1 and alpha2 (the paper's constant and
     the sharpest certified one) come as further quantities.
-    ``samples`` and ``refine_s`` are the per-chain budget (a profile's ``audit_samples``, ``audit_refine_s``).
+    ``samples`` and ``rounds`` are the per-chain budget (a profile's ``audit_samples``, ``audit_rounds``).
     """
-    found = mass_matrix_bounds(chain, theta, samples=samples, refine_s=refine_s,
+    found = mass_matrix_bounds(chain, theta, samples=samples, rounds=rounds,
                                rng=np.random.default_rng(seed))
     low, high = found["lower"], found["upper"]
     m_low, m_high = low["observed"], high["observed"]
@@ -114,11 +117,12 @@ def is_serial_arm(chains):
 
 # -- one file ------------------------------------------------------------------
 
-def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False, slack=DEFAULT_SLACK, seed=0,
-                max_density=DENSEST):
+def audit_robot(robot, *, samples, rounds, bounds="arms", floating_base=False, slack=DEFAULT_SLACK, seed=0,
+                max_density=DENSEST, packages=None):
     """The audit of one parsed robot as a JSON-ready dict (see README, ``inertiaproof audit``); ``max_density``
-    (kg/m^3) is the premise of the theorems on the bodies inside each URDF link's geometry (:mod:`.bodies_inside`;
-    MJCF geoms are not read for them yet)."""
+    (kg/m^3) is the premise of the theorems on the bodies inside each link's geometry (:mod:`.bodies_inside`: URDF
+    and SDFormat shapes, MJCF geoms by :mod:`.mjcf_geometry`, which also holds a declared MJCF inertial against
+    MuJoCo's own inertia from the geoms)."""
     tree = kinematic_tree(robot)
     links = robot.links
     written = [link.inertial for link in links]
@@ -150,7 +154,7 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
             "mass": written[k].mass, "com": written[k].com.tolist(), "inertia": entries(written[k].inertia)}
         entry["signs"] = signs[k]
         entry["hypotheses_tested"] = tested[k]
-        entry["engines"] = unread_column(unread[link.name]) if link.name in unread else \
+        entry["engines"] = unread_column(unread[link.name], fmt=robot.format) if link.name in unread else \
             None if written[k] is None or joint_frame else engine_column(
             mass[k], inertia[k], fmt=robot.format, moving=role == "body" or link.name in engine_moving,
             rescued=_rescued(tree.groups[anchor], link.name, links), lumped=role == "merged",
@@ -159,7 +163,14 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
         entry["repair"] = _repair(mass[k], inertia[k], slack, source) \
             if rows[k]["verdict"] != "consistent" and not massless[k] else None
         entry["bodies_inside"] = link_findings(link.name, written[k], robot.geometry.get(link.name),
-                                               max_density=max_density) if robot.format == "urdf" else None
+                                               max_density=max_density, packages=packages) \
+            if robot.format in ("urdf", "sdf", "mjcf") else None  # packages: --package NAME=DIR, for mesh URIs
+        if robot.format == "sdf" and (entry["bodies_inside"] or {}).get("uniform"):  # the proposal as SDFormat
+            uniform = entry["bodies_inside"]["uniform"]
+            uniform["text"] = sdf_inertial_text(uniform["text"])
+        if robot.format == "mjcf":  # against MuJoCo's own inertia from the geoms (:mod:`.mjcf_geometry`)
+            entry["bodies_inside"] = with_mujoco(link.name, written[k], robot.geometry.get(link.name),
+                                                 entry["bodies_inside"])
         if moving and not massless[k]:
             judged.append((link.name, rows[k]["verdict"]))
         link_out[link.name] = entry
@@ -172,7 +183,7 @@ def audit_robot(robot, *, samples, refine_s, bounds="arms", floating_base=False,
         names = [b.anchor for b in sc.bodies]
         codes = [LABELS.index(body_out[name]["verdict"]) for name in names]
         want = bounds == "all" or (bounds == "arms" and arm)
-        found = chain_bounds(sc.chain, sc.theta, samples=samples, refine_s=refine_s, seed=seed) if want else None
+        found = chain_bounds(sc.chain, sc.theta, samples=samples, rounds=rounds, seed=seed) if want else None
         chains_out[sc.bodies[-1].anchor] = {
             "name": sc.name,
             "joints": [j.name for j in sc.chain.joints],
@@ -304,7 +315,7 @@ def _repair(mass, inertia, slack, source):
             out["written_slack_rel"] = quantity(written[1], "margin", "triangle slack of the numbers as written, "
                                                 "relative to tr(I_CoM)")
             if source is not None and source.span is not None and source.span.column is not None \
-                    and source.kind in ("urdf", "diaginertia", "fullinertia") and not source.expanded:
+                    and source.kind in ("urdf", "sdf", "diaginertia", "fullinertia") and not source.expanded:
                 out["replacement"] = {"path": source.path, **source.span.region(), "start": source.span.start,
                                       "end": source.span.end, "text": replacement(source, written[0])}
         out.update(
@@ -352,6 +363,8 @@ def read_robot(path, xacro_args=None):
     links and joints."""
     if is_xacro(path):
         return read_xacro(path, xacro_args)
+    if Path(path).suffix.lower() == ".sdf" or (Path(path).suffix.lower() != ".urdf" and is_sdf(path)):
+        return read_sdf(path)
     return read_mjcf(path) if Path(path).suffix.lower() != ".urdf" and is_mjcf(path) else read_urdf(path)
 
 
@@ -364,9 +377,11 @@ def audit_paths(paths, executor=None, **options):
     files, todo = {}, []
     for path in map(Path, paths):
         if path.is_dir():
-            found = sorted([*path.rglob("*.urdf"), *(p for p in path.rglob("*.xml") if is_mjcf(p))])
+            found = sorted([*path.rglob("*.urdf"), *(p for p in path.rglob("*.xml") if is_mjcf(p)),
+                            *path.rglob("*.sdf")])
             if not found:
-                files[str(path)] = {"status": "error", "error": f"{path}: no *.urdf or MJCF *.xml files in this folder"}
+                files[str(path)] = {"status": "error",
+                                    "error": f"{path}: no *.urdf, MJCF *.xml or SDFormat *.sdf files in this folder"}
             for f in found:
                 files[str(f)] = None
                 todo.append(f)

@@ -53,13 +53,20 @@ such a file (observed with MuJoCo 4.0 and pybullet 3.2.7 on a two-link arm,
 
 Drake and Gazebo are not installed here: their column says so rather than
 guess (urdfdom and Pinocchio are in the problem's own message).
+
+SDFormat (``fmt="sdf"``, :mod:`.sdf`): MuJoCo does not read it; Drake's
+SDFormat parser checks an inertia as its URDF parser does (the rule above);
+pybullet's ``loadSDF`` (observed with pybullet 3.2.7) keeps the file's mass
+and computes the inertia from the collision shapes, with no flag to use the
+file's; Gazebo reads it natively (MassMatrix3::IsValid, no link dropped).
+:func:`sdf_unread_column` for what SDFormat defaults.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ENGINES", "engine_column", "MJ_EPS", "MJ_MINVAL", "unread_column"]
+__all__ = ["ENGINES", "engine_column", "MJ_EPS", "MJ_MINVAL", "sdf_unread_column", "unread_column"]
 
 ENGINES = ("mujoco", "drake", "pybullet", "gazebo")
 EPS = np.finfo(float).eps
@@ -166,6 +173,13 @@ def engine_column(mass, inertia, *, fmt, moving, rescued=False, lumped=False, fu
         out["pybullet"] = _answer("not_documented", "not documented for MJCF")
         out["gazebo"] = _answer("not_documented", "does not read MJCF")
         return out
+    if fmt == "sdf":
+        out["mujoco"] = _answer("not_documented", "does not read SDFormat")
+        out["drake"] = drake(mass, inertia)  # its SDFormat parser checks the inertia as its URDF parser does
+        out["pybullet"] = _answer("loads", "loads a static (massless) link") if mass == 0 else _answer(
+            "ignores", "ignores it: loadSDF keeps the mass and computes the inertia from the collision shapes")
+        out["gazebo"] = gazebo(mass, inertia, lumped=True)  # native: no link is dropped
+        return out
     out["drake"] = drake(mass, inertia)
     out["pybullet"] = pybullet(mass, inertia)
     out["gazebo"] = gazebo(mass, inertia, lumped=lumped)
@@ -175,9 +189,13 @@ def engine_column(mass, inertia, *, fmt, moving, rescued=False, lumped=False, fu
 NOT_INSTALLED = _answer("not_verified", "not verified: not installed here")
 
 
-def unread_column(missing):
+def unread_column(missing, fmt="urdf"):
     """{engine: {"action", "text"}} for a URDF link whose ``<inertial>`` urdfdom cannot parse (see the module):
-    ``missing``, an element or attribute is missing; else a value is not a finite number or has the wrong count."""
+    ``missing``, an element or attribute is missing; else a value is not a finite number or has the wrong count.
+    ``fmt="sdf"``: an SDFormat link whose ``<inertial>`` (or part of it) is missing or not a number
+    (:func:`sdf_unread_column`)."""
+    if fmt == "sdf":
+        return sdf_unread_column(missing)
     if missing:
         return {"mujoco": _answer("rejects", "rejects the file: 'XML Error: missing element' (or 'required "
                                   "attribute missing')"),
@@ -191,3 +209,22 @@ def unread_column(missing):
             "pybullet": _answer("loads", "loads it, reading a value that is not a number as 0 (an origin that is not "
                                 "three numbers is ignored with 'Couldn't parse vector3')"),
             "gazebo": NOT_INSTALLED}
+
+
+def sdf_unread_column(missing):
+    """{engine: {"action", "text"}} for an SDFormat link with a missing ``<inertial>``, ``<mass>``, ``<inertia>`` or
+    diagonal moment (``missing``) or a value that is not a number. Gazebo (sdformat) reads the specification's
+    defaults (its Link's default inertial: 1 kg, unit diagonal); pybullet 3.2.7's loadSDF, observed here: a link
+    without ``<inertial>`` gets 1 kg ("No inertial data for link") and the inertia of its collision shapes, an
+    ``<inertial>`` without ``<mass>``, ``<inertia>`` or any of the six entries makes the file fail to load."""
+    if missing:
+        gazebo_does = _answer("defaults", "loads SDFormat's defaults for what is missing (mass 1 kg, ixx = iyy = "
+                              "izz = 1 kg m^2), without a warning")
+        bullet = _answer("defaults", "a link without <inertial>: warns 'No inertial data for link', mass 1 kg, "
+                         "inertia from the collision shapes; else cannot load the file ('Cannot load SDF file.')")
+    else:
+        gazebo_does = _answer("not_verified", "not verified: sdformat reports an error and keeps the default; "
+                              "not installed here")
+        bullet = NOT_INSTALLED | {"text": "not verified for a value that is not a number"}
+    return {"mujoco": _answer("not_documented", "does not read SDFormat"), "drake": NOT_INSTALLED,
+            "pybullet": bullet, "gazebo": gazebo_does}

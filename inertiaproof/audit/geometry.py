@@ -7,17 +7,19 @@ placed in the link frame by the element's ``<origin xyz rpy>`` (https://wiki.ros
 denote (``0.1`` is 1/10, :func:`inertiaproof.model.exact.written_fraction`). A link whose geometry holds a mesh,
 a shape URDF does not define, a dimension that is not a positive number or an ``<origin>`` that is not three
 numbers is not decided on: its :attr:`LinkGeometry.unread` says why in one line naming the link and field (the
-audit shows it under the file's name).
+audit shows it under the file's name). A ``<mesh filename scale>`` is a :class:`MeshPart` in
+:attr:`LinkGeometry.meshes` (its file is read and decided on by :mod:`.mesh_bodies`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from pathlib import Path
 
 from inertiaproof.model.exact import written_fraction
 
-__all__ = ["LinkGeometry", "Pose", "Primitive", "PRIMITIVES", "read_geometry"]
+__all__ = ["PRIMITIVES", "LinkGeometry", "MeshPart", "Pose", "Primitive", "read_geometry"]
 
 PRIMITIVES = {"box": ("size",), "cylinder": ("radius", "length"), "sphere": ("radius",)}
 ZERO = (Fraction(0),) * 3
@@ -56,6 +58,27 @@ class Primitive:
 
 
 @dataclass(frozen=True)
+class MeshPart:
+    """One URDF ``<mesh filename scale>``: ``uri`` as written, ``scale`` three nonzero Fractions (default 1 1 1),
+    placed by ``pose``; ``base`` the folder of the file that names it (relative URIs and the package search start
+    there)."""
+
+    uri: str
+    scale: tuple
+    pose: Pose
+    base: str
+    line: int | None = None
+    kind = "mesh"
+
+    def describe(self):
+        """'mesh package://x/a.stl scale 0.001 0.001 0.001', then its origin."""
+        scale = "" if all(s == 1 for s in self.scale) else f" scale {' '.join(map(_decimal, self.scale))}"
+        origin = "" if self.pose == Pose() else \
+            f" at xyz ({' '.join(map(_decimal, self.pose.xyz))}) rpy ({' '.join(map(_decimal, self.pose.rpy))})"
+        return f"mesh {self.uri}{scale}{origin}" + (f" (line {self.line})" if self.line else "")
+
+
+@dataclass(frozen=True)
 class LinkGeometry:
     """A link's geometry (``source``: ``collision``, ``visual`` or None without either) and the frame of its
     declared inertia (``inertial_pose``; ``inertial_span``: where its ``<inertial>`` stands)."""
@@ -65,6 +88,7 @@ class LinkGeometry:
     unread: str | None = None  # why the geometry is not decided on
     inertial_pose: Pose = Pose()
     inertial_span: object = None
+    meshes: tuple = ()  # of MeshPart (the primitives hold the rest of the geometry)
 
 
 def _decimal(x):
@@ -99,13 +123,20 @@ def _pose(element, where):
     return Pose(_fractions(origin, "xyz", 3, ZERO, where), _fractions(origin, "rpy", 3, ZERO, where))
 
 
-def _primitive(holder, where):
-    """The one primitive of a ``<collision>`` or ``<visual>``, or _Unread."""
+def _primitive(holder, where, base="."):
+    """The one primitive (or :class:`MeshPart`) of a ``<collision>`` or ``<visual>``, or _Unread."""
     geometry = holder.find("geometry")
     shapes = [] if geometry is None else [e for e in geometry if isinstance(e.tag, str)]
     if len(shapes) != 1:
         raise _Unread(f"{where}: <{holder.tag}> has {len(shapes)} shapes in its <geometry>, not one")
     shape = shapes[0]
+    if shape.tag == "mesh":
+        if not shape.get("filename"):
+            raise _Unread(f"{where}: <mesh> misses attribute 'filename'")
+        scale = _fractions(shape, "scale", 3, (Fraction(1),) * 3, where)
+        if not all(scale):
+            raise _Unread(f"{where}: <mesh scale=\"{shape.get('scale')}\"> has a zero factor")
+        return MeshPart(shape.get("filename").strip(), scale, _pose(holder, where), str(base), shape.sourceline)
     if shape.tag not in PRIMITIVES:
         raise _Unread(f"{where}: <{holder.tag}> is a <{shape.tag}>, not a URDF primitive (box, cylinder, sphere)")
     dims = sum((_fractions(shape, a, 3 if a == "size" else 1, None, where) for a in PRIMITIVES[shape.tag]), ())
@@ -129,11 +160,12 @@ def read_geometry(root, path, spans=None):
         except _Unread:
             inertial_pose = None  # urdf.py reports it as a problem of the inertial
         try:
-            primitives, unread = tuple(_primitive(h, where) for h in holders), None
+            parts, unread = tuple(_primitive(h, where, Path(path).parent) for h in holders), None
         except _Unread as exc:
-            primitives, unread = (), str(exc)
+            parts, unread = (), str(exc)
         if not holders:
             unread = f"{where}: no <collision> or <visual>"
-        out[link.get("name")] = LinkGeometry(source, primitives, unread, inertial_pose,
-                                             None if inertial is None else spans.get(inertial))
+        out[link.get("name")] = LinkGeometry(source, tuple(p for p in parts if isinstance(p, Primitive)), unread,
+                                             inertial_pose, None if inertial is None else spans.get(inertial),
+                                             tuple(p for p in parts if isinstance(p, MeshPart)))
     return out

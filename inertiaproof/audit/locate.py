@@ -51,7 +51,8 @@ class Source:
 
     ``kind``: ``urdf`` (an ``<inertia>`` element), ``inertial`` (a URDF ``<inertial>`` without one, whose
     problem :mod:`.urdf` reports; no repair replaces it), ``diaginertia`` or
-    ``fullinertia`` (an MJCF ``<inertial>`` element), ``geoms`` (MuJoCo
+    ``fullinertia`` (an MJCF ``<inertial>`` element), ``sdf`` (an SDFormat ``<inertia>``), ``sdf_inertial`` (an
+    SDFormat ``<inertial>`` without one, or the ``<link>`` without an ``<inertial>``), ``geoms`` (MuJoCo
     computed it from the body's geoms; ``span`` is then the ``<body>``), or
     ``joint_frame`` (a frame between two joints of one MJCF body, not a body).
     """

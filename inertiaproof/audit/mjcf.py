@@ -25,6 +25,9 @@ order, so a body with k joints becomes k - 1 massless joint frames
 (``body/joint``) and the body, each frame placed at its joint's pivot;
 a range is relative to the joint's ``ref`` (qpos0).
 
+Each body's geoms are the audit's geometry of its link, and MuJoCo's own inertia from them (the spec compiled
+again with ``inertiafromgeom="true"``) is held against a declared inertial (:mod:`.mjcf_geometry`).
+
 MuJoCo's parser does not expand DTD entities: a model (or a file it
 includes) that uses internal ones is given to MuJoCo with them expanded in
 place, after the checks of :mod:`.entities` (external entities refused).
@@ -43,6 +46,7 @@ from inertiaproof.model.inertia import urdf_inertia
 
 from . import entities
 from .locate import Source, decode, element_spans
+from .mjcf_geometry import body_geometry, mujoco_inertia
 from .urdf import Inertial, Link, Robot, UrdfJoint
 
 __all__ = ["is_mjcf", "read_mjcf"]
@@ -108,9 +112,14 @@ def read_mjcf(path):
     except Exception as exc:
         raise InputError(f"{path}: MuJoCo {mujoco.__version__} cannot compile it: {_one_line(exc)}") from None
     located = _locate(path, model.nbody - 1)
-    links, joints, sources = _tree(model, written, located, str(path), mujoco)
+    links, joints, sources, placed = _tree(model, written, located, str(path), mujoco)
+    by_name = {link.name: link for link in links}
+    inertials = {b: by_name[model.body(b).name or f"body{b}"].inertial for b in range(1, model.nbody)}
+    spans = {b: item[3].get(item[2]) for b, item in located.items() if item[2] is not None}
+    geometry = body_geometry(model, placed, [model.body(b).name or f"body{b}" for b in range(model.nbody)], inertials,
+                             spans, model if overridden else mujoco_inertia(spec, mujoco))
     return Robot(spec.modelname or path.stem, str(path), tuple(links), tuple(joints), sources=sources,
-                 format="mjcf", compiler=compiler)
+                 format="mjcf", compiler=compiler, geometry=geometry)
 
 
 def _expanded(path):
@@ -199,7 +208,7 @@ def _pose(position, rotation=np.eye(3)):
 
 
 def _tree(model, written, located, path, mujoco):
-    """Links, joints and sources of the compiled model.
+    """Links, joints, sources and ``placed`` of the compiled model.
 
     ``placed[b]`` is the pose of MuJoCo body b's frame in the link that stands
     for b (the frame of b's last joint, at its pivot).
@@ -225,7 +234,7 @@ def _tree(model, written, located, path, mujoco):
         placed[b] = pending
         links.append(Link(name[b], _inertial(model, b, written.get(b), pending)))
         sources[name[b]] = _source(b, written.get(b), located.get(b), path)
-    return links, joints, sources
+    return links, joints, sources, placed
 
 
 def _joint(model, j, parent, child, pending, mujoco):

@@ -4,7 +4,8 @@ A repair replaces exactly the markup of one element (its span, see
 :mod:`.locate`): a URDF ``<inertia .../>`` by the six repaired entries, an
 MJCF ``<inertial .../>`` by the same element with its ``diaginertia`` or
 ``fullinertia`` repaired (MJCF's order: M(1,1), M(2,2), M(3,3), M(1,2),
-M(1,3), M(2,3)) and every other attribute kept. The rest of the file is
+M(1,3), M(2,3)) and every other attribute kept, an SDFormat ``<inertia>`` by
+one with the six repaired child elements. The rest of the file is
 copied character for character.
 """
 
@@ -26,6 +27,8 @@ def replacement(source, written):
     """The text that replaces ``source``'s element, given the repaired entries as strings (URDF names)."""
     if source.kind == "urdf":
         return "<inertia " + " ".join(f'{name}="{written[name]}"' for name in URDF_ORDER) + "/>"
+    if source.kind == "sdf":  # an SDFormat <inertia> with its six child elements
+        return "<inertia>" + "".join(f"<{name}>{written[name]}</{name}>" for name in URDF_ORDER) + "</inertia>"
     value = " ".join(written[name] for name in MJCF_ORDER[source.kind])
     attributes = [(name, value if name == source.kind else old) for name, old in source.attributes]
     return "<inertial " + " ".join(f"{name}={quoteattr(text)}" for name, text in attributes) + "/>"

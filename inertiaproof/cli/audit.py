@@ -26,6 +26,7 @@ from inertiaproof.audit.bodies_inside import DENSEST
 from inertiaproof.audit.annotations import github_commands, sarif_log
 from inertiaproof.audit.baseline import read_baseline
 from inertiaproof.audit.document import BOUNDS_MODES, audit_paths, document
+from inertiaproof.audit.mesh_files import parse_packages
 from inertiaproof.audit.repair import DEFAULT_SLACK
 from inertiaproof.audit.rewrite import repaired_copies, unified_diff
 from inertiaproof.audit.text import format_audit
@@ -44,8 +45,8 @@ __all__ = ["configure", "main", "write_repaired", "write_report"]
 
 def configure(parser):
     parser.add_argument("paths", nargs="+", metavar="URDF_MJCF_OR_DIR",
-                        help="URDF or MJCF files, xacro files (*.xacro, expanded with the xacro package), or folders "
-                             "searched for *.urdf and MJCF *.xml")
+                        help="URDF, MJCF or SDFormat (*.sdf) files, xacro files (*.xacro, expanded with the xacro "
+                             "package), or folders searched for *.urdf, MJCF *.xml and *.sdf")
     shown = parser.add_mutually_exclusive_group()
     shown.add_argument("--json", action="store_true", help="print the audit as JSON instead of tables")
     shown.add_argument("--github", action="store_true",
@@ -68,6 +69,10 @@ def configure(parser):
     parser.add_argument("--max-density", type=float, default=DENSEST, metavar="KG_M3",
                         help="the densest material a link may be made of, the premise of the findings on the bodies "
                              "inside each link's geometry (default %(default)g kg/m^3, osmium's)")
+    parser.add_argument("--package", action="append", default=[], metavar="NAME=DIR",
+                        help="the folder of ROS package NAME, for package://NAME/... mesh URIs (repeat for more); "
+                             "default: the folder holding a package.xml naming NAME, or named NAME, found upward "
+                             "from the URDF's folder and among those folders' subfolders")
     parser.add_argument("--expect-mass", action="append", default=[], metavar="KG|NAME=KG",
                         help="the model's total mass (the sum of its links' masses): KG for every file audited, "
                              "NAME=KG for the file whose path, file name or robot name is NAME (repeat for more); a "
@@ -96,13 +101,17 @@ def main(args):
     if not 0 < args.repair_slack < 1:
         raise InputError(f"--repair-slack must lie in (0, 1), got {args.repair_slack}")
     expected_mass = parse_expectations(args.expect_mass, args.mass_tolerance)
+    try:
+        packages = parse_packages(args.package)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
     baseline = read_baseline(args.baseline) if args.baseline else None
     profile = PROFILES[args.profile]
     start = time.perf_counter()
-    samples, refine_s = profile.audit_budget(args.bounds)
-    options = dict(samples=samples, refine_s=refine_s, bounds=args.bounds,
+    samples, rounds = profile.audit_budget(args.bounds)
+    options = dict(samples=samples, rounds=rounds, bounds=args.bounds,
                    floating_base=args.floating_base, slack=args.repair_slack, seed=args.seed,
-                   max_density=args.max_density)
+                   max_density=args.max_density, **({"packages": packages} if packages else {}))
     xacro_args = parse_arguments(args.xacro_arg)
     if xacro_args:
         options["xacro_args"] = xacro_args
