@@ -18,9 +18,9 @@ import numpy as np
 
 from inertiaproof.dynamics.trajectory import MovingMass
 from inertiaproof.model.exact import definiteness, integer_matrix
-from inertiaproof.model.inertia import rotation_rpy
 
 from .domain import certification_obstacle, search_box
+from .written import chain_data, distinct, domain_data, exact, exact_rows
 
 __all__ = ["PayloadClaim", "SCHEMA", "SpectrumClaim", "body_spectrum_certificate", "distinct", "exact",
            "key_step_certificate",
@@ -29,91 +29,6 @@ __all__ = ["PayloadClaim", "SCHEMA", "SpectrumClaim", "body_spectrum_certificate
            "ZERO_FLOOR"]
 
 SCHEMA = "inertiaproof.certificate/2"
-RIGID = 1e-12  # how far a fixed transform's rotation may lie from the one its rpy builds: farther, no certificate
-
-
-def distinct(stack):
-    """The distinct entries of a stack (V, ...) along its first axis, in lexicographic order of their flat rows
-    (as ``np.unique(axis=0)``, which once failed at random here comparing its structured view: a TypeError)."""
-    stack = np.asarray(stack, float)
-    rows = sorted({tuple(row) for row in stack.reshape(len(stack), -1).tolist()})
-    return np.array(rows, float).reshape(-1, *stack.shape[1:])
-
-
-def exact(x):
-    """The float64 x (or a Fraction) as the exact rational it is, "p/q" (or "p")."""
-    return str(x if isinstance(x, Fraction) else Fraction(float(x)))
-
-
-def _rows(a):
-    return [[exact(v) for v in row] for row in np.asarray(a, float)]
-
-
-def rpy_of(rotation):
-    """(roll, pitch, yaw) with rotation_rpy(rpy) = ``rotation`` (URDF: R = Rz(yaw) Ry(pitch) Rx(roll))."""
-    r = np.asarray(rotation, float)
-    pitch = np.arctan2(-r[2, 0], np.hypot(r[0, 0], r[1, 0]))
-    if np.hypot(r[0, 0], r[1, 0]) < 1e-9:  # gimbal lock: the roll is folded into the yaw
-        return np.array([0.0, pitch, np.arctan2(-r[0, 1], r[1, 1])])
-    return np.array([np.arctan2(r[2, 1], r[2, 2]), pitch, np.arctan2(r[1, 0], r[0, 0])])
-
-
-def origin_of(transform):
-    """The origin {xyz, rpy} (exact rationals) of a rigid 4x4 ``transform``, or None where its rotation is not the
-    one its rpy builds (within :data:`RIGID`)."""
-    t = np.asarray(transform, float)
-    rpy = rpy_of(t[:3, :3])
-    if not (np.all(t[3] == (0, 0, 0, 1)) and np.abs(rotation_rpy(rpy) - t[:3, :3]).max() <= RIGID):
-        return None
-    return {"xyz": [exact(x) for x in t[:3, 3]], "rpy": [exact(x) for x in rpy]}
-
-
-def _origins(origins):
-    return [{"xyz": list(o.xyz), "rpy": list(o.rpy)} for o in origins]
-
-
-def chain_data(chain):
-    """The certificate's chain as its source writes it (:class:`inertiaproof.dynamics.chain.Written`): the file's
-    path and SHA-256, each joint's kind, axis, limits and the origins its fixed transforms compose, as decimal
-    strings; a joint made from numbers as the exact rationals of its floats. None where a transform is not rigid."""
-    joints = []
-    for j in chain.joints:
-        w = j.written
-        if w is None:
-            before, after = origin_of(j.before), origin_of(j.after)
-            if before is None or after is None:
-                return None
-            before, after = [before], [after]
-        else:
-            before, after = _origins(w.before), _origins(w.after)
-        axis = list(w.axis) if w is not None and w.axis is not None else [exact(a) for a in j.axis]
-        limits = None if j.limits is None else (list(w.limits) if w is not None and w.limits is not None
-                                                 else [exact(x) for x in j.limits])
-        joints.append({"name": j.name, "kind": j.kind, "axis": axis, "before": before, "after": after,
-                       **({} if limits is None else {"limits": limits})})
-    source = {} if chain.source is None else {"source": {"path": chain.source[0], "sha256": chain.source[1]}}
-    return {"name": chain.name, **source, "joints": joints}
-
-
-TURN = Fraction(float(np.nextafter(2 * np.pi, np.inf)))  # a rational above 2 pi: a full turn and a little more
-
-
-def domain_data(chain, written):
-    """The certificate's domain: the search box, each edge moved outward to a rational that covers the joint's
-    limits as written (``written``: :func:`chain_data`'s joints), and a box of a full turn widened to at least
-    2 pi, as the checker demands."""
-    lo, hi = search_box(chain)
-    out = []
-    for a, b, joint in zip(lo, hi, written):
-        a, b = Fraction(float(a)), Fraction(float(b))
-        if "limits" in joint:
-            a, b = min(a, Fraction(joint["limits"][0])), max(b, Fraction(joint["limits"][1]))
-        if joint["kind"] == "revolute" and b - a >= Fraction(2 * np.pi) * (1 - Fraction(1, 10**12)):
-            b = a + TURN
-        out.append([str(a), str(b)])
-    return out
-
-
 @dataclass(frozen=True)
 class PivotProof:
     """What a pivot ladder hands to its certificate: the partition that proved its rung as a tree
@@ -177,7 +92,7 @@ def _proof_fields(proof):
         return {"tree": ".", "metric": {"kind": "shift", "ridge": "1/10"}}
     metric = {"metric": {"kind": proof.metric[0], "ridge": exact(proof.metric[1])}}
     if isinstance(proof, SplitProof):
-        return {"tree": ".", "split": {"body": proof.body, "interfaces": [_rows(m) for m in proof.interfaces],
+        return {"tree": ".", "split": {"body": proof.body, "interfaces": [exact_rows(m) for m in proof.interfaces],
                                        "tail": proof.tail, "head": proof.head}, **metric}
     return {"tree": proof.tree, **metric}
 
@@ -203,10 +118,10 @@ def spectrum_certificate(chain, thetas, quantity, bound, provenance="", witness=
             "claim": {"kind": "mass-matrix-spectrum", "quantity": quantity, "bound": exact(bound)},
             "chain": written,
             "domain": domain_data(chain, written["joints"]),
-            "parameters": [_rows(s) for s in sets],
+            "parameters": [exact_rows(s) for s in sets],
             **({} if formation is None else {"formation": formation}),
             **_proof_fields(proof),
-            **({"forms": [[_rows(y) for y in form] for form in forms]} if forms is not None else {}),
+            **({"forms": [[exact_rows(y) for y in form] for form in forms]} if forms is not None else {}),
             **({"witness": [exact(x) for x in np.clip(witness, lo, hi)]} if witness is not None else {}),
             "provenance": provenance}
 
@@ -272,7 +187,7 @@ class PayloadClaim:
         if len(cert["parameters"]) != len(sets):
             return None
         claim = {**cert["claim"], "kind": "payload-envelope"}
-        return {**cert, "claim": claim, "parameters": [_rows(s) for s in sets], "payload": self.payloads.to_json(),
+        return {**cert, "claim": claim, "parameters": [exact_rows(s) for s in sets], "payload": self.payloads.to_json(),
                 **({"epsilon": exact(self.eps)} if self.quantity == "lambda_max" else {})}
 
 
@@ -302,7 +217,7 @@ def payload_f_certificate(arm, payloads, beta):
     sets = distinct(arm)
     return {"schema": SCHEMA,
             "claim": {"kind": "payload-envelope", "quantity": "lambda_max_f", "bound": exact(bound)},
-            "parameters": [_rows(s) for s in sets], "payload": payloads.to_json(), "beta": exact(beta)}
+            "parameters": [exact_rows(s) for s in sets], "payload": payloads.to_json(), "beta": exact(beta)}
 
 
 BODY_CLAIMS = {  # inertiaproof.bounds.time.BODY_FUNCTIONS name: (matrix, quantity)
@@ -325,9 +240,9 @@ def body_spectrum_certificate(stack, name, bound, provenance="", directions=None
     sets = distinct(stack)
     return {"schema": SCHEMA,
             "claim": {"kind": "body-spectrum", "matrix": matrix, "quantity": quantity, "bound": exact(bound)},
-            "parameters": [_rows(s) for s in sets],
+            "parameters": [exact_rows(s) for s in sets],
             **({} if formation is None else {"formation": formation}),
-            **({} if directions is None else {"directions": _rows(directions)}),
+            **({} if directions is None else {"directions": exact_rows(directions)}),
             "provenance": provenance}
 
 
@@ -384,7 +299,7 @@ def moving_mass_certificate(trajectory, name, bound, provenance, stack):
             return {"shape": "line", "start": [exact(x) for x in p.start], "end": [exact(x) for x in p.end]}
         return {"shape": "circle", "center": [exact(x) for x in p.center], "radius": exact(p.radius)}
 
-    loads = [{"body": load.body + 1, "mass": exact(load.mass), "inertia_com": _rows(load.inertia_com),
+    loads = [{"body": load.body + 1, "mass": exact(load.mass), "inertia_com": exact_rows(load.inertia_com),
               "path": path(load.path), "profile": {"shape": load.path.profile.shape,
                                                    "duration": exact(load.path.profile.duration),
                                                    "rate": exact(load.path.profile.rate)}}
@@ -392,7 +307,7 @@ def moving_mass_certificate(trajectory, name, bound, provenance, stack):
     sets = distinct(stack)
     return {"schema": SCHEMA,
             "claim": {"kind": "moving-mass", "quantity": quantity, "bound": exact(bound)},
-            "parameters": [_rows(s) for s in sets], "loads": loads, "provenance": provenance}
+            "parameters": [exact_rows(s) for s in sets], "loads": loads, "provenance": provenance}
 
 
 def key_step_certificate(choi, lower, upper):

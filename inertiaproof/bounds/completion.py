@@ -1,5 +1,5 @@
 """The prover's last step on a certificate: its trees grown until every leaf passes the checker's own test of a
-box, so that the checker walks them once and cuts nothing (:func:`inertiaproof.verify.tree.walk`).
+box, so that the checker walks them once and cuts nothing (:func:`inertiaproof.verify.tree.prove`).
 
 The prover's partitions are proved by its own numerics, which the checker's pivots in ball arithmetic do not
 always match; here each leaf the checker's test does not prove (those the checker named, where it named them) is

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from inertiaproof.citation import Certificate
 from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
 
 from . import formulas
@@ -19,7 +20,7 @@ ROUNDING = 8 * np.finfo(float).eps  # relative allowance by which a paper consta
 # product, which the independent checker compares with it exactly
 
 
-def mass_matrix_bounds(chain, theta, *, samples=2000, refine_s=0.5, rng=None, progress=None):
+def mass_matrix_bounds(chain, theta, *, samples=2000, rounds=20, rng=None, progress=None):
     """alpha1 and alpha2 of Theorems 2 and 3 (paper and sharpest certified) and the observed eigenvalue extremes of
     M(q, theta) for constant parameters ``theta`` (N, 10) over the chain's joint limits.
 
@@ -31,7 +32,7 @@ def mass_matrix_bounds(chain, theta, *, samples=2000, refine_s=0.5, rng=None, pr
     """
     rng = np.random.default_rng(0) if rng is None else rng
     theta = np.asarray(theta, float)
-    kw = dict(samples=samples, refine_s=refine_s, rng=rng, progress=progress)
+    kw = dict(samples=samples, rounds=rounds, rng=rng, progress=progress)
     f = pseudo_inertia(theta)
     z = spatial_inertia(theta)
     xi, zeta = float(spectral(f, "lmin").min()), float(spectral(f, "lmax").max())
@@ -49,24 +50,23 @@ def mass_matrix_bounds(chain, theta, *, samples=2000, refine_s=0.5, rng=None, pr
 
 
 def bracket_certificate(b: Bracket):
-    """The certificate of a bracket's certified side (as :meth:`Bracket.evidence` cites it), or None."""
-    if not b.certify or b.certified is None:
-        return None
-    return b.certify(b.certified, b.note, np.asarray(b.witness, float), b.proof)
+    """The certificate of a bracket's certified side (:meth:`Bracket.certificate`, a
+    :class:`inertiaproof.citation.Certificate`), or None."""
+    return b.certificate()
 
 
 def paper_product(sense, value, formula, ingredients, declared=None):
     """(reported, certificate): the paper's constant ``value`` (computed in floats from the certified ingredients)
     moved outward by :data:`ROUNDING` (down for a ``sense`` "lower" bound, up for "upper"), and the ``product``
     certificate of it (:func:`.certificate.product_certificate`; ``formula``, ``ingredients``, ``declared`` as
-    there), or None."""
+    there) as a :class:`inertiaproof.citation.Certificate`, or None."""
     if not np.isfinite(value):
         return value, None
     reported = float(value - ROUNDING * abs(value) if sense == "lower" else value + ROUNDING * abs(value))
-    return reported, product_certificate(
+    return reported, Certificate.of(product_certificate(
         ">=" if sense == "lower" else "<=", reported, formula, ingredients,
         f"the paper's formula on the ingredients' certified sides, computed in floats and moved outward by 8 eps "
-        f"relative ({'down' if sense == 'lower' else 'up'}); decided exactly by the checker", declared)
+        f"relative ({'down' if sense == 'lower' else 'up'}); decided exactly by the checker", declared))
 
 
 def _bracket_data(b: Bracket):

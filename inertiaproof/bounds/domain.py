@@ -7,7 +7,7 @@ import json
 import numpy as np
 
 __all__ = [
-    "bernstein_domain", "certification_obstacle", "chain_key", "content_memo", "derivative_factors", "free_coordinates",
+    "bernstein_domain", "certification_obstacle", "chain_key", "derivative_factors", "free_coordinates",
     "search_box",
 ]
 
@@ -64,11 +64,3 @@ def chain_key(chain):
     """The chain's content as a key: every joint's kind, axis, fixed transforms, coordinate map and limits."""
     return json.dumps(chain.to_data(), sort_keys=True)
 
-
-def content_memo(cache, key, compute, size=32):
-    """``compute()`` once per content ``key`` (the same inputs, the same answer), keeping the last ``size`` keys."""
-    if key not in cache:
-        if len(cache) >= size:
-            cache.pop(next(iter(cache)))
-        cache[key] = compute()
-    return cache[key]

@@ -11,9 +11,8 @@ inf or sup of ``value`` over the box [lo, hi] from both sides:
   worst bound over the boxes that are left is certified for the whole box.
 
 Both sides are recorded against run time in ``convergence`` so the narrowing
-can be plotted. The budget ``refine_s`` is turned into a number of rounds
-(``ROUNDS_PER_SECOND``), so the bracket is the same for a given seed on any machine. Everything is batched over configurations; the only Python
-loop is over refinement rounds.
+can be plotted. The budget is a count of refinement ``rounds``, so the bracket is the same for a given seed on any
+machine. Everything is batched over configurations; the only Python loop is over refinement rounds.
 """
 
 from __future__ import annotations
@@ -23,13 +22,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from inertiaproof.result import quantity
+from inertiaproof.citation import Certificate
 
-__all__ = ["Bracket", "bracket_extreme", "GUARD", "LOCAL_ROUNDS_PER_SECOND", "local_search", "ROUNDS_PER_SECOND"]
+__all__ = ["Bracket", "bracket_extreme", "GUARD", "LOCAL_ROUNDS_PER_ROUND", "local_search"]
 
-ROUNDS_PER_SECOND = 40  # refinement rounds (of 2 batch boxes, 7 joints) per second of budget: a count, so that a seed gives the same bracket
-GUARD = 4.0  # wall-clock guard of the refinement, in units of its budget
-LOCAL_ROUNDS_PER_SECOND = 200  # rounds of local search per second of budget, at most 40 (of LOCAL_POINTS trials)
+GUARD = (1.0, 0.1)  # the refinement's wall-clock safety net, seconds: the first plus the second per round of its budget
+LOCAL_ROUNDS_PER_ROUND = 5  # rounds of local search (of LOCAL_POINTS trials) per refinement round, at most 40
 LOCAL_POINTS = 128  # trial configurations per round of local search (8 starts up to 8 free coordinates, then fewer
 # starts, and from 64 coordinates fewer than 4 rounds at least)
 
@@ -46,6 +44,7 @@ class Bracket:
     note: str = ""
     certify: object = None  # certified side -> its certificate (inertiaproof.bounds.certificate), where one exists
     proof: object = None  # what the certificate of the certified side carries of its proof (a PivotProof), if any
+    _made: tuple = field(default=None, init=False, repr=False, compare=False)  # (claim and proof, sides, certificate)
 
     @property
     def lower(self):
@@ -93,25 +92,24 @@ class Bracket:
                 self.note += f"; widened to {ratio:.6g}x of the observed side, so the independent checker re-proves it"
         return self
 
+    def certificate(self):
+        """The certificate of the certified side (a :class:`inertiaproof.citation.Certificate`), or None: made once
+        from the claim ``certify`` (with the certified side, note, witness and ``proof``) and kept while those stay."""
+        if not self.certify or self.certified is None:
+            return None
+        witness = np.asarray(self.witness, float)
+        sources, values = (self.certify, self.proof), (self.certified, self.note, witness.tobytes())
+        kept = self._made
+        if kept is None or any(a is not b for a, b in zip(kept[0], sources)) or kept[1] != values:
+            self._made = (sources, values, Certificate.of(self.certify(self.certified, self.note, witness, self.proof)))
+        return self._made[2]
+
     def evidence(self):
-        """The ``bracket`` evidence the report plots (inertiaproof.result)."""
-        sampled = "attained at the witness: an {} estimate of the {}".format(
-            "upper" if self.sense == "min" else "lower", "infimum" if self.sense == "min" else "supremum")
-        if self.certified is None:
-            cert = quantity(-np.inf if self.sense == "min" else np.inf,
-                            "lower_bound" if self.sense == "min" else "upper_bound", "no certified side: " + self.note)
-        else:
-            cert = quantity(self.certified, "lower_bound" if self.sense == "min" else "upper_bound",
-                            f"certified by branch and bound over {self.boxes} boxes" + (f"; {self.note}" if self.note else ""))
-        obs = quantity(self.observed, "sampled", sampled)
-        lower, upper = (cert, obs) if self.sense == "min" else (obs, cert)
-        out = {"quantity": self.quantity, "lower": lower, "upper": upper,
-               "witness": np.asarray(self.witness).tolist(), "convergence": self.convergence}
-        certificate = (self.certify(self.certified, self.note, np.asarray(self.witness, float), self.proof)
-                       if self.certify and self.certified is not None else None)
-        if certificate is not None:
-            (lower if self.sense == "min" else upper)["certificate"] = certificate
-        return out
+        """The ``bracket`` evidence of this bracket (:func:`inertiaproof.presentation.bracket_evidence`, where the
+        presentation lives)."""
+        from inertiaproof.presentation import bracket_evidence
+
+        return bracket_evidence(self)
 
 
 def local_search(value, q, lo, hi, free, *, sign, rounds=40, step=0.25):
@@ -136,7 +134,7 @@ def local_search(value, q, lo, hi, free, *, sign, rounds=40, step=0.25):
     return q, sign * best
 
 
-def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, refine_s, rng, free=None,
+def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, rounds, rng, free=None,
                     progress=None, rtol=1e-6, batch=64, max_boxes=200_000, weights=None, note="", cost=1.0,
                     partition=False):
     """Bracket inf (sense 'min') or sup ('max') of ``value`` over the box [lo, hi].
@@ -146,10 +144,10 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
     or is None when no certified bound is available. ``free`` marks the
     coordinates the function depends on (the others stay at the box centre).
     ``weights`` scale the widths when choosing the coordinate to split. ``cost`` is the relative cost of a
-    box bound (1 for a 7-joint chain): the budget is ``max(1, refine_s * ROUNDS_PER_SECOND) / cost`` rounds of
-    ``2 batch`` boxes (under one round: one round of as many boxes as it pays for; under one box: none, and no
-    certified side), a count (the same bracket for a seed on any machine), with a wall-clock guard at ``GUARD``
-    times ``refine_s`` (a loaded machine ends with a wider, still certified bracket).
+    box bound (1 for a 7-joint chain): the budget is ``max(1, rounds) / cost`` rounds of ``2 batch`` boxes (under
+    one round: one round of as many boxes as it pays for; under one box: none, and no certified side), a count (the
+    same bracket for a seed on any machine), with the wall-clock safety net ``GUARD`` (a loaded machine ends with a
+    wider, still certified bracket).
     ``partition``: the bracket's ``proof`` is the prefix code (:mod:`inertiaproof.verify.tree`) of the halvings
     made: its leaves, the boxes set aside as unable to beat the observed side and those left, tile the box and
     every one's bound is within the certified side.
@@ -159,49 +157,81 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
     free = np.ones(n, bool) if free is None else np.asarray(free, bool)
     weights = np.ones(n) if weights is None else np.asarray(weights, float)
     sign = 1.0 if sense == "min" else -1.0
-    mid = 0.5 * (lo + hi)
     start = time.perf_counter()
+    best_q, best = _sampled_best(value, lo, hi, free, samples, rng, sign, rounds)
+    conv = []
+    work = max(1.0, rounds) * 2 * batch / cost  # boxes the budget pays for (a round at least)
+    if box_bound is None or work < 1:
+        conv.append(_point(start, sense, None, best))
+        if box_bound is not None:
+            note = f"no branch and bound: one box bound costs {cost:.3g} units, the budget pays for {work:.3g}"
+        return Bracket(quantity_name, sense, best, None, best_q, conv, 0, note)
+    batch = max(1, min(batch, int(work / 2)))  # under one round of 2 batch boxes (costly box bounds): one of fewer
+    budget = max(1, int(work / (2 * batch)))
+    found = _branch_and_bound(value, box_bound, lo, hi, free, weights, sense, (best, best_q), conv, start, batch,
+                              budget, start + GUARD[0] + GUARD[1] * rounds, rtol, max_boxes,
+                              progress and (lambda boxes: progress(f"{quantity_name}: [{_sides(conv)}] after {boxes} boxes")))
+    (best, best_q), certified, boxes, splits = found
+    proof = _prefix_code(splits) if partition else None
+    return Bracket(quantity_name, sense, best, certified, best_q, _thin(conv), boxes, note, proof=proof)
 
-    q = np.where(free, lo + (hi - lo) * rng.random((samples, n)), mid)
+
+def _sampled_best(value, lo, hi, free, samples, rng, sign, rounds):
+    """(configuration, value) of the best of ``samples`` random configurations, improved by a local search of
+    ``LOCAL_ROUNDS_PER_ROUND`` rounds per refinement round (at most 40), paid for in trial configurations."""
+    mid = 0.5 * (lo + hi)
+    q = np.where(free, lo + (hi - lo) * rng.random((samples, lo.size)), mid)
     vals = value(q)
     trials = 2 * max(1, int(free.sum()))  # configurations a round of local search tries per start
     top = np.argsort(sign * vals)[: min(8, samples, max(1, LOCAL_POINTS // trials))]
     share = min(1.0, LOCAL_POINTS / (len(top) * trials))  # rounds are paid for in trial configurations
-    rounds = min(40, max(min(4, 4 * share), refine_s * LOCAL_ROUNDS_PER_SECOND * share))
-    qs, vs = local_search(value, q[top], lo, hi, free, sign=sign, rounds=max(1, int(rounds)))
+    local = min(40, max(min(4, 4 * share), rounds * LOCAL_ROUNDS_PER_ROUND * share))
+    qs, vs = local_search(value, q[top], lo, hi, free, sign=sign, rounds=max(1, int(local)))
     k = int(np.argmin(sign * vs))
     best_q, best = qs[k].copy(), float(vs[k])
     if sign * vals[top[0]] < sign * best:
         best_q, best = q[top[0]].copy(), float(vals[top[0]])
+    return best_q, best
 
-    def record(cert):
-        lower, upper = (cert, best) if sense == "min" else (best, cert)
-        conv.append([round(time.perf_counter() - start, 6), _finite(lower), _finite(upper)])
 
-    conv = []
-    work = max(1.0, refine_s * ROUNDS_PER_SECOND) * 2 * batch / cost  # boxes the budget pays for (a round at least)
-    if box_bound is None or work < 1:
-        record(None)
-        if box_bound is not None:
-            note = f"no branch and bound: one box bound costs {cost:.3g} units, the budget pays for {work:.3g}"
-        return Bracket(quantity_name, sense, best, None, best_q, conv, 0, note)
+def _point(start, sense, cert, best):
+    """A convergence point [seconds, lower, upper]."""
+    lower, upper = (cert, best) if sense == "min" else (best, cert)
+    return [round(time.perf_counter() - start, 6), _finite(lower), _finite(upper)]
 
-    centres, radii = mid[None].copy(), np.where(free, 0.5 * (hi - lo), 0.0)[None]
+
+def _sides(conv):
+    return ", ".join("unbounded" if x is None else f"{x:.6g}" for x in conv[-1][1:])  # None: not finite yet
+
+
+def _halves(c, r, weights):
+    """The two halves (centres, radii) of boxes (c, r) along each one's widest weighted coordinate, and the axes."""
+    axis = np.argmax(r * weights, 1)
+    half = r.copy()
+    half[np.arange(len(r)), axis] *= 0.5
+    shift = np.zeros_like(r)
+    shift[np.arange(len(r)), axis] = half[np.arange(len(r)), axis]
+    return np.concatenate([c - shift, c + shift]), np.concatenate([half, half]), axis
+
+
+def _branch_and_bound(value, box_bound, lo, hi, free, weights, sense, best, conv, start, batch, budget, guard, rtol,
+                      max_boxes, report):
+    """Rounds of branch and bound from the root box: ((best value, its configuration), the certified side, boxes
+    bounded, the halvings made per round: (parents, axes, the first child's number)), at most ``budget`` rounds of
+    ``2 batch`` boxes, until the wall-clock ``guard``; ``conv`` gets a point per round."""
+    sign = 1.0 if sense == "min" else -1.0
+    best, best_q = best
+    centres, radii = 0.5 * (lo + hi)[None].copy(), np.where(free, 0.5 * (hi - lo), 0.0)[None]
     bounds = sign * box_bound(centres, radii)
     boxes = 1
     ids, splits = np.zeros(1, int), []  # every box's number (the root's 0), and per round the halvings made:
     # (parents, axes, the first child's number); a box set aside (it cannot beat the observed side) stays a leaf
     certified = sign * float(np.min(bounds))
-    record(certified)
-    last_report = start
-    rounds = 0
-    batch = max(1, min(batch, int(work / 2)))  # under one round of 2 batch boxes (costly box bounds): one of fewer
-    budget = max(1, int(work / (2 * batch)))
-    guard = start + GUARD * refine_s + 1.0
-    while rounds < budget and len(bounds) and time.perf_counter() < guard:
-        rounds += 1
-        # boxes that cannot beat the observed value are done
-        keep = bounds < sign * best
+    conv.append(_point(start, sense, certified, best))
+    last_report, done = start, 0
+    while done < budget and len(bounds) and time.perf_counter() < guard:
+        done += 1
+        keep = bounds < sign * best  # boxes that cannot beat the observed value are done
         centres, radii, bounds, ids = centres[keep], radii[keep], bounds[keep], ids[keep]
         if not len(bounds):
             certified = best
@@ -209,14 +239,7 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
         take = np.argsort(bounds)[:batch] if len(bounds) > batch else np.arange(len(bounds))
         rest = np.ones(len(bounds), bool)
         rest[take] = False
-        c, r = centres[take], radii[take]
-        axis = np.argmax(r * weights, 1)
-        half = r.copy()
-        half[np.arange(len(r)), axis] *= 0.5
-        shift = np.zeros_like(r)
-        shift[np.arange(len(r)), axis] = half[np.arange(len(r)), axis]
-        child_c = np.concatenate([c - shift, c + shift])
-        child_r = np.concatenate([half, half])
+        child_c, child_r, axis = _halves(centres[take], radii[take], weights)
         splits.append((ids[take], axis, boxes))  # children numbered from boxes: the lower halves first
         ids = np.concatenate([ids[rest], boxes + np.arange(len(child_c))])
         child_v = value(child_c)
@@ -226,22 +249,19 @@ def bracket_extreme(value, box_bound, lo, hi, *, sense, quantity_name, samples, 
         child_b = sign * box_bound(child_c, child_r)
         child_b = np.maximum(child_b, np.concatenate([bounds[take], bounds[take]]))  # a child lies in its parent
         boxes += len(child_c)
-        centres = np.concatenate([centres[rest], child_c])
-        radii = np.concatenate([radii[rest], child_r])
+        centres, radii = np.concatenate([centres[rest], child_c]), np.concatenate([radii[rest], child_r])
         bounds = np.concatenate([bounds[rest], child_b])
         certified = sign * float(min(np.min(bounds), sign * best))
-        record(certified)
+        conv.append(_point(start, sense, certified, best))
         if abs(best - certified) <= rtol * max(abs(best), 1e-300) or len(bounds) > max_boxes:
             break
-        if progress and time.perf_counter() - last_report > 2.0:
-            sides = ", ".join("unbounded" if x is None else f"{x:.6g}" for x in conv[-1][1:])  # None: not finite yet
-            progress(f"{quantity_name}: [{sides}] after {boxes} boxes")
+        if report and time.perf_counter() - last_report > 2.0:
+            report(boxes)
             last_report = time.perf_counter()
     if len(bounds) == 0:
         certified = best
-    record(certified)
-    proof = _prefix_code(splits) if partition else None
-    return Bracket(quantity_name, sense, best, certified, best_q, _thin(conv), boxes, note, proof=proof)
+    conv.append(_point(start, sense, certified, best))
+    return (best, best_q), certified, boxes, splits
 
 
 def _prefix_code(splits):

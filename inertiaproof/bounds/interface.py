@@ -19,11 +19,11 @@ Both sides bound their turns in the |F| metric with ridge 1e-3 (L is indefinite:
 negative along the motions the tail can absorb).
 
 Measured (deep budget, ``python bench/split_interface.py``): Panda 2 kg, split at body 4, Thm2 1.01x
-proved on 9,870 tail and 15,794 head boxes (51,326 tested, 16 s; the ladder over all six coordinates with the best
+proved on 9,870 tail and 15,794 head boxes (51,326 tested; the ladder over all six coordinates with the best
 rotation-invariant body form: 1.14x, and an SDP caps every such form at 1.105x), Definition 2's unit bodies 1.01x
-in 6 s (the ladder: 1.03x in 32 s); UR5, split at body 3, 1.01x in 1-3 s for both; example-robot-data's UR5
-(limits +-2 pi) 1.01x in 9 s with the second candidate. Upper sides are not split: on Panda's sup lambda_max the
-split proves 1.25x with the deep budget, the ladder 1.08x.
+(the ladder: 1.03x); UR5, split at body 3, 1.01x for both; example-robot-data's UR5 (limits +-2 pi) 1.01x with
+the second candidate. Upper sides are not split: on Panda's sup lambda_max the split proves 1.25x with the deep
+budget, the ladder 1.08x. Their seconds: bench/results/bounds_timings.md.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ from inertiaproof.model.inertia import spatial_inertia
 from .certificate import SplitProof, partition_tree
 from .domain import free_coordinates, search_box
 from .pivot_search import ladder_budget, partition
-from .pivots import PivotFamily, _sym, articulated_lower, interface_test, pivot_test
+from .pivots import PivotFamily, articulated_lower, eigen_compose, interface_test, pivot_test
 
 __all__ = ["EVIDENCE", "RUNGS", "SAMPLES", "SPLIT_MIN", "head_terms", "interface_inertia", "split_body", "split_ladder"]
 
@@ -49,7 +49,7 @@ SAMPLES = 4000  # configurations each side of the SDP is checked on (the cutting
 SPLIT_MIN = 4  # free coordinates from which a chain is split (3R's two: the ladders over both prove 1.01x, the split
 # 1.25x)
 SHARE = 2  # the split's share of a ladder's budget; each candidate L gets half of what is left (Panda's Thm2:
-# 51,000 boxes of 180,000; where nothing is proved, example-robot-data's Panda with its finger, it costs 35 s)
+# 51,000 boxes of 180,000)
 MARGIN = 0.05  # the tail's relative margin in the first candidate: 1 - 1/ratio up to this
 CUTS = 30  # worst samples of each side added to the SDP per round
 ROUNDS = 10
@@ -59,7 +59,7 @@ METRIC, RIDGE = "abs", 1e-3  # the turns' loss metric on both sides (measured, P
 
 def split_body(chain):
     """The body k the chain is split at: the head (joints 0..k) takes the smaller half of the free coordinates, the
-    tail the larger (UR5's Thm2: 1.01x proved in 3 s with the tail q4..q6; with q5, q6 none in 120,000 boxes);
+    tail the larger (UR5's Thm2: 1.01x proved with the tail q4..q6; with q5, q6 none in 120,000 boxes);
     None with fewer than ``SPLIT_MIN`` free coordinates."""
     idx = np.flatnonzero(free_coordinates(chain))
     if len(idx) < SPLIT_MIN:
@@ -127,7 +127,7 @@ def interface_inertia(tail, metric, fixed, jac, tail_margin, head_floor):
 def _abs_metric(a):
     """|A| plus 1e-2 of its largest |eigenvalue|: the tail's margin is relative in every direction."""
     w, u = np.linalg.eigh(a)
-    return _sym(u, np.abs(w) + 1e-2 * np.abs(w).max(-1, keepdims=True))
+    return eigen_compose(u, np.abs(w) + 1e-2 * np.abs(w).max(-1, keepdims=True))
 
 
 def _interfaces(chain, family, z, k, gamma, margin, q_tail, q_head):
@@ -184,9 +184,9 @@ def _score(r, losses):
     return np.where(r > 0, losses * r + 1e-6 * r, -1.0)
 
 
-def split_ladder(chain, thetas, observed, refine_s, floor=-np.inf):
+def split_ladder(chain, thetas, observed, rounds, floor=-np.inf):
     """The largest gamma = observed / ratio (``RUNGS``, only targets above ``floor``) proved by the split at
-    :func:`split_body`, within 1/``SHARE`` of the boxes and seconds of :func:`ladder_budget` (``refine_s``), each of a
+    :func:`split_body`, within 1/``SHARE`` of the boxes and seconds of :func:`ladder_budget` (``rounds``), each of a
     rung's candidates for L (:func:`_interfaces`) within half of what is left: (gamma, a note, its
     :class:`~inertiaproof.bounds.certificate.SplitProof` or None), gamma -inf when none was proved. ``observed``
     must be attained (gamma <= observed)."""
@@ -194,7 +194,7 @@ def split_ladder(chain, thetas, observed, refine_s, floor=-np.inf):
     if k is None or not observed > 0:
         return -np.inf, f"no split (fewer than {SPLIT_MIN} free coordinates)", None
     z = spatial_inertia(np.asarray(thetas, float))
-    boxes, guard_s = ladder_budget(refine_s)
+    boxes, guard_s = ladder_budget(rounds)
     boxes, deadline = boxes // SHARE, time.perf_counter() + guard_s / SHARE
     lo, hi = search_box(chain)
     free = free_coordinates(chain)

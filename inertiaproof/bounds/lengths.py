@@ -3,7 +3,7 @@
 - :func:`lever_bounds`, :func:`column_bounds`: certified bounds of the columns of QJ from the lengths of the
   fixed transforms and the slides alone (the a-priori bounds of :mod:`inertiaproof.bounds.configuration` and the
   entrywise bounds of M in :mod:`inertiaproof.bounds.taylor` rest on them);
-- :func:`_block_rows`, :func:`_unit_bodies`: parameter rows of the bodies diag(mu I3, nu I3), and of unit bodies
+- :func:`block_rows`, :func:`unit_bodies`: parameter rows of the bodies diag(mu I3, nu I3), and of unit bodies
   (Z = I), whose mass matrix is (QJ)^T QJ (Definition 2).
 
 Below :mod:`inertiaproof.bounds.configuration`, :mod:`inertiaproof.bounds.taylor` and
@@ -16,7 +16,7 @@ import numpy as np
 
 from .spectral import EPS
 
-__all__ = ["column_bounds", "lever_bounds"]
+__all__ = ["block_rows", "column_bounds", "lever_bounds", "unit_bodies"]
 
 
 def lever_bounds(chain):
@@ -61,7 +61,7 @@ def column_bounds(chain):
     return linear, angular
 
 
-def _block_rows(linear, angular):
+def block_rows(linear, angular):
     """Parameter rows (N, 10) of the spatial inertias diag(linear_l I3, angular_l I3) (mass, no first moment,
     isotropic rotational inertia): invariant under every rotation of the body frame."""
     rows = np.zeros((len(linear), 10))
@@ -70,6 +70,6 @@ def _block_rows(linear, angular):
     return rows
 
 
-def _unit_bodies(chain):
+def unit_bodies(chain):
     """Parameter rows (1, N, 10) of unit bodies (Z = I): their mass matrix is (QJ)^T QJ."""
-    return _block_rows(np.ones(chain.bodies), np.ones(chain.bodies))[None]
+    return block_rows(np.ones(chain.bodies), np.ones(chain.bodies))[None]

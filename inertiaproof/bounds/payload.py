@@ -240,7 +240,7 @@ def zeta_over_set(theta, payloads):
     return float(max(loaded, others)), certified, certificate
 
 
-def envelope(chain, theta, payloads, *, rate, speed=None, masses=(), goal=None, boxes=None, samples=2000, refine_s=0.5,
+def envelope(chain, theta, payloads, *, rate, speed=None, masses=(), goal=None, boxes=None, samples=2000, rounds=20,
              rng=None, progress=None):
     """alpha1, alpha2 and chi (Theorems 2-4) over the payload set ``payloads`` for an arm of constant parameters
     ``theta`` (N, 10) whose payload is taken up at a peak rate ``rate`` (sup |s'|, 1/s): per constant the paper's
@@ -254,7 +254,7 @@ def envelope(chain, theta, payloads, *, rate, speed=None, masses=(), goal=None, 
     constants are added (``theorem5``)."""
     rng = np.random.default_rng(0) if rng is None else rng
     theta = np.asarray(theta, float)
-    kw = dict(samples=samples, refine_s=refine_s, rng=rng, progress=progress)
+    kw = dict(samples=samples, rounds=rounds, rng=rng, progress=progress)
     gamma, sigma = jacobian_normality(chain, **kw), jacobian_sup(chain, **kw)
     low = mass_inf(chain, theta[None], **kw)
     low.certify = PayloadClaim(low.certify, theta[None], payloads, "lambda_min")

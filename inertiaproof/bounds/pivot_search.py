@@ -40,10 +40,11 @@ __all__ = ["CHUNK", "LADDER", "Ladder", "calibrated_radii", "ladder_budget", "la
 LADDER = (64.0, 16.0, 8.0, 4.0, 2.8, 1.95, 1.6, 1.45, 1.35, 1.25, 1.18, 1.15, 1.12, 1.1, 1.08, 1.05, 1.03, 1.02, 1.01)  # observed / target
 CHUNK = 4096  # boxes per pivot test call
 GRID = np.geomspace(0.003, 3.0, 11)  # radii tried by the calibration
-BOXES = (40_000, 10_000, 16_000)  # boxes a ladder may test: the first plus the second (from DEEP_S the third) per
-# second of a bracket's budget
+BOXES = (40_000, 250, 400)  # boxes a ladder may test: the first plus the second (from DEEP_ROUNDS the third) per
+# round of a bracket's budget
 EXTRA = 6  # after the goal, a ladder goes on with 1/EXTRA of its budget
-DEEP_S = 5.0  # budgets (seconds per bracket) from which a ladder goes on below the issue's 2x (the deep profile)
+DEEP_ROUNDS = 200  # rounds per bracket from which a ladder goes on below the issue's 2x (the deep profile's 800)
+LADDER_GUARD = (30.0, 0.3)  # a ladder's wall-clock safety net, seconds: the first plus the second per round
 FORECAST_MIN = 5_000  # boxes of a rung from which the next rung's cost is forecast (rung_cost)
 GROWTH = 3.0  # a partition's size grows as m^-GROWTH, m of rung_cost (Panda, 2 kg, deep ladders from 1.25x on: 1.4-3.1)
 SLACK = 2.0  # a rung is tried while its forecast is within SLACK times the boxes left (the forecast is high near a
@@ -64,19 +65,18 @@ class Ladder(NamedTuple):
     partition: tuple | None = None
 
 
-def ladder_budget(refine_s):
-    """(boxes, seconds): the count of boxes a ladder may test for a bracket budget of ``refine_s`` seconds (ci 0.5 s:
-    45,000; deep 20 s: 360,000; about 2,000-7,000 boxes a second on 2 cores for 7 joints) and the wall-clock
-    guard (a loaded machine ends with a lower, still certified target). Measured (Panda, 2 kg, sup lambda_max, every
-    rung): 1.12x after 130,000 boxes, 1.10x after 243,000, 1.08x after 471,000."""
-    per_second = BOXES[1] if refine_s < DEEP_S else BOXES[2]
-    return int(BOXES[0] + per_second * refine_s), 30.0 + 12.0 * refine_s
+def ladder_budget(rounds):
+    """(boxes, seconds): the count of boxes a ladder may test for a bracket budget of ``rounds`` (ci's 20: 45,000;
+    deep's 800: 360,000) and the wall-clock safety net ``LADDER_GUARD`` (a loaded machine ends with a lower, still
+    certified target)."""
+    per_round = BOXES[1] if rounds < DEEP_ROUNDS else BOXES[2]
+    return int(BOXES[0] + per_round * rounds), LADDER_GUARD[0] + LADDER_GUARD[1] * rounds
 
 
-def ladder_goal(refine_s):
+def ladder_goal(rounds):
     """The ratio observed / certified from which a ladder goes on with a small extra budget only: 2 (the issue's
-    ci goal) for budgets under ``DEEP_S`` seconds, else 1.01 (the end of the ladder)."""
-    return 2.0 if refine_s < DEEP_S else 1.01
+    ci goal) for budgets under ``DEEP_ROUNDS`` rounds, else 1.01 (the end of the ladder)."""
+    return 2.0 if rounds < DEEP_ROUNDS else 1.01
 
 
 def calibrated_radii(family, points, values, lo, hi, free, drop=0.1, sign=1.0):

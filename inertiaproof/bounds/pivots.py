@@ -2,7 +2,7 @@
 (Loewner-monotone, O(n) 6 x 6 operations per box and trial value). Used, through the ladder of
 :mod:`inertiaproof.bounds.pivot_search`, for inf_q sigma_min(QJ)^2 (unit bodies, Definition 2) and Theorem 2's
 inf lambda_min(M) >= inf lambda_min(sum_l mu_l QJ_l^T QJ_l) (isotropic bodies), where it is well behaved, in
-profiles with a budget of at least ``PIVOT_MIN_S`` seconds per bracket; and by :mod:`inertiaproof.bounds.interface`
+profiles with a budget of at least ``PIVOT_MIN_ROUNDS`` rounds per bracket; and by :mod:`inertiaproof.bounds.interface`
 for the two halves of a chain split at a body (:func:`articulated_lower`, :func:`interface_test`, ``top``).
 
 Measured (issue 12, Panda's sampled minimiser, bound / value at the centre for a box of the radius in every free
@@ -59,10 +59,10 @@ from inertiaproof.model.inertia import spatial_inertia
 
 from .spectral import EPS, ROUNDING
 
-__all__ = ["METRICS", "PIVOT_LIMIT", "PIVOT_MIN_S", "PivotFamily", "RIDGE", "RIDGES", "SWITCH",
-           "articulated_lower", "interface_test", "pivot_bounds", "pivot_test"]
+__all__ = ["METRICS", "PIVOT_LIMIT", "PIVOT_MIN_ROUNDS", "PivotFamily", "RIDGE", "RIDGES", "SWITCH",
+           "articulated_lower", "eigen_compose", "interface_test", "pivot_bounds", "pivot_test"]
 
-PIVOT_MIN_S = 0.5  # bracket budgets (seconds) from which the pivot ladders run (ci and deep; audits with --bounds all)
+PIVOT_MIN_ROUNDS = 20  # bracket budgets (rounds) from which the pivot ladders run (ci and deep; audits with --bounds all)
 PIVOT_LIMIT = 8  # free coordinates up to which the ladders run (a 7-joint arm and its gripper's slide)
 RIDGE = 1e-2  # relative ridge of the loss metric (default; the ladder picks one of RIDGES per form)
 METRICS = ("shift", "abs")  # the turned matrix at the centre F made definite by a shift of its eigenvalues, or |F|
@@ -73,7 +73,7 @@ ANGLES = 2 * np.pi * np.arange(5) / 5
 SPLIT = 512  # boxes per thread from which pivot_test splits its boxes over threads
 
 
-def _sym(u, w):
+def eigen_compose(u, w):
     """u diag(w) u^T for stacks u (..., 6, 6), w (..., 6)."""
     return (u * w[..., None, :]) @ np.swapaxes(u, -1, -2)
 
@@ -99,14 +99,14 @@ def _bounding_parts(terms, kinds, metric=None):
     norm = (lambda x: np.linalg.norm(x, axis=(-2, -1)))
     if metric is None:
         w, u = np.linalg.eigh(terms)
-        out = _sym(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0)))
+        out = eigen_compose(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0)))
     else:
         hw, hu = metric
         hw = np.maximum(hw, 1e-300)
-        root, inv = _sym(hu, np.sqrt(hw)), _sym(hu, 1 / np.sqrt(hw))
+        root, inv = eigen_compose(hu, np.sqrt(hw)), eigen_compose(hu, 1 / np.sqrt(hw))
         x = inv @ terms @ inv
         w, u = np.linalg.eigh(x)
-        y = _sym(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0)))
+        y = eigen_compose(u, np.where(absolute[..., 0], np.abs(w), np.maximum(w, 0)))
         n_root, n_inv = norm(root), norm(inv)
         lift = ROUNDING * EPS * (norm(x) + norm(y) + n_inv**2 * norm(terms))
         y = y + lift[..., None, None] * eye

@@ -42,8 +42,9 @@ import numpy as np
 from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import spatial_inertia
 
-from .domain import bernstein_domain, certification_obstacle, chain_key, content_memo, free_coordinates
+from .domain import bernstein_domain, certification_obstacle, free_coordinates
 from .lengths import column_bounds
+from .memo import memo
 from .spectral import EPS, ROUNDING
 
 __all__ = [
@@ -133,11 +134,9 @@ def fourier_coefficients(chain, thetas, free):
     if m > FOURIER_LIMIT or not all(chain.joints[j].revolute for j in idx):
         return None
     thetas = np.asarray(thetas, float)
-    key = (chain_key(chain), thetas.shape, thetas.tobytes(), np.asarray(free, bool).tobytes())
-    return content_memo(_FOURIER_CACHE, key, lambda: _coefficients(chain, thetas, idx))
+    return memo("fourier", chain, (thetas, np.asarray(free, bool)), lambda: _coefficients(chain, thetas, idx))
 
 
-_FOURIER_CACHE = {}  # content-keyed (the chain's transforms, the parameters): the same inputs, the same answer
 
 
 def _coefficients(chain, thetas, idx):
