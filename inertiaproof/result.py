@@ -2,7 +2,11 @@
 
 A :class:`Result` answers one catalog ID with a :class:`Verdict` and its
 evidence. Numbers in evidence say what they are: build them with
-:func:`quantity`, whose ``kind`` is one of :data:`KINDS`.
+:func:`quantity`, whose ``kind`` is one of :data:`KINDS`. A certified number
+cites its certificate by hash (:mod:`inertiaproof.citation`); the Result
+carries the certificates its evidence cites in ``certificates``, beside the
+evidence, and the checker's answers join that list, not the evidence
+(:func:`inertiaproof.suite.certificates.settle`).
 
 Evidence keys the report plots (use them wherever the data fits):
 
@@ -25,10 +29,12 @@ Evidence keys the report plots (use them wherever the data fits):
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field, fields
 from enum import Enum
 
 import numpy as np
+
+from inertiaproof.citation import Certificate, Citation, cite, cited_in, entry_of
 
 __all__ = ["combine", "decide", "KINDS", "quantity", "Result", "Verdict"]
 
@@ -62,8 +68,9 @@ KINDS = {
 
 
 def quantity(value, kind, note=None, unit=None, certificate=None):
-    """A number in evidence that says what it is; a certified one cites its ``certificate`` (schema
-    ``inertiaproof.certificate/1``) where it has one."""
+    """A number in evidence that says what it is; a certified one cites its ``certificate`` (a
+    :class:`~inertiaproof.citation.Certificate` or its content, schema ``inertiaproof.certificate/2``) by hash
+    where it has one (:func:`inertiaproof.citation.cite`)."""
     if kind not in KINDS:
         raise ValueError(f"unknown quantity kind {kind!r}; one of {sorted(KINDS)}")
     q = {"value": _plain(value), "kind": kind}
@@ -72,16 +79,22 @@ def quantity(value, kind, note=None, unit=None, certificate=None):
     if unit:
         q["unit"] = unit
     if certificate:
-        q["certificate"] = certificate
+        q["certificate"] = cite(certificate, q["value"])
     return q
 
 
-def _plain(x):
-    """JSON-ready copies of numpy scalars and arrays; non-finite floats become strings."""
+def _plain(x, cited=None):
+    """JSON-ready copies of numpy scalars and arrays; non-finite floats become strings. A citation
+    (:class:`~inertiaproof.citation.Citation`) is written with ``cited``'s record of its certificate (hash to
+    {file, claim, status, ...}) where it has one."""
+    if isinstance(x, Citation):
+        return {**(cited or {}).get(x["hash"], {}), **x}
+    if isinstance(x, Certificate):
+        return x.content
     if isinstance(x, dict):
-        return {str(k): _plain(v) for k, v in x.items()}
+        return {str(k): _plain(v, cited) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
-        return [_plain(v) for v in x]
+        return [_plain(v, cited) for v in x]
     if isinstance(x, np.ndarray):
         return _plain(x.tolist())
     if isinstance(x, (np.bool_, bool)):
@@ -109,12 +122,21 @@ class Result:
     scene: str | None = None
     artifacts: list = field(default_factory=list)  # data files written next to results.json
     check: str | None = None  # the registered check's name (id, or id:variant)
+    certificates: list | None = None  # the certificates the evidence cites (inertiaproof.citation): Certificate,
+    # Settled once written and re-proved, records once read back; None: those the evidence's citations hold
 
     def __post_init__(self):
         self.verdict = Verdict(self.verdict)
+        if self.certificates is None:
+            self.certificates = cited_in(self.evidence)
 
     def to_json(self):
-        return _plain(asdict(self))
+        """The JSON of results.json: the certificates as records ({hash, file, claim, status, ...}), each citation in
+        evidence with its certificate's record."""
+        records = [entry_of(c) for c in self.certificates]
+        cited = {r["hash"]: {k: v for k, v in r.items() if k != "hash"} for r in records if "hash" in r}
+        return {f.name: _plain(records if f.name == "certificates" else getattr(self, f.name), cited)
+                for f in fields(self)}
 
     @classmethod
     def from_json(cls, data):

@@ -1,56 +1,38 @@
 """The certificates of a check's certified numbers: completed, written under ``OUT/certificates/`` and re-proved
-from those files by the independent checker in processes of its own (``python -m inertiaproof.verify``), whose
-answers join the numbers' evidence.
+from those files by the independent checker in processes of its own (``python -m inertiaproof.verify``).
 
-A check's evidence cites a certificate as a ``certificate`` entry holding it (schema
-``inertiaproof.certificate/2``, :mod:`inertiaproof.bounds.certificate`); :func:`settle` replaces each with
-``{file, claim, status, why, boxes, seconds}``, the claim in the checker's own words. A refuted certificate (a
-witness at which its claim fails) turns the check VIOLATED, the witness its counterexample; one not re-proved, or
-malformed, turns HOLDS into INCONCLUSIVE with the checker's reason: a proof that did not go through shows nothing
-false.
+A check's :class:`~inertiaproof.result.Result` carries the certificates its evidence cites
+(``Result.certificates``, :class:`inertiaproof.citation.Certificate`; the evidence cites each by hash).
+:func:`settle` returns a new Result whose certificates are :class:`~inertiaproof.citation.Settled` (its file and the
+checker's ``{claim, status, why, boxes, seconds}``, the claim in the checker's own words) and whose verdict follows
+from their statuses; the evidence is not touched. A refuted certificate (a witness at which its claim fails) turns
+the check VIOLATED, the witness its counterexample; one not re-proved, or malformed, turns HOLDS into INCONCLUSIVE
+with the checker's reason: a proof that did not go through shows nothing false.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
-import hashlib
 import json
 import subprocess
 import sys
 import tempfile
-from fractions import Fraction
 from pathlib import Path
 
 from inertiaproof.bounds.completion import complete
+from inertiaproof.citation import Certificate, Settled, entry_of
 from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.suite.execution import Executor
 from inertiaproof.suite.registry import replayer
 
 __all__ = ["certificate_name", "certificate_tally", "check_files", "cited_entries", "replay_refuted", "settle"]
 
-SCHEMA = "inertiaproof.certificate/2"
-
 
 def certificate_name(cert):
-    text = json.dumps(cert, sort_keys=True)
-    return f"{hashlib.sha256(text.encode()).hexdigest()[:16]}.json", text
-
-
-def _holders(node, key):
-    """Every dict in ``node`` (evidence) whose ``certificate`` entry is a dict with ``key``."""
-    if isinstance(node, dict):
-        if isinstance(node.get("certificate"), dict) and key in node["certificate"]:
-            yield node
-        for value in node.values():
-            yield from _holders(value, key)
-    elif isinstance(node, list):
-        for value in node:
-            yield from _holders(value, key)
-
-
-def _cited(node):
-    """Every dict in ``node`` (evidence) whose ``certificate`` entry is a certificate."""
-    return (holder for holder in _holders(node, "schema") if holder["certificate"]["schema"] == SCHEMA)
+    """(file name, text) of a certificate (or its content): ``<hash>.json`` and its canonical text."""
+    cert = Certificate.of(cert)
+    return cert.name, cert.text
 
 
 def check_files(paths):
@@ -68,20 +50,11 @@ def check_files(paths):
     return rows
 
 
-def _root(holder, cert):
-    """Whether the number holding ``cert`` is the square root of its claim's bound (sup sigma_max(QJ) of a claim
-    on (QJ)^T QJ), as the checker reads results.json."""
-    value, bound = holder.get("value"), cert["claim"].get("bound")
-    return (isinstance(value, float) and bound is not None and Fraction(value) != Fraction(bound)
-            and Fraction(value) ** 2 == Fraction(bound))
-
-
 def _written(folder, certs):
-    """The names of ``certs``, each written into ``folder`` under its name."""
-    named = [certificate_name(cert) for cert in certs]
-    for name, text in named:
-        (folder / name).write_text(text)
-    return [name for name, _ in named]
+    """Write each of ``certs`` (Certificates) into ``folder`` under its name; their names."""
+    for cert in certs:
+        (folder / cert.name).write_text(cert.text)
+    return [cert.name for cert in certs]
 
 
 def _verified(executor, folder, certs, memo):
@@ -98,72 +71,82 @@ def _verified(executor, folder, certs, memo):
 def _complete(task, boxes):
     """The certificate completed, growing the leaves the checker named (``where["leaves"]``) where it named them."""
     cert, where = task
-    return complete(cert, boxes, (where or {}).get("leaves"))
+    return Certificate(complete(cert.content, boxes, (where or {}).get("leaves")))
+
+
+def _filed(executor, folder, certs, boxes, memo):
+    """The certificates as written and re-proved: each of ``certs``, or its completion where the checker did not
+    re-prove it as written and re-proves the completion (:func:`inertiaproof.bounds.completion.complete`, ``boxes``
+    beyond each tree), so the checker walks every tree once and cuts nothing."""
+    filed = list(certs)
+    names = _verified(executor, folder, filed, memo)
+    again = [i for i, name in enumerate(names) if memo[name]["status"] == "not re-proved"]
+    grown = executor.map(functools.partial(_complete, boxes=boxes), [(certs[i], memo[names[i]]["where"])
+                                                                     for i in again],
+                         kind="verify", label="certificate trees")
+    for i, cert, name in zip(again, grown, _verified(executor, folder, grown, memo)):
+        better = memo[name]["status"] != "not re-proved"  # else the prover's own tree stays cited
+        if name != names[i]:
+            (folder / (names[i] if better else name)).unlink(missing_ok=True)  # the file no one cites
+        if better:
+            filed[i] = cert
+    return filed
 
 
 def settle(result, *, out_dir, boxes, verify, memo, executor=None):
-    """Write the certificates ``result``'s evidence cites (into ``out_dir``/certificates, or a temporary folder)
-    and, with ``verify``, re-prove each file once per run (``memo`` maps names to the checker's rows; the files go
-    to ``executor`` as tasks of kind "verify"). A certificate the checker does not re-prove as written has its trees
-    completed (:func:`inertiaproof.bounds.completion.complete`, ``boxes`` beyond each) and is cited as completed,
-    so the checker walks every tree once and cuts nothing."""
+    """A new Result: ``result`` with its certificates written (into ``out_dir``/certificates, or a temporary folder)
+    and, with ``verify``, re-proved once per run (``memo`` maps file names to the checker's rows; the files go to
+    ``executor`` as tasks of kind "verify"), each a :class:`~inertiaproof.citation.Settled`; its verdict, summary and
+    counterexample follow from their statuses. Its evidence is ``result``'s."""
     executor = executor or Executor()
-    holders = list({id(holder): holder for holder in _cited(result.evidence)}.values())  # a dict cited twice: once
-    certs = [holder["certificate"] for holder in holders]
+    certs = [c if isinstance(c, Certificate) else c.certificate for c in result.certificates]
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(out_dir if out_dir is not None else scratch) / "certificates"
         folder.mkdir(parents=True, exist_ok=True)
         if not verify:
-            names = _written(folder, certs)
-        else:
-            names = _verified(executor, folder, certs, memo)
-            again = [i for i, name in enumerate(names) if memo[name]["status"] == "not re-proved"]
-            grown = executor.map(functools.partial(_complete, boxes=boxes), [(certs[i], memo[names[i]]["where"])
-                                                                             for i in again],
-                                 kind="verify", label="certificate trees")
-            for i, cert, name in zip(again, grown, _verified(executor, folder, grown, memo)):
-                better = memo[name]["status"] != "not re-proved"  # else the prover's own tree stays cited
-                if name != names[i]:
-                    (folder / (names[i] if better else name)).unlink(missing_ok=True)  # the file no one cites
-                if better:
-                    certs[i], names[i] = cert, name
-    named = list(zip(names, certs))
-    failed, unproved = None, []
-    for holder, (name, cert) in zip(holders, named):
-        entry = {"file": f"certificates/{name}", **({"as": "root"} if _root(holder, cert) else {})}
-        if verify:
-            row = memo[name]
-            entry.update({k: row[k] for k in ("claim", "status", "why", "boxes", "seconds")})
-            if row["status"] == "refuted" and failed is None:
-                failed = (cert, row)
-            elif row["status"] != "re-proved" and entry["file"] not in unproved:
-                unproved.append(f"{entry['file']} ({row['status']}: {row['why']})")
-        else:
-            entry.update(status="not verified", why="the run was asked not to verify (--no-verify)")
-        holder["certificate"] = entry
-    if failed is not None:
-        cert, row = failed
-        result.verdict = Verdict.VIOLATED
-        result.summary = (f"a certified number is refuted by the independent checker: {row['claim']}: {row['why']}; "
-                          + result.summary)
-        result.counterexample = {"kind": "certificate-refuted", "data": {"id": result.id, "certificate": cert,
-                                                                         "where": row["where"]}}
-    elif unproved:  # certified means re-proved: a number the checker could not re-prove decides nothing
-        if result.verdict == Verdict.HOLDS:
-            result.verdict = Verdict.INCONCLUSIVE
-        result.summary += (f"; {len(unproved)} certified number(s) not re-proved by the independent checker: "
-                           + ", ".join(unproved))
-    return result
+            _written(folder, certs)
+            settled = [Settled(c, f"certificates/{c.name}", "not verified",
+                               "the run was asked not to verify (--no-verify)") for c in certs]
+            return dataclasses.replace(result, certificates=settled)
+        filed = _filed(executor, folder, certs, boxes, memo)
+    settled = [Settled(c, f"certificates/{f.name}", memo[f.name]["status"], memo[f.name]["why"], memo[f.name]["claim"],
+                       memo[f.name]["boxes"], memo[f.name]["seconds"], None if f is c else f)
+               for c, f in zip(certs, filed)]
+    return dataclasses.replace(result, certificates=settled, **_verdict(result, settled, memo))
 
 
-def cited_entries(node):
-    """The settled certificate entries ({file, claim, status, ...}) of evidence, after :func:`settle`."""
-    return (holder["certificate"] for holder in _holders(node, "file"))
+def _verdict(result, settled, memo):
+    """{verdict, summary, counterexample} of ``result`` given the checker's answers on its ``settled``
+    certificates: the first refuted one makes it VIOLATED; any not re-proved turns HOLDS into INCONCLUSIVE."""
+    refuted = next((s for s in settled if s.status == "refuted"), None)
+    if refuted is not None:
+        return {"verdict": Verdict.VIOLATED,
+                "summary": (f"a certified number is refuted by the independent checker: {refuted.claim}: "
+                            f"{refuted.why}; " + result.summary),
+                "counterexample": {"kind": "certificate-refuted", "data": {
+                    "id": result.id, "certificate": refuted.written.content,
+                    "where": memo[refuted.written.name]["where"]}}}
+    unproved = list(dict.fromkeys(f"{s.file} ({s.status}: {s.why})" for s in settled if s.status != "re-proved"))
+    if not unproved:
+        return {}
+    # certified means re-proved: a number the checker could not re-prove decides nothing
+    return {"verdict": Verdict.INCONCLUSIVE if result.verdict == Verdict.HOLDS else result.verdict,
+            "summary": (result.summary + f"; {len(unproved)} certified number(s) not re-proved by the independent "
+                        "checker: " + ", ".join(unproved))}
 
 
-def certificate_tally(evidences):
-    """({file: status} of the certificates the evidences cite, "N (OUT/certificates); k status, ..." in words)."""
-    files = {entry["file"]: entry.get("status", "not verified") for ev in evidences for entry in cited_entries(ev)}
+def cited_entries(result):
+    """The records ({hash, file, claim, status, ...}) of the certificates a check's result (results.json's entry,
+    or a :class:`~inertiaproof.result.Result`) carries."""
+    items = result.get("certificates") if isinstance(result, dict) else result.certificates
+    return [entry_of(c) for c in items or []]
+
+
+def certificate_tally(results):
+    """({file: status} of the certificates the results (results.json entries or Results) carry, "N
+    (OUT/certificates); k status, ..." in words)."""
+    files = {entry.get("file") or entry["hash"]: entry.get("status", "not verified")
+             for r in results for entry in cited_entries(r)}
     counts = {status: sum(s == status for s in files.values()) for status in dict.fromkeys(files.values())}
     return files, (f"{len(files)} (OUT/certificates)" + ("; " if counts else "")
                    + ", ".join(f"{n} {status}" for status, n in counts.items()))

@@ -11,13 +11,16 @@ results.json (schema ``inertiaproof.results/1``)::
         {"id": "Thm2", "check": "Thm2", "verdict": "HOLDS", "summary": "...",
          "runtime_s": 0.8, "seed": 0, "profile": "ci", "scene": null,
          "evidence": {...}, "counterexample": null | {"kind": ..., "data": ..., "file": ...},
-         "artifacts": ["data/thm2-bracket.json"]}
+         "artifacts": ["data/thm2-bracket.json"],
+         "certificates": [{"hash": ..., "file": "certificates/<name>.json", "claim": ..., "status": ..., ...}]}
       ],
       "skipped": [{"check": "Thm4", "reason": "..."}]
     }
 
 Every number in ``evidence`` is either plain data or a quantity
-``{"value": ..., "kind": ..., "note": ...}`` (see inertiaproof.result.KINDS).
+``{"value": ..., "kind": ..., "note": ...}`` (see inertiaproof.result.KINDS); a certified one cites its certificate
+by hash (``"certificate": {"hash": ..., "file", "claim", "status", ...}``, the record of that hash in the check's
+``certificates`` repeated where it is cited, for readers of one number).
 """
 
 from __future__ import annotations
@@ -145,7 +148,8 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
             t0 = time.perf_counter()
             result = _run_one(spec, ctx, profile)
             result.runtime_s = time.perf_counter() - t0
-            settle(result, out_dir=out_dir, boxes=profile.tree_boxes, verify=verify, memo=proofs, executor=executor)
+            result = settle(result, out_dir=out_dir, boxes=profile.tree_boxes, verify=verify, memo=proofs,
+                            executor=executor)
         for batch in executor.log[batches:]:
             batch["check"] = spec.name
         result.check, result.seed, result.profile = spec.name, seed, profile.name
@@ -287,7 +291,7 @@ def write_junit(path, run):
 
 def certificate_line(run):
     """How many certified numbers cite a certificate, and what the independent checker said of them."""
-    return "certificates: " + certificate_tally(r.evidence for r in run.results)[1]
+    return "certificates: " + certificate_tally(run.results)[1]
 
 
 def format_table(run, width=110):
