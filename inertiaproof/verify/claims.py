@@ -5,35 +5,29 @@ Every certificate is a JSON object with ``schema`` (:data:`SCHEMA`) and a ``clai
 that proves it; the rest of the certificate is that kind's data (README: "Certificates").
 """
 
-from __future__ import annotations
-
 import hashlib
 import json
 from fractions import Fraction
 
-from . import bodies, key_step, moving, payload, product, skew, spectrum
-from .exact import BadCertificate, rational
-
-__all__ = ["KINDS", "SCHEMA", "prove", "statement"]
+from . import bodies, key_step, moving, payload, product, residual, skew, spectrum
+from .exact import need, rational
 
 SCHEMA = "inertiaproof.certificate/2"
 KINDS = {"mass-matrix-spectrum": spectrum.prove, "body-spectrum": bodies.prove, "key-step": key_step.prove,
          "payload-envelope": payload.prove, "moving-mass": moving.prove, "skew-partials": skew.prove,
-         "product": lambda cert: product.prove(cert, prove), "sum": lambda cert: product.prove_sum(cert, prove)}
+         "product": lambda cert: product.prove(cert, prove), "sum": lambda cert: product.prove_sum(cert, prove),
+         "residual-bound": residual.prove}
 CLAIM_KEYS = {"kind", "quantity", "relation", "bound", "matrix", "formula", "declared", "lower", "upper"}
 PROVED = {}  # outcomes by the certificate's SHA-256: an ingredient embedded in several products is proved once
 
 
 def prove(cert):
     """The :class:`.outcome.Outcome` of the certificate's claim."""
-    if not isinstance(cert, dict) or cert.get("schema") != SCHEMA:
-        raise BadCertificate(f"schema: {SCHEMA!r} expected")
+    need(isinstance(cert, dict) and cert.get("schema") == SCHEMA, f"schema: {SCHEMA!r} expected")
     claim = cert.get("claim")
-    if not isinstance(claim, dict) or claim.get("kind") not in KINDS:
-        raise BadCertificate(f"claim.kind: one of {sorted(KINDS)}")
-    if not set(claim) <= CLAIM_KEYS:
-        raise BadCertificate(f"claim: unknown field(s) {sorted(set(claim) - CLAIM_KEYS)} (the checker writes the "
-                             "statement itself)")
+    need(isinstance(claim, dict) and claim.get("kind") in KINDS, f"claim.kind: one of {sorted(KINDS)}")
+    need(set(claim) <= CLAIM_KEYS, f"claim: unknown field(s) {sorted(set(claim) - CLAIM_KEYS)} (the checker writes "
+         "the statement itself)")
     digest = hashlib.sha256(json.dumps(cert, sort_keys=True).encode()).hexdigest()
     if digest not in PROVED:
         PROVED[digest] = KINDS[claim["kind"]](cert)
@@ -68,53 +62,50 @@ def _plain(n, exponent):
     return sign + whole + ("." + frac if frac else "")
 
 
-def _side(claim, word, up):
-    return f"{word} {decimal(rational(claim['bound'], 'claim.bound'), up)}"
+def _side(claim, lower):
+    return f"{'>=' if lower else '<='} {decimal(rational(claim['bound'], 'claim.bound'), not lower)}"
 
 
 def _sets(cert):
     formation = cert.get("formation")
     if formation is None:
         return f"{len(cert['parameters'])} parameter set(s) as listed"
-    def ends(load):
-        (lo, hi), rate = (rational(x, "formation") for x in load["range"]), rational(load["rate"], "formation")
-        return f"[{decimal(lo, False)}, {decimal(hi, True)}], |s'| <= {decimal(rate, True)}"
-
+    ends = lambda load: (f"[{decimal(rational(load['range'][0], 'formation'), False)}, "  # noqa: E731
+                         f"{decimal(rational(load['range'][1], 'formation'), True)}], |s'| <= "
+                         f"{decimal(rational(load['rate'], 'formation'), True)}")
     loads = "; ".join(f"{load['kind']} on body {load['body']}, s in {ends(load)}" for load in formation["loads"])
     what = "Thetadot(t)" if formation["of"] == "rate" else "Theta(t)"
     return f"the {len(cert['parameters'])} vertex set(s) of {what} formed from its base and loads ({loads or 'none'})"
 
 
-def _chain(cert):
-    chain = cert["chain"]
+def _where(cert):
+    """For all q in the domain's box (rounded outward) of the chain (its name, source and digest)."""
+    chain, source = cert["chain"], cert["chain"].get("source")
+    box = ", ".join(f"[{decimal(rational(lo, 'domain'), False)}, {decimal(rational(hi, 'domain'), True)}]"
+                    for lo, hi in cert["domain"])
+    return (f"for all q in [{box}] (every joint's limits; a full turn where a revolute joint has none) of "
+            + _chain(chain, source))
+
+
+def _chain(chain, source):
     digest = hashlib.sha256(json.dumps(chain, sort_keys=True).encode()).hexdigest()[:12]
-    source = chain.get("source")
     where = f" of {source['path']} (SHA-256 {source['sha256'][:12]})" if source else ""
     return f"chain {chain.get('name', 'chain')!r}{where} ({len(chain['joints'])} joints, {digest})"
 
 
-def _domain(cert):
-    box = ", ".join(f"[{decimal(rational(lo, 'domain'), False)}, {decimal(rational(hi, 'domain'), True)}]"
-                    for lo, hi in cert["domain"])
-    return f"[{box}] (every joint's limits; a full turn where a revolute joint has none)"
-
-
-def _spectrum(cert, matrix):
+def _spectrum(cert):
     claim = cert["claim"]
-    lower = claim["quantity"] == "lambda_min"
     unit = cert["parameters"] == [[product.UNIT] * len(cert["chain"]["joints"])]
-    quantity = "((QJ)^T QJ)" if unit else f"(M(q, Theta{matrix}))"
-    return (f"for all q in {_domain(cert)} of {_chain(cert)}" + ("" if unit else f" and Theta in the hull of "
-            f"{_sets(cert)}") + f": {claim['quantity']}{quantity} " + _side(claim, ">=" if lower else "<=", not lower))
+    return (_where(cert) + ("" if unit else f" and Theta in the hull of {_sets(cert)}") + f": {claim['quantity']}"
+            + ("((QJ)^T QJ) " if unit else "(M(q, Theta)) ") + _side(claim, claim["quantity"] == "lambda_min"))
 
 
 def _body(cert):
     claim = cert["claim"]
     f = "f" if claim["matrix"] == "pseudo_inertia" else "Z"
-    upper = claim["quantity"] != "lambda_min"
     return (f"for every body l and Phi_l in the hull of its rows in {_sets(cert)}"
             + (" plus its growth direction" if "directions" in cert else "")
-            + f": {claim['quantity']}({f}(Phi_l)) " + _side(claim, "<=" if upper else ">=", upper))
+            + f": {claim['quantity']}({f}(Phi_l)) " + _side(claim, claim["quantity"] == "lambda_min"))
 
 
 def _payload(cert):
@@ -124,52 +115,46 @@ def _payload(cert):
             f"on body {p['body']} (Phi_p)")
     if claim["quantity"] == "lambda_max_f":
         return (f"for every body l, Theta in the hull of {_sets(cert)} and {what}: lambda_max(f(Phi_l + Phi_p)) "
-                + _side(claim, "<=", True))
-    lower = claim["quantity"] == "lambda_min"
-    return (f"for all q in {_domain(cert)} of {_chain(cert)}, Theta in the hull of {_sets(cert)} and {what}: "
-            f"{claim['quantity']}(M(q, Theta + Phi_p)) " + _side(claim, ">=" if lower else "<=", not lower))
+                + _side(claim, False))
+    return (f"{_where(cert)}, Theta in the hull of {_sets(cert)} and {what}: {claim['quantity']}(M(q, Theta + "
+            "Phi_p)) " + _side(claim, claim["quantity"] == "lambda_min"))
 
 
 def _moving(cert):
     claim = cert["claim"]
-    lower = claim["quantity"].startswith("lambda_min")
     return (f"for every t, the bodies' rows in the hull of {_sets(cert)} carrying {len(cert['loads'])} moving "
-            f"load(s): {claim['quantity']} " + _side(claim, ">=" if lower else "<=", not lower))
+            f"load(s): {claim['quantity']} " + _side(claim, claim["quantity"].startswith("lambda_min")))
 
 
 def _skew(cert):
-    claim = cert["claim"]
     what = {"max_sigma": "max_p sigma_max(Y_p(q))", "rss_sigma": "(sum_p sigma_max(Y_p(q))^2)^(1/2)"}
-    return (f"for all q in {_domain(cert)} of {_chain(cert)}, Y_p = dK_p/dq - (dK_p/dq)^T: "
-            f"{what[claim['quantity']]} " + _side(claim, "<=", True))
+    return (f"{_where(cert)}, Y_p = dK_p/dq - (dK_p/dq)^T: {what[cert['claim']['quantity']]} "
+            + _side(cert["claim"], False))
 
 
 def _product(cert):
     claim = cert["claim"]
-    words = product.FORMULAS[claim["formula"]][3]
     declared = f" (r = {claim['declared']})" if "declared" in claim else ""
-    chains = [_chain(sub) for sub in cert["ingredients"] if "chain" in sub][:1]
-    return (words + declared + (f" of {chains[0]}" if chains else "") + " "
-            + _side(claim, claim["relation"], claim["relation"] == "<="))
+    chains = [_chain(sub["chain"], sub["chain"].get("source")) for sub in cert["ingredients"] if "chain" in sub][:1]
+    return (product.FORMULAS[claim["formula"]][3] + declared + (f" of {chains[0]}" if chains else "") + " "
+            + _side(claim, claim["relation"] == ">="))
 
 
 def _sum(cert):
-    claim = cert["claim"]
     return (f"the sum of {len(cert['terms'])} term(s) (" + "; ".join(statement(t) for t in cert["terms"]) + ") "
-            + _side(claim, claim["relation"], claim["relation"] == "<="))
+            + _side(cert["claim"], cert["claim"]["relation"] == ">="))
 
 
 def _key_step(cert):
-    claim = cert["claim"]
-    lo = decimal(rational(claim["lower"], "claim.lower"), False)
-    hi = decimal(rational(claim["upper"], "claim.upper"), True)
+    lo, hi = (decimal(rational(cert["claim"][k], f"claim.{k}"), k == "upper") for k in ("lower", "upper"))
     return (f"L(F) = Z(f^-1(F)) is a positive map and {lo} I6 <= L(I4) <= {hi} I6: for s >= 0, f(Phi) >= s I4 "
             f"implies Z(Phi) >= {lo} s I6, f(Phi) <= s I4 implies Z(Phi) <= {hi} s I6")
 
 
-STATEMENTS = {"mass-matrix-spectrum": lambda cert: _spectrum(cert, ""), "body-spectrum": _body,
+STATEMENTS = {"mass-matrix-spectrum": _spectrum, "body-spectrum": _body,
               "payload-envelope": _payload, "moving-mass": _moving, "skew-partials": _skew, "product": _product,
-              "sum": _sum, "key-step": _key_step}
+              "sum": _sum, "key-step": _key_step,
+              "residual-bound": lambda cert: residual.statement(cert, decimal)}
 
 
 def statement(cert):

@@ -6,8 +6,6 @@ Exit status: 0 every claim re-proved; 1 something refuted; 2 a bad certificate, 
 together, or bad usage; 3 something not re-proved and nothing refuted or bad.
 """
 
-from __future__ import annotations
-
 import argparse
 import ast
 import hashlib
@@ -22,8 +20,6 @@ from .claims import prove, statement
 from .exact import BadCertificate, read_json
 from .outcome import REFUTED, REPROVED, UNPROVED
 from .product import UNIT
-
-__all__ = ["check", "configure", "main", "verify_file"]
 
 BAD = "bad certificate"
 STATUSES = (REPROVED, REFUTED, UNPROVED, BAD)
@@ -41,20 +37,15 @@ def configure(parser):
 def check(cert):
     """{claim, status, why, boxes, where, seconds} of one certificate (parsed JSON); status "bad certificate" when
     it is malformed (why names the field), "not re-proved" when a step fails in a way no field names."""
-    start = time.perf_counter()
+    start, claim = time.perf_counter(), ""
     try:
         out = prove(cert).to_json()
         claim = statement(cert)
     except BadCertificate as exc:
-        claim, out = "", {"status": BAD, "why": str(exc), "boxes": 0, "where": None}
+        out = {"status": BAD, "why": str(exc), "boxes": 0, "where": None}
     except Exception as exc:  # noqa: BLE001 - whatever goes wrong inside the checker proves nothing
-        claim, out = "", {"status": UNPROVED, "why": f"{type(exc).__name__}: {exc}", "boxes": 0, "where": None}
+        out = {"status": UNPROVED, "why": f"{type(exc).__name__}: {exc}", "boxes": 0, "where": None}
     return {"claim": claim, **out, "seconds": round(time.perf_counter() - start, 4)}
-
-
-def name_of(text):
-    """The name a run gives a certificate file: the first 16 hex digits of its text's SHA-256."""
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def verify_file(path):
@@ -69,43 +60,28 @@ def verify_file(path):
         cert = read_json(text)
     except (OSError, UnicodeDecodeError, BadCertificate, RecursionError) as exc:
         return {**bad, "why": f"cannot be read: {exc}"}
-    if re.fullmatch(r"[0-9a-f]{16}", path.stem) and path.stem != name_of(text):
-        return {**bad, "why": f"its content is not what its name says (SHA-256 {name_of(text)}...): altered"}
+    name = hashlib.sha256(text.encode()).hexdigest()[:16]
+    if re.fullmatch(r"[0-9a-f]{16}", path.stem) and path.stem != name:
+        return {**bad, "why": f"its content is not what its name says (SHA-256 {name}...): altered"}
     return {"file": str(path), **check(cert)}
-
-
-def _files(paths):
-    for path in paths:
-        if path.is_dir():
-            folder = path / "certificates" if (path / "certificates").is_dir() else path
-            yield from sorted(folder.glob("*.json"))
-        else:
-            yield path
-
-
-def _direction(cert):
-    claim = cert["claim"]
-    if claim["kind"] == "key-step":
-        return "<=", claim["upper"]
-    side = claim.get("relation") or (">=" if claim["quantity"].startswith("lambda_min") else "<=")
-    return side, claim["bound"]
 
 
 def _implied(number, cert, entry):
     """Why the results.json ``number`` (a quantity citing ``cert``) is not implied by the certificate's claim, or
     None: a lower side at most the claim's bound, an upper one at least it (or, ``as`` "root", the number's square
     at least a claim on (QJ)^T QJ)."""
-    value = number.get("value")
+    value, claim = number.get("value"), cert["claim"]
     if type(value) not in (int, float) or value != value or abs(value) == float("inf"):
         return f"the number {value!r} is not finite"
-    side, bound = _direction(cert)
-    kind = {"lower_bound": ">=", "upper_bound": "<="}.get(number.get("kind"), side)
-    if kind != side:
+    side = "<=" if claim["kind"] == "key-step" else claim.get("relation") or (
+        ">=" if claim["quantity"].startswith("lambda_min") or claim["kind"] == "residual-bound" else "<=")
+    bound = Fraction(claim["upper"] if claim["kind"] == "key-step" else claim["bound"])
+    if {"lower_bound": ">=", "upper_bound": "<="}.get(number.get("kind"), side) != side:
         return f"a {number.get('kind')} cites a {side} claim"
-    value, bound = Fraction(value), Fraction(bound)
+    value = Fraction(value)
     if entry.get("as") == "root":
-        unit = cert["claim"]["kind"] == "mass-matrix-spectrum" and cert.get("parameters") == [
-            [UNIT] * len(cert["chain"]["joints"])]
+        unit = claim["kind"] == "mass-matrix-spectrum" and cert.get("parameters") == [[UNIT] * len(
+            cert["chain"]["joints"])]
         if side != "<=" or value < 0 or not unit:
             return "only an upper side of sigma_max(QJ) is the root of a claim on (QJ)^T QJ"
         value = value * value
@@ -119,10 +95,8 @@ def _numbers(node, path):
     (path, quantity, None) of every certified number that cites none."""
     if isinstance(node, dict):
         entry = node.get("certificate")
-        if entry is not None:
+        if entry is not None or node.get("kind") == CERTIFIED and "value" in node:
             yield path, (node if "value" in node else None), entry
-        elif node.get("kind") == CERTIFIED and "value" in node:
-            yield path, node, None
         for k, v in node.items():
             yield from _numbers(v, f"{path}/{k}")
     elif isinstance(node, list):
@@ -132,10 +106,9 @@ def _numbers(node, path):
 
 def results_problems(out, rows):
     """Every way results.json of the run folder ``out`` does not hold together with its certificates (``rows``: the
-    checker's answers by file name)."""
+    checker's answers by file name), and the count of numbers citing one."""
     try:
-        doc = read_json((out / "results.json").read_text(), floats=True)
-        checks = doc["checks"]
+        checks = read_json((out / "results.json").read_text(), floats=True)["checks"]
         assert isinstance(checks, list) and all(isinstance(c, dict) for c in checks)
     except (OSError, BadCertificate, KeyError, TypeError, AssertionError, RecursionError) as exc:
         return [f"cannot be read as a run's results ({exc})"], 0
@@ -156,8 +129,7 @@ def results_problems(out, rows):
                                 f"{row['claim']!r}")
             elif number is not None:
                 why = _implied(number, read_json((out / entry["file"]).read_text()), entry)
-                if why:
-                    problems.append(f"{path}: {why}")
+                problems += [f"{path}: {why}"] if why else []
     return problems, numbers
 
 
@@ -185,33 +157,27 @@ def main(args):
     if args.about:
         print(about())
         return 0
-    files = list(_files(args.paths))
+    files = [p for path in args.paths for p in (sorted((path / "certificates" if (path / "certificates").is_dir()
+                                                        else path).glob("*.json")) if path.is_dir() else [path])]
     if not files:
         print("inertiaproof verify: no certificate found in " + ", ".join(map(str, args.paths)), file=sys.stderr)
         return 2
     rows = {}
     for path in files:
-        row = verify_file(path)
-        rows[path] = row
-        if args.json:
-            print(json.dumps(row))
-        else:
-            print(f"{row['status']:>15}  {path.name}: {row['why']} ({row['seconds']:.2f} s)")
+        rows[path] = row = verify_file(path)
+        print(json.dumps(row) if args.json else
+              f"{row['status']:>15}  {path.name}: {row['why']} ({row['seconds']:.2f} s)")
     counts = {s: sum(r["status"] == s for r in rows.values()) for s in STATUSES}
     print(", ".join(f"{n} {s}" for s, n in counts.items()), file=sys.stderr)
     problems = []
     for out in dict.fromkeys(p for p in args.paths if (p / "results.json").is_file()):
-        named = {f"certificates/{p.name}": r for p, r in rows.items() if p.parent == out / "certificates"}
-        found, numbers = results_problems(out, named)
+        found, numbers = results_problems(out, {f"certificates/{p.name}": r for p, r in rows.items()
+                                                if p.parent == out / "certificates"})
         problems += [f"{out}/results.json: {p}" for p in found]
         print(f"{out}/results.json: {numbers} certified number(s), {len(found)} problem(s)", file=sys.stderr)
     for problem in problems:
         print(problem, file=sys.stderr)
-    if counts[REFUTED]:
-        return 1
-    if counts[BAD] or problems:
-        return 2
-    return 3 if counts[UNPROVED] else 0
+    return 1 if counts[REFUTED] else 2 if counts[BAD] or problems else 3 if counts[UNPROVED] else 0
 
 
 def command(argv):

@@ -1,16 +1,11 @@
 """Numbers of a certificate, read strictly: exact rationals written as "p/q" or decimals ("0.1" is 1/10), JSON
 without duplicate keys, NaN, Infinity or floats, and balls that are finite before they are compared."""
 
-from __future__ import annotations
-
 import json
 import re
 from fractions import Fraction
 
 from flint import arb, fmpq
-
-__all__ = ["BadCertificate", "DIGITS", "ball_max", "finite", "rational", "rational_matrix", "read_json",
-           "semidefinite"]
 
 DIGITS = 2000  # the longest number a certificate may write (characters): exact arithmetic on it stays bounded
 NUMBER = re.compile(r"[-+]?(\d+(\.\d*)?|\.\d+)([eE][-+]?\d{1,4})?(/\d+)?")
@@ -20,38 +15,40 @@ class BadCertificate(ValueError):
     """The certificate is malformed: its message names the field."""
 
 
+def need(holds, why):
+    """Nothing where ``holds``, else :class:`BadCertificate` ``why``."""
+    if not holds:
+        raise BadCertificate(why)
+
+
+def known(cert, keys):
+    """Nothing, or :class:`BadCertificate` for a field of ``cert`` beyond ``keys``."""
+    need(set(cert) <= set(keys), f"unknown field(s) {sorted(set(cert) - set(keys))}")
+
+
 def _pairs(pairs):
     seen = {}
     for key, value in pairs:
-        if key in seen:
-            raise BadCertificate(f"duplicate key {key!r}: a certificate says one thing once")
+        need(key not in seen, f"duplicate key {key!r}: a certificate says one thing once")
         seen[key] = value
     return seen
-
-
-def _no_float(text):
-    raise BadCertificate(f"the JSON number {text}: exact numbers are written as strings (\"p/q\" or a decimal)")
-
-
-def _no_constant(text):
-    raise BadCertificate(f"{text} is not a number a certificate may hold")
 
 
 def read_json(text, floats=False):
     """The JSON document ``text``, read strictly: a duplicate key, NaN or Infinity, or (unless ``floats``) a JSON
     float is a :class:`BadCertificate`; so is trailing data (``json.loads``)."""
     try:
-        return json.loads(text, object_pairs_hook=_pairs, parse_constant=_no_constant,
-                          **({} if floats else {"parse_float": _no_float}))
+        return json.loads(text, object_pairs_hook=_pairs, parse_constant=lambda t: need(
+            False, f"{t} is not a number a certificate may hold"), **({} if floats else {"parse_float": lambda t: need(
+                False, f"the JSON number {t}: exact numbers are written as strings (\"p/q\" or a decimal)")}))
     except json.JSONDecodeError as exc:
         raise BadCertificate(f"not JSON: {exc}") from None
 
 
 def rational(text, where):
     """The exact rational a certificate writes as ``text`` (a string: "p/q", an integer or a decimal)."""
-    if not isinstance(text, str) or len(text) > DIGITS or not NUMBER.fullmatch(text):
-        raise BadCertificate(f"{where}: numbers are written as strings (\"p/q\" or a decimal) of at most {DIGITS} "
-                             f"characters, not {str(text)[:40]!r}")
+    need(isinstance(text, str) and len(text) <= DIGITS and NUMBER.fullmatch(text), f"{where}: numbers are written "
+         f"as strings (\"p/q\" or a decimal) of at most {DIGITS} characters, not {str(text)[:40]!r}")
     try:
         value = Fraction(text)
     except (ValueError, ZeroDivisionError):
@@ -61,10 +58,16 @@ def rational(text, where):
 
 def rational_matrix(rows, shape, where):
     """The exact rationals of a certificate's ``shape`` matrix ``rows`` (lists of numbers)."""
-    if not (isinstance(rows, list) and len(rows) == shape[0] and all(isinstance(r, list) and len(r) == shape[1]
-                                                                     for r in rows)):
-        raise BadCertificate(f"{where}: expected a {shape[0]}x{shape[1]} list of numbers")
+    need(isinstance(rows, list) and len(rows) == shape[0] and all(isinstance(r, list) and len(r) == shape[1]
+                                                                  for r in rows),
+         f"{where}: expected a {shape[0]}x{shape[1]} list of numbers")
     return [[rational(x, f"{where}[{i}][{j}]") for j, x in enumerate(r)] for i, r in enumerate(rows)]
+
+
+def dyadic(x):
+    """The exact rational of a float or of an exact ball (a ball's end)."""
+    man, exp = (x if isinstance(x, arb) else arb(x)).mid().man_exp()
+    return fmpq(int(man)) * fmpq(2) ** int(exp)
 
 
 class NotFinite(ArithmeticError):
@@ -81,6 +84,11 @@ def finite(x, what):
 def ball_max(balls, what):
     """A ball whose upper end is the largest upper end of the finite ``balls`` (every one checked finite)."""
     return arb(max(finite(x, what).upper() for x in balls))
+
+
+def above(rows, sign, shift):
+    """Whether sign F + shift I >= 0 for the symmetric matrix of exact rationals F (``rows``), decided exactly."""
+    return semidefinite([[sign * x + (shift if i == j else 0) for j, x in enumerate(r)] for i, r in enumerate(rows)])
 
 
 def semidefinite(rows):

@@ -5,15 +5,11 @@ symmetric, positive semidefinite and sum_ij X_ij C_ij = L(X) on a basis of sym(4
 (v x I6)^T C (v x I6) >= 0, and every X >= 0 is a sum of such.
 """
 
-from __future__ import annotations
-
 from flint import fmpq
 
 from .bodies import spatial_inertia
-from .exact import rational, rational_matrix, semidefinite
+from .exact import above, rational, rational_matrix, semidefinite
 from .outcome import REPROVED, UNPROVED, Outcome, refuted
-
-__all__ = ["prove"]
 
 
 def _map(f):
@@ -35,8 +31,8 @@ def prove(cert):
             return Outcome(UNPROVED, f"the Choi matrix's map differs from L at the basis element E_{a + 1}{b + 1}", 2)
     z = _map([[fmpq(int(r == s)) for s in range(4)] for r in range(4)])
     for sign, shift, what in ((1, -lower, "L(I4) - lower I6"), (-1, upper, "upper I6 - L(I4)")):
-        if not semidefinite([[sign * x + (shift if r == s else 0) for s, x in enumerate(row)]
-                             for r, row in enumerate(z)]):
-            return refuted(f"{what} is not positive semidefinite (exact arithmetic)", {"F": "I4"}, {what: "indefinite"}, 3)
+        if not above(z, sign, shift):
+            return refuted(f"{what} is not positive semidefinite (exact arithmetic)", {"F": "I4"},
+                           {what: "indefinite"}, 3)
     return Outcome(REPROVED, "the Choi matrix is positive semidefinite and extends L; lower I6 <= L(I4) <= upper "
                    "I6, decided exactly", 3)

@@ -1,10 +1,6 @@
 """The outcome of re-proving one claim: re-proved; refuted, only with a witness at which both sides are enclosed
 and the claim fails; or not re-proved, a step of the proof that did not go through (the claim may still be true)."""
 
-from __future__ import annotations
-
-__all__ = ["Outcome", "REFUTED", "REPROVED", "UNPROVED", "refuted"]
-
 REPROVED, REFUTED, UNPROVED = "re-proved", "refuted", "not re-proved"
 
 
