@@ -10,12 +10,12 @@ Nothing is asserted; timings depend on the machine and its load (recorded). Run:
 
     python bench/bracket_scaling.py            # writes bench/results/bracket_scaling.json
     python bench/bracket_scaling.py --quick    # JOINTS 6, 12 and one budget
-    python bench/bracket_scaling.py --widths-only --budgets 0.5 20 --samples 2000 50000
+    python bench/bracket_scaling.py --widths-only --budgets 20 800 --samples 2000 50000
                                                # part 2 only (bench/results/bracket_widths.json): the ci
                                                # and deep profiles' budgets and samples
 
 The sup sides include the Perron bound of certified entry sups over the search box (inertiaproof.bounds.fourier),
-which grows with the budget (pairs of coordinates from 0.25 s, finer grids from 5 s).
+which grows with the budget (pairs of coordinates from 10 rounds, finer grids from 200).
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ from serial_urdf import serial_urdf  # noqa: E402
 __all__ = ["audit_scaling", "main", "width_against_time"]
 
 JOINTS = (6, 12, 24, 30)
-BUDGETS = (0.1, 0.5, 2.0)
+BUDGETS = (4, 20, 80)  # rounds per bracket
 RESULTS = Path(__file__).resolve().parent / "results" / "bracket_scaling.json"
 
 _MEASURE = """
@@ -92,7 +92,7 @@ def width_against_time(budgets=BUDGETS, samples=None):
         chain, thetas = scene.chain, parameter_vertices(scene.trajectory)[0]
         rates = parameter_vertices(scene.trajectory)[1]
         for b_index, budget in enumerate(budgets):
-            kw = dict(samples=2000 if samples is None else samples[b_index], refine_s=budget,
+            kw = dict(samples=2000 if samples is None else samples[b_index], rounds=budget,
                       rng=np.random.default_rng(0))
             quantities = {
                 "inf sigma_min(QJ)^2": lambda: jacobian_normality(chain, **kw),
@@ -105,7 +105,7 @@ def width_against_time(budgets=BUDGETS, samples=None):
                 start = time.perf_counter()
                 b = compute()
                 seconds = time.perf_counter() - start
-                row = {"chain": scene.name, "quantity": name, "refine_s": budget, "samples": kw["samples"],
+                row = {"chain": scene.name, "quantity": name, "rounds": budget, "samples": kw["samples"],
                        "lower": float(b.lower),
                        "upper": float(b.upper), "ratio": _ratio(b.upper, b.lower), "seconds": round(seconds, 3),
                        "boxes": b.boxes}
@@ -118,7 +118,7 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
     quick = "--quick" in argv
     budgets, samples = _floats(argv, "--budgets"), _floats(argv, "--samples")
-    budgets = budgets or ((0.5,) if quick else BUDGETS)
+    budgets = budgets or ((20,) if quick else BUDGETS)
     if samples is not None and len(samples) != len(budgets):
         raise SystemExit("--samples needs one count per budget")
     load = os.getloadavg()

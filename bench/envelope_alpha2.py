@@ -36,7 +36,7 @@ def main():
     for name in args.robots:
         scene = getattr(robots, name)()
         pset = payload.PayloadSet.ball(scene.chain.n - 1, 5, (0, 0, 0), Fraction(1, 10))
-        kw = dict(samples=profile.samples, refine_s=profile.refine_s, rng=np.random.default_rng(0), progress=None)
+        kw = dict(samples=profile.samples, rounds=profile.rounds, rng=np.random.default_rng(0), progress=None)
         start = time.perf_counter()
         b, _ = payload._sup_over_set(scene.chain, scene.trajectory.base, pset, "sup", kw, profile.envelope_goal,
                                      profile.envelope_boxes or None)
@@ -44,7 +44,7 @@ def main():
                "seconds": round(time.perf_counter() - start, 1), "note": b.note}
         print(json.dumps(row), flush=True)
         start = time.perf_counter()
-        cert = complete(json.loads(json.dumps(bracket_certificate(b))), profile.tree_boxes)
+        cert = complete(json.loads(bracket_certificate(b).text), profile.tree_boxes)
         row["completion_s"] = round(time.perf_counter() - start, 1)
         verdict = check(cert)
         row["checker"] = {k: verdict[k] for k in ("status", "boxes", "seconds")}

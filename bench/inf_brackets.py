@@ -1,6 +1,6 @@
 """The inf sides of Section 4 on the built-in arms (issue 12): brackets of inf sigma_min(QJ)^2 (Definition 2) and
-inf lambda_min(M) (Theorem 2) for Panda with its 2 kg payload ramp and UR5, at the ci budget (refine_s 0.5 s,
-2000 samples) and, with --deep, at the deep budget (20 s, 50000 samples): lower (certified), upper (attained),
+inf lambda_min(M) (Theorem 2) for Panda with its 2 kg payload ramp and UR5, at the ci budget (20 rounds,
+2000 samples) and, with --deep, at the deep budget (800 rounds, 50000 samples): lower (certified), upper (attained),
 ratio and seconds per bracket, with the load average. Nothing is asserted; timings depend on the load.
 
     python bench/inf_brackets.py            # ci budget -> bench/results/inf_brackets.json
@@ -22,7 +22,7 @@ __all__ = ["brackets", "main"]
 RESULTS = Path(__file__).resolve().parent / "results" / "inf_brackets.json"
 
 
-def brackets(refine_s, samples):
+def brackets(rounds, samples):
     from inertiaproof.bounds.configuration import jacobian_normality, mass_inf
     from inertiaproof.bounds.time import parameter_vertices
     from inertiaproof.scene import robots
@@ -31,13 +31,13 @@ def brackets(refine_s, samples):
     for name, scene in (("panda +2 kg", robots.panda(payload=2.0)), ("ur5", robots.ur5())):
         chain, stack = scene.chain, parameter_vertices(scene.trajectory)[0]
         for quantity, compute in (
-                ("inf sigma_min(QJ)^2", lambda: jacobian_normality(chain, samples=samples, refine_s=refine_s,
+                ("inf sigma_min(QJ)^2", lambda: jacobian_normality(chain, samples=samples, rounds=rounds,
                                                                    rng=np.random.default_rng(0))),
-                ("inf lambda_min(M)", lambda: mass_inf(chain, stack, samples=samples, refine_s=refine_s,
+                ("inf lambda_min(M)", lambda: mass_inf(chain, stack, samples=samples, rounds=rounds,
                                                        rng=np.random.default_rng(0)))):
             start = time.perf_counter()
             b = compute()
-            rows.append({"chain": name, "quantity": quantity, "refine_s": refine_s, "lower": b.lower,
+            rows.append({"chain": name, "quantity": quantity, "rounds": rounds, "lower": b.lower,
                          "upper": b.upper, "ratio": b.upper / b.lower if b.lower > 0 else None,
                          "seconds": round(time.perf_counter() - start, 2), "load": os.getloadavg()[0],
                          "note": b.note})
@@ -47,9 +47,9 @@ def brackets(refine_s, samples):
 
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
-    rows = brackets(0.5, 2000)
+    rows = brackets(20, 2000)
     if "--deep" in argv:
-        rows += brackets(20.0, 50000)
+        rows += brackets(800, 50000)
     RESULTS.parent.mkdir(exist_ok=True)
     RESULTS.write_text(json.dumps(rows, indent=1))
     return 0

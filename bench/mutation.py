@@ -204,18 +204,18 @@ MUTANTS = (
     Mutant("bounds-theorem5-sharp-tenth", "bounds", "inertiaproof/bounds/formulas.py",
            "    return psi * y_rss\n", "    return psi * y_rss / 10\n",
            "Theorem 5's certified constant (Cauchy-Schwarz before the max) a tenth", BOUNDS),
-    Mutant("bounds-remainder", "bounds", "inertiaproof/bounds/configuration.py",
+    Mutant("bounds-remainder", "bounds", "inertiaproof/bounds/branch.py",
            "rem = 0.5 * rho**2", "rem = 0.05 * rho**2", "the Taylor remainder of a box understated tenfold", BOUNDS,
            "not in principle, but on every family the suite brackets: bracket_extreme clips the certified side by the "
            "best value found (certified <= best for an inf, >= best for a sup), and sampling plus local search finds "
            "the extremes of these degree-1 and degree-2 trigonometric polynomials, so a box bound short of its "
-           "remainder never decides; with one sample, budgets 0.02-0.3 s and three seeds on the 2R, 3R and UR5 chains "
+           "remainder never decides; with one sample, budgets of 0.8-12 rounds and three seeds on the 2R, 3R and UR5 chains "
            "the mutated brackets never undercut 50000 independent samples. Killing it needs the box bound itself, "
-           "which is a closure inside configuration_bracket (bounds/, issue 12)"),
-    Mutant("bounds-vertex-allowance", "bounds", "inertiaproof/bounds/configuration.py",
+           "which is a closure inside the vertex bracket (bounds/branch.py, issue 12)"),
+    Mutant("bounds-vertex-allowance", "bounds", "inertiaproof/bounds/families.py",
            "return (vals.max(1) + allowance).max(1)", "return (vals.max(1) - allowance).max(1)",
            "the rounding allowance of a convex vertex bound applied inwards", BOUNDS),
-    Mutant("bounds-normality-floor", "bounds", "inertiaproof/bounds/configuration.py",
+    Mutant("bounds-normality-floor", "bounds", "inertiaproof/bounds/apriori.py",
            "diag[l] = size * (1 - 8 * EPS)", "diag[l] = 2 * size",
            "the block-triangular normality floor from a doubled diagonal", BOUNDS),
     Mutant("bounds-spectral", "bounds", "inertiaproof/bounds/spectral.py",

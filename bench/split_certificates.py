@@ -16,7 +16,7 @@ from inertiaproof.bounds.certificate import spectrum_certificate
 from inertiaproof.bounds.configuration import mass_spectra
 from inertiaproof.bounds.domain import search_box
 from inertiaproof.bounds.interface import split_ladder
-from inertiaproof.bounds.lengths import _unit_bodies
+from inertiaproof.bounds.lengths import unit_bodies
 from inertiaproof.bounds.time import parameter_vertices
 from inertiaproof.scene import robots
 from inertiaproof.verify.cli import check
@@ -24,12 +24,12 @@ from inertiaproof.verify.cli import check
 scene = robots.ur5() if sys.argv[1:] == ["ur5"] else robots.panda(2.0)
 chain = scene.chain
 rows = []
-for label, thetas in (("unit bodies", _unit_bodies(chain)), ("real bodies", parameter_vertices(scene.trajectory)[0])):
+for label, thetas in (("unit bodies", unit_bodies(chain)), ("real bodies", parameter_vertices(scene.trajectory)[0])):
     lo, hi = search_box(chain)
     q = lo + (hi - lo) * np.random.default_rng(0).random((20000, chain.n))
     values = mass_spectra(chain, thetas, q, "lmin").min(1)
     start = time.perf_counter()
-    gamma, note, proof = split_ladder(chain, thetas, float(values.min()), 20.0)
+    gamma, note, proof = split_ladder(chain, thetas, float(values.min()), 800)
     row = {"bodies": label, "observed": float(values.min()), "certified": gamma, "prover": note,
            "prover_seconds": round(time.perf_counter() - start, 1)}
     print(f"{chain.name}, {label}: {note} ({row['prover_seconds']} s)")

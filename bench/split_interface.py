@@ -14,7 +14,7 @@ import numpy as np
 
 from inertiaproof.bounds.domain import free_coordinates, search_box
 from inertiaproof.bounds.interface import split_ladder
-from inertiaproof.bounds.lengths import _unit_bodies
+from inertiaproof.bounds.lengths import unit_bodies
 from inertiaproof.bounds.time import parameter_vertices
 from inertiaproof.dynamics import composite
 from inertiaproof.scene import robots
@@ -25,10 +25,10 @@ def main():
         chain, lo_hi = scene.chain, search_box(scene.chain)
         q = np.where(free_coordinates(chain), lo_hi[0] + (lo_hi[1] - lo_hi[0]) * np.random.default_rng(0).random(
             (50000, chain.n)), 0.5 * (lo_hi[0] + lo_hi[1]))
-        for name, thetas in (("Thm2", parameter_vertices(scene.trajectory)[0]), ("Def2", _unit_bodies(chain))):
+        for name, thetas in (("Thm2", parameter_vertices(scene.trajectory)[0]), ("Def2", unit_bodies(chain))):
             observed = float(np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], thetas[None]))[..., 0].min())
             start = time.perf_counter()
-            gamma, note, _ = split_ladder(chain, thetas, observed, 20.0)
+            gamma, note, _ = split_ladder(chain, thetas, observed, 800)
             print(f"{scene.name} {name}: {observed / gamma:.4g}x in {time.perf_counter() - start:.1f} s; {note}")
 
 

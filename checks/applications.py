@@ -35,6 +35,7 @@ from inertiaproof.dynamics import composite, motion
 from inertiaproof.dynamics.forward import jacobi_scaling
 from inertiaproof.model.exact import definiteness, integer_matrix
 from inertiaproof.model.inertia import pseudo_inertia
+from inertiaproof.presentation import bracket_evidence
 from inertiaproof.result import Result, Verdict, combine, quantity
 from inertiaproof.scene import robots
 from inertiaproof.sim import estimates, tracking
@@ -68,9 +69,9 @@ class AppSettings:
     samples_per_second: float
     configurations: int  # sampled configurations for the extremes of M(q, Theta_hat) over q
     rtol: float
-    work: float  # counted work (tracking.evaluation_cost units, about 1 ms each) of simulate_recipes on a 2R chain:
-    # its batch, its runs alone and the finer re-run share it (BATCH of it, the rest, FINER of it more); a chain of
-    # n joints gets as many evaluations of a run alone (_work)
+    work: float  # counted work (tracking.evaluation_cost's work units, an operation count) of simulate_recipes on a
+    # 2R chain: its batch, its runs alone and the finer re-run share it (BATCH of it, the rest, FINER of it more); a
+    # chain of n joints gets as many evaluations of a run alone (_work)
     max_seconds: float  # wall-clock safety net of one simulate_recipes (every phase), no evidence when it strikes
 
 
@@ -125,10 +126,9 @@ def eigh_resolution(n):
 # -- runs ---------------------------------------------------------------------------------------
 
 BATCH = 2 / 3  # of the work, a batch of several runs may spend this; if it stops early, its runs alone the rest (ci:
-# Panda's 12 runs finish as one batch in 5,375 counted BDF evaluations, 16,600 units; 12.6 s here)
+# Panda's 12 runs finish as one batch in 5,375 counted BDF evaluations, 16,600 units)
 BATCH_JOINTS = 12  # on longer chains several runs are simulated alone, not as a batch first: a run's own work
-# outweighs what a batch shares (the 24-link snake's 12 runs took 54 s alone here and 84 s as a batch, its Jacobian's
-# n + 1 states a run costing most; Panda's, 7 joints, 26 s alone and 18 s as a batch)
+# outweighs what a batch shares (its Jacobian's n + 1 states a run cost most; bench/results/machine_timings.md)
 FINER = 1 / 2  # of the work, the runs simulated again at rtol / 10 may spend this more (ci: Panda's two natural-law
 # runs of the 10 ms ramp need more than 5,289 evaluations at rtol 3e-6)
 SECOND_OPINION = {"BDF": "Radau", "RK45": "Radau", "DOP853": "Radau", "Radau": "DOP853"}  # the method that must find
@@ -207,10 +207,16 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     return runs, batches
 
 
+WORK_JOINTS = 24  # a study on a longer chain gets the work of one on this many joints, so the work stops growing
+# as n^3 with the chain: its runs that need more end by the count, INCONCLUSIVE with no evidence, on every machine
+
+
 def _work(s, n):
     """The counted work of a study on an n-joint chain: ``s.work`` is a 2R chain's; a longer chain takes about as many
-    evaluations, each costing more (tracking.evaluation_cost of a run alone: 7x on 24 joints)."""
-    return s.work * max(tracking.evaluation_cost(n, 1) / tracking.evaluation_cost(2, 1), 1.0)
+    evaluations, each costing more (tracking.evaluation_cost of a run alone), up to the work of a chain of
+    WORK_JOINTS joints."""
+    ratio = tracking.evaluation_cost(min(n, WORK_JOINTS), 1) / tracking.evaluation_cost(2, 1)
+    return s.work * max(ratio, 1.0)
 
 
 def _alone(runs, batches, work, simulate, cost):
@@ -443,7 +449,7 @@ def replay_balance(data, ctx):
 def qj_brackets(ctx, chain, key):
     """(inf_q sigma_min(QJ)^2, sup_q sigma_max(QJ)) brackets of the chain (shared by the checks of a run)."""
     def compute():
-        kw = dict(samples=ctx.profile.samples, refine_s=ctx.profile.refine_s, progress=ctx.progress)
+        kw = dict(samples=ctx.profile.samples, rounds=ctx.profile.rounds, progress=ctx.progress)
         name = stream_name(key)
         return (jacobian_normality(chain, rng=ctx.rng(f"{name}:APP gamma"), **kw),
                 jacobian_sup(chain, rng=ctx.rng(f"{name}:APP sigma"), **kw))
@@ -551,9 +557,9 @@ def estimate_bounds_result(ctx, keys, gamma_override=None, sigma_override=None, 
         gamma = gamma_b.lower if gamma_override is None else gamma_override
         sigma = sigma_b.upper if sigma_override is None else sigma_override
         brackets[key] = {
-            "inf_sigma_min_QJ_sq": gamma_b.evidence()["lower"],
+            "inf_sigma_min_QJ_sq": bracket_evidence(gamma_b)["lower"],
             "inf_sigma_min_QJ_sq_observed": quantity(gamma_b.upper, "sampled", "attained at a witness"),
-            "sup_sigma_max_QJ": sigma_b.evidence()["upper"],
+            "sup_sigma_max_QJ": bracket_evidence(sigma_b)["upper"],
             "sup_sigma_max_QJ_observed": quantity(sigma_b.lower, "sampled", "attained at a witness")}
         drawn = estimates.configurations(chain, s.configurations, ctx.rng(f"{stream_name(key)}:APP q"))
         q_samples = np.concatenate([drawn, np.atleast_2d(gamma_b.witness), np.atleast_2d(sigma_b.witness)])

@@ -51,11 +51,13 @@ from inertiaproof.bounds.certificate import key_step_certificate as key_step_cla
 from inertiaproof.bounds.extremes import Bracket, local_search
 from inertiaproof.bounds.spectral import spectral
 from inertiaproof.bounds.time import parameter_vertices
+from inertiaproof.citation import cite
 from inertiaproof.dynamics import composite
 from inertiaproof.dynamics.chain import Chain
 from inertiaproof.dynamics.trajectory_data import trajectory_to_data
 from inertiaproof.dynamics.terms import lumped_acceleration_force, lumped_velocity_matrix
-from inertiaproof.model.positive_map import key_step_certificate
+from inertiaproof.model.positive_map import key_step_proof
+from inertiaproof.presentation import bracket_evidence
 from inertiaproof.result import Result, Verdict, combine, quantity
 from inertiaproof.suite.registry import replayer
 
@@ -81,7 +83,7 @@ def scene_digest(scene):
 
 def kw(ctx, scene, what, share=1.0):
     """The bracket settings of the run's profile, with a random stream per scene and quantity."""
-    return dict(samples=ctx.profile.samples, refine_s=ctx.profile.refine_s * share,
+    return dict(samples=ctx.profile.samples, rounds=ctx.profile.rounds * share,
                 rng=ctx.rng(f"{scene.name}:{what}"), progress=ctx.progress)
 
 
@@ -141,7 +143,7 @@ def pointwise_on_scene(check_id, ctx, scene, k, reported=None):
                 "factor": float(k), "value": value, "lhs": float(lhs[j]), "margin": float(m[j]),
                 "resolution": float(res[j]), "chain": scene.chain.to_data(),
                 "trajectory": trajectory_to_data(scene.trajectory), "q": np.asarray(q[j]).tolist(), "t": float(t[j]),
-                "samples": ctx.profile.samples, "refine_s": ctx.profile.refine_s, "seed": ctx.seed}}
+                "samples": ctx.profile.samples, "rounds": ctx.profile.rounds, "seed": ctx.seed}}
     if against:
         evidence["against_reported"] = against
     if reported:
@@ -239,9 +241,10 @@ def constants_evidence(sense, formula, paper, paper_observed, certified, certifi
 
 
 def _cite(q, source):
-    """``q`` (a quantity) cites the certificate of ``source`` (a constants entry) when it repeats the same number."""
+    """``q`` (a quantity, being made) cites the certificate ``source`` (a constants entry) cites when it repeats the
+    same number."""
     if source and float(source["value"]) == float(q["value"]) and source.get("certificate"):
-        q["certificate"] = source["certificate"]
+        q["certificate"] = cite(source["certificate"], q["value"])
     return q
 
 
@@ -262,14 +265,14 @@ def case_result(check_id, scene, sense, lhs, constant_range, k, proof_factor, po
     """(verdict, why, evidence, counterexample) of one bound on one scene; ``constant_range`` is the range of
     the constant (times k) given its bracketed ingredients."""
     lo, hi = constant_range
-    covers = bool(key_step_certificate()["ok"]) and (k >= proof_factor if sense == "upper" else k <= proof_factor)
+    covers = bool(key_step_proof()["ok"]) and (k >= proof_factor if sense == "upper" else k <= proof_factor)
     verdict, why = judge(sense, lhs, lo, hi, proof_covers=covers, pointwise_violated=pointwise["violated"])
     evidence = {
         "scene": scene.name,
         "factor": quantity(k, "value", "multiplier of the paper's constant (1 = the paper's statement)"),
         "constants": constants,
         "constant_range": _constant_range(sense, lo, hi, constants),
-        "bracket": lhs.evidence(),
+        "bracket": bracket_evidence(lhs),
         "pointwise": pointwise["evidence"],
         "why": why,
         **extra,
@@ -336,8 +339,8 @@ def shown(value):
 def key_step_evidence():
     """The key step's SDP certificate in evidence; it cites its ``key-step`` certificate (the Choi matrix) where
     the SDP found one."""
-    found = key_step_certificate()
-    cited = {"certificate": key_step_claim(found["choi"], found["lower"], found["upper"])} if found["ok"] else {}
+    found = key_step_proof()
+    cited = {"certificate": cite(key_step_claim(found["choi"], found["lower"], found["upper"]))} if found["ok"] else {}
     return {**{k: v for k, v in found.items() if k != "choi"}, **cited}
 
 

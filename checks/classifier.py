@@ -60,7 +60,7 @@ def exact_classification(row):
 
 def verdicts_only(rows):
     """physical_consistency without the margins: the verdicts and ranks are the same, and a wrong verdict does not
-    send every row through the exact margin (about 0.4 s each) before it is caught."""
+    send every row through the exact margin (rational arithmetic, the costly part) before it is caught."""
     return physical_consistency(rows, margins=False)
 
 

@@ -4,7 +4,7 @@ checks.pointwise tests each constant's formula at single (q, t). Here the whole 
 scene (brackets over configurations, extremes over time, the formulas of inertiaproof.bounds.formulas, the
 choice of the sharpest certified constant) runs on random scenes: a random chain (1 to 8 joints, revolute and
 prismatic, random geometry) carrying a random consistent trajectory, with a light profile
-(``HUNT_SAMPLES`` configurations, ``HUNT_REFINE_S`` seconds of narrowing per bracket: the brackets are
+(``HUNT_SAMPLES`` configurations, ``HUNT_ROUNDS`` rounds of narrowing per bracket: the brackets are
 wider, the certified sides still certified). The check's own case function (e.g.
 checks.mass_matrix_bounds.upper_bound_case) computes the constants it reports for that scene (the paper's with
 certified ingredients and the sharpest certified one) and compares them with the left-hand side at random
@@ -38,14 +38,15 @@ from inertiaproof.suite.context import Context
 from inertiaproof.suite.hunt import hunt
 from inertiaproof.suite.registry import replayer
 
-__all__ = ["CASES", "case_function", "example_key", "HUNT_REFINE_S", "HUNT_SAMPLES", "HUNT_SHARE", "hunted_case",
+__all__ = ["CASES", "case_function", "example_key", "HUNT_ROUNDS", "HUNT_SAMPLES", "HUNT_SHARE", "hunted_case",
            "hunted_scene", "light_context", "replay_bound_constant", "reported_hunt", "with_reported_hunt"]
 
 HUNT_SAMPLES = 200  # configurations per bracket and (q, t) pairs per comparison on a hunted scene
-HUNT_REFINE_S = 0.02  # seconds of narrowing per bracket on a hunted scene (a count of rounds: deterministic)
+HUNT_ROUNDS = 0.8  # rounds of narrowing per bracket on a hunted scene (under one: one round of as many boxes as
+# it pays for; the local search's rounds 4)
 HUNT_SHARE = {"Asm3/Thm5": 20}  # profile.examples // HUNT_SHARE scenes per check (default 12): 5 in ci, 166 in deep;
 # Theorem 5's brackets of dK_p/dq are the costly ones (3 in ci, 100 in deep). Each scene computes every bracket of
-# the check (0.1-0.7 s on 2 busy cores), so ci keeps this hunt small: the pointwise hunt draws 20 chains
+# the check, so ci keeps this hunt small: the pointwise hunt draws 20 chains
 
 LOADS = {True: "moving masses", False: "payload ramps", None: "payload ramps or moving masses"}
 
@@ -75,9 +76,9 @@ def case_function(check_id):
                        "module of its check first (inertiaproof.suite.discovery.load_checks)") from None
 
 
-def light_context(ctx, samples=HUNT_SAMPLES, refine_s=HUNT_REFINE_S, seed=None):
+def light_context(ctx, samples=HUNT_SAMPLES, rounds=HUNT_ROUNDS, seed=None):
     """A context with the run's seed and budget and a light profile for hunted scenes."""
-    return Context(replace(ctx.profile, samples=samples, refine_s=refine_s), seed=ctx.seed if seed is None else seed,
+    return Context(replace(ctx.profile, samples=samples, rounds=rounds), seed=ctx.seed if seed is None else seed,
                    budget=ctx.budget)
 
 
@@ -126,7 +127,7 @@ def reported_hunt(check_id, ctx, moving_mass, examples=None):
                                                     "certified side) or whose both sides vanish"),
                 "what": f"random scenes (chains of 1 to {HUNT_JOINTS} joints, revolute and prismatic, consistent "
                         f"{LOADS[moving_mass]}), each run through the check's own "
-                        f"case function with {HUNT_SAMPLES} samples and {HUNT_REFINE_S:g} s of narrowing per bracket; "
+                        f"case function with {HUNT_SAMPLES} samples and {HUNT_ROUNDS:g} rounds of narrowing per bracket; "
                         "margin: the smallest relative margin of sampled left-hand sides against the constants it "
                         "reports (paper's with certified ingredients, sharpest certified)"}
     cx = found_cx.get(example_key(found.violation)) if found.violation is not None else None
@@ -159,7 +160,7 @@ def replay_bound_constant(data, ctx):
     chain = Chain.from_data(data["chain"])
     traj = trajectory_from_data(data["trajectory"])
     scene = Scene(data["scene"], chain, traj, description=data.get("description", ""))
-    light = light_context(ctx, data["samples"], data["refine_s"], data["seed"])
+    light = light_context(ctx, data["samples"], data["rounds"], data["seed"])
     _, _, evidence, _ = case_function(data["id"])(light, scene, data["factor"])
     value = float(evidence["pointwise"]["reported"][data["constant"]]["value"])
     lhs, _, size = INGREDIENTS[data["id"]](chain, np.asarray(data["q"], float)[None],

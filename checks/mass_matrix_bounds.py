@@ -37,7 +37,8 @@ from inertiaproof.bounds.premises import failed_premises
 from inertiaproof.bounds.time import formation, moving_mass_hull, parameter_vertices, time_extreme
 from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import pseudo_inertia, spatial_inertia
-from inertiaproof.model.positive_map import key_step_certificate
+from inertiaproof.model.positive_map import key_step_proof
+from inertiaproof.presentation import bracket_evidence
 from inertiaproof.result import Result, Verdict, combine, quantity
 from inertiaproof.scene import robots
 from inertiaproof.suite.registry import check
@@ -104,7 +105,7 @@ def lower_bound_case(ctx, scene, k=1.0):
                                    found["paper"].get("certificate"), found["certified"].get("certificate"))
     extra = {"ingredients": {"xi": time_quantities(xi, "min_l inf_t lambda_min(f(Phi_l(t)))"),
                              "lambda_min_Z": time_quantities(zmin, "min_l inf_t lambda_min(Z(Phi_l(t)))"),
-                             "gamma": gamma.evidence()},
+                             "gamma": bracket_evidence(gamma)},
              "tightness": quantity(certified / lhs.observed if lhs.observed else np.nan, "ratio",
                                    "sharpest certified constant / observed worst case (1 = tight)")}
     reported = {"paper": k * paper, "certified": certified}
@@ -131,7 +132,7 @@ def upper_bound_case(ctx, scene, k=1.0):
                                    found["paper"].get("certificate"), found["certified"].get("certificate"))
     extra = {"ingredients": {"zeta": time_quantities(zeta, "max_l sup_t lambda_max(f(Phi_l(t)))"),
                              "lambda_max_Z": time_quantities(zmax, "max_l sup_t lambda_max(Z(Phi_l(t)))"),
-                             "sup_sigma_max_QJ": sigma.evidence()},
+                             "sup_sigma_max_QJ": bracket_evidence(sigma)},
              "tightness": quantity(lhs.observed / certified if certified else np.nan, "ratio",
                                    "observed worst case / sharpest certified constant (1 = tight)")}
     reported = {"paper": k * paper, "certified": certified}
@@ -218,7 +219,7 @@ def _cor1_row(scene, c1, c2):
 def def3_result(trajectories, spatial=spatial_inertia):
     """Definition 3 on trajectories, and the key step on their samples: lambda_min(Z) >= lambda_min(f), lambda_max(Z) <= 2 lambda_max(f)."""
     rows, worst, inverted = {}, np.inf, []
-    cert = key_step_certificate()
+    cert = key_step_proof()
     for name, traj in trajectories.items():
         xi, zeta = time_extreme(traj, "lmin_f"), time_extreme(traj, "lmax_f")
         inverted += [f"{name}: {what}" for what, found in (("inf lambda_min(f)", xi), ("sup lambda_max(f)", zeta))

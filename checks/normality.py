@@ -22,6 +22,7 @@ from inertiaproof.bounds.premises import normality_failures
 from inertiaproof.bounds.time import time_extreme, vertex_extreme
 from inertiaproof.dynamics.terms import mass_matrix
 from inertiaproof.model.inertia import pseudo_inertia, unit_body
+from inertiaproof.presentation import bracket_evidence
 from inertiaproof.result import Result, Verdict, combine, quantity
 from inertiaproof.scene import robots
 from inertiaproof.suite.registry import check
@@ -64,8 +65,8 @@ def bracket_refuted(check_id, scene, bracket, thetas, kind, square=False):
     why = f"{scene.name}, {lhs.quantity}: {why}"
     evidence["why"] = why
     if square:
-        evidence["replayed_bracket"] = lhs.evidence()
-        evidence["bracket"] = bracket.evidence()
+        evidence["replayed_bracket"] = bracket_evidence(lhs)
+        evidence["bracket"] = bracket_evidence(bracket)
     return verdict, why, evidence, counterexample
 
 
@@ -128,7 +129,7 @@ def def2_result(ctx, scenes, theta_for_identity=None):
                   f"not normal (certified: {failed[0]['why']})" if failed else
                   "not normal (sigma_min(QJ) = 0 attained)" if gamma.observed <= 64 * EPS else
                   "undecided: certified lower side 0, observed > 0")
-        rows[scene.name] = {"status": status, "bracket": gamma.evidence(), "not_normal": failed,
+        rows[scene.name] = {"status": status, "bracket": bracket_evidence(gamma), "not_normal": failed,
                             "identity_residual": quantity(residual, "residual",
                                                           "max relative |M(q, (1,0,I3)) - (QJ)^T QJ| over 256 samples"),
                             "tolerance": quantity(64 * EPS * chain.n, "tolerance")}
@@ -208,8 +209,8 @@ def lem1_result(ctx, scenes):
         verdicts.append(Verdict.VIOLATED if bad else Verdict.HOLDS if ok else Verdict.INCONCLUSIVE)
         found += refutations("Lem1", [(scene, gamma, unit_bodies(scene.chain)[None], "lmin"),
                                       (scene, low, scene.trajectory.base[None], "lmin")])
-        rows[scene.name] = {"direction": "normal => positive lower bound", "normality": gamma.evidence(),
-                            "inf_lambda_min_M": low.evidence(),
+        rows[scene.name] = {"direction": "normal => positive lower bound", "normality": bracket_evidence(gamma),
+                            "inf_lambda_min_M": bracket_evidence(low),
                             "certified_lower_bound": quantity(
                                 certified["value"], "lower_bound", "the sharpest of branch and bound and the proof of "
                                 "Theorem 2 with certified ingredients: " + certified["how"],
@@ -267,8 +268,8 @@ def asm2_lem2_result(ctx, claimed_offset=None):
                                          "x_log": True, "y_log": True,
                                          "lines": {"sigma_max(QJ)": np.stack([x, sigma], -1).tolist(),
                                                    "lambda_max(M)": np.stack([x, lam], -1).tolist()}}},
-                "bounded": {"sup_sigma_max_QJ": s_b.evidence(), "sup_lambda_max_M": m_b.evidence()},
-                "bracket": m_b.evidence()}
+                "bounded": {"sup_sigma_max_QJ": bracket_evidence(s_b), "sup_lambda_max_M": bracket_evidence(m_b)},
+                "bracket": bracket_evidence(m_b)}
     return _refuted_result("Asm2/Lem2", found, [verdict], summary, evidence)
 
 
@@ -288,7 +289,8 @@ def cor2_result(ctx, non_normal):
     hi = cached(ctx, normal, "mass_sup_const", lambda: mass_sup(normal.chain, normal.trajectory.base[None],
                                                                        **kw(ctx, normal, "mass_sup_const")))
     both = g.lower > 0 and lo.lower > 0 and np.isfinite(hi.upper)
-    rows["planar-2r"] = {"normal_and_bounded": bool(g.lower > 0), "alpha1": lo.evidence(), "alpha2": hi.evidence()}
+    rows["planar-2r"] = {"normal_and_bounded": bool(g.lower > 0), "alpha1": bracket_evidence(lo),
+                         "alpha2": bracket_evidence(hi)}
     verdicts.append(Verdict.HOLDS if both else Verdict.INCONCLUSIVE)
     cx = cx_normal_result(non_normal)
     rows[non_normal.name] = {"normal_and_bounded": False, "why": "not normal: lambda_min(M) = 0 exactly at q_1 = 0"}

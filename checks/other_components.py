@@ -32,6 +32,7 @@ from inertiaproof.bounds.constants import bracket_certificate, paper_product, sh
 from inertiaproof.bounds.time import lumped_velocity_bounds, parameter_vertices, time_extreme
 from inertiaproof.dynamics import composite
 from inertiaproof.dynamics.terms import lumped_velocity_matrix
+from inertiaproof.presentation import bracket_evidence
 from inertiaproof.result import quantity
 from inertiaproof.scene import robots
 from inertiaproof.suite.registry import check
@@ -80,7 +81,7 @@ def rate_case(ctx, scene, k=1.0):
                                    paper_certificate, certified.get("certificate"))
     extra = {"ingredients": {"mu": time_quantities(mu, "max_l sup_t sigma_max(f(Phidot_l(t)))"),
                              "sigma_max_Zdot": time_quantities(zdot, "max_l sup_t sigma_max(Z(Phidot_l(t)))"),
-                             "sup_sigma_max_QJ": sigma.evidence()},
+                             "sup_sigma_max_QJ": bracket_evidence(sigma)},
              "factors": {"paper": quantity(root, "value", "the paper's factor sqrt(69 N) (entrywise bound of Z, "
                                                           "Frobenius norm)"),
                          "certified": quantity(step["upper"], "certified_constant",
@@ -122,7 +123,7 @@ def acceleration_case(ctx, scene, k=1.0):
                                            "certified": quantity(psi["certified"], "upper_bound",
                                                                  "mass, path length and the profile's peaks",
                                                                  certificate=psi.get("certificate"))},
-                             "sup_sigma_max_QJ": sigma.evidence()}, "worst_time": t_worst}
+                             "sup_sigma_max_QJ": bracket_evidence(sigma)}, "worst_time": t_worst}
     reported = {"paper": k * paper, "certified": paper}
     return case_result("EQ-acc", scene, "upper", lhs, (k * paper_observed, k * paper), k, 1.0,
                        pointwise_on_scene("EQ-acc", ctx, scene, k, reported), constants, extra,
@@ -161,7 +162,7 @@ def lumped_velocity_case(ctx, scene, k=1.0):
                                           "certified": quantity(psi["certified"], "upper_bound",
                                                                 "mass, path length and the profile's rate",
                                                                 certificate=psi.get("certificate"))},
-                             "max_p_sup_sigma_Y": worst.evidence(), "sup_rss_sigma_Y": rss.evidence()},
+                             "max_p_sup_sigma_Y": bracket_evidence(worst), "sup_rss_sigma_Y": bracket_evidence(rss)},
              "worst_time": t_worst}
     reported = {"paper": k * paper, "certified": sharp}
     return case_result("Asm3/Thm5", scene, "upper", lhs, (k * paper_observed, k * paper), k, 1.0,

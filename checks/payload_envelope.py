@@ -22,7 +22,7 @@ from hypothesis.errors import HypothesisException
 
 from inertiaproof.bounds.domain import search_box
 from inertiaproof.bounds.payload import PayloadSet, envelope, with_payload
-from inertiaproof.bounds.pivot_search import DEEP_S
+from inertiaproof.bounds.pivot_search import DEEP_ROUNDS
 from inertiaproof.counterexamples.payloads import payloads
 from inertiaproof.dynamics import composite
 from inertiaproof.dynamics.trajectory import Payload, Profile
@@ -39,14 +39,15 @@ __all__ = ["attack", "BUILT_IN", "envelope_result", "payload_envelope", "prove",
 
 ID = "APP-payload-envelope"
 BUILT_IN = {  # (scene, kg, m): deep runs the report's section; ci the planar 2R (Panda's envelope and the checker's
-    # re-proof take 14 s of a 20 s run; UR5's sups are certified by Fourier entry bounds, whose certificates carry no
-    # partition, beyond the checker's ci work: inertiaproof envelope spends that budget)
+    # re-proof would be most of a ci run: bench/results/machine_timings.md; UR5's sups are certified by Fourier entry
+    # bounds, whose certificates carry no partition, beyond the checker's ci work: inertiaproof envelope spends that
+    # budget)
     "ci": (("planar_2r", 2, Fraction(1, 10)),),
     "deep": (("panda", 5, Fraction(1, 10)), ("ur5", 5, Fraction(1, 10))),
 }
 RAMP_S = 1.0  # the built-in payloads are taken up in this many seconds
 TOLERANCE = 1e-9  # relative: what eigvalsh's rounding (8 n eps |lambda|) cannot reach
-ATTACK_SHARD = 2500  # payloads per task of the attack (deep's 100,000 per robot: 40 tasks of about 15 s)
+ATTACK_SHARD = 2500  # payloads per task of the attack (deep's 100,000 per robot: 40 tasks)
 HEAVIER = (1.5, 2.0, 4.0, 8.0)  # masses (times the set's) tried for a payload beyond the set at the worst point
 
 
@@ -141,7 +142,7 @@ def prove(chain, theta, pset, *, ramp_s, profile, points, goal, speed=None, seed
     envelope's answer does not depend on another's."""
     masses = [pset.mass * Fraction(i, points + 1) for i in range(1, points + 1)]
     return envelope(chain, theta, pset, rate=ramp_rate(ramp_s), speed=speed, masses=masses, goal=goal,
-                    boxes=profile.envelope_boxes or None, samples=profile.samples, refine_s=profile.refine_s,
+                    boxes=profile.envelope_boxes or None, samples=profile.samples, rounds=profile.rounds,
                     rng=np.random.default_rng(seed_value), progress=progress)
 
 
@@ -303,7 +304,7 @@ def _prove_case(settings, progress, case):
 def payload_envelope(ctx):
     """In a run: in ci the profile's Hypothesis examples per hunt, the ladder's default goal and no curve points;
     in deep the envelope's budget (Profile.envelope_*: 100,000 payloads per robot), as ``inertiaproof envelope``."""
-    deep = ctx.profile.refine_s >= DEEP_S
+    deep = ctx.profile.rounds >= DEEP_ROUNDS
     cases = list(_cases(ctx, deep))
     settings = dict(ramp_s=RAMP_S, profile=ctx.profile, points=ctx.profile.envelope_points if deep else 0,
                     goal=ctx.profile.envelope_goal if deep else None, seed_value=ctx.seed)

@@ -168,9 +168,11 @@ def replay_internal(data, ctx):
 
 # -- loading -------------------------------------------------------------------------
 
-LOADING_SETTINGS = {  # initial RK4 steps, piece counts, most steps, most pieces
-    "ci": (128, (4, 8, 16, 32, 64), 2048, 256),
-    "deep": (512, (4, 8, 16, 32, 64, 128, 256), 16384, 1024),
+LOADING_SETTINGS = {  # initial RK4 steps, piece counts, most steps, most pieces, most dQJ/dq entries (6 N n^2 for
+    # each state where the equation or the feedforward is evaluated, inertiaproof.sim.capture.jacobian_entries; ci:
+    # a 24-joint chain's 128 and 512 steps, 6.5e8, fit and a 30-joint chain's 512 steps after its 128, 1.6e9, do not)
+    "ci": (128, (4, 8, 16, 32, 64), 2048, 256, 1e9),
+    "deep": (512, (4, 8, 16, 32, 64, 128, 256), 16384, 1024, 4e10),
 }
 
 
@@ -188,8 +190,8 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
     missing = _engine_missing()
     if missing:
         return Result("GRE-physics", Verdict.INCONCLUSIVE, missing)
-    default_steps, default_counts, max_steps, max_count = LOADING_SETTINGS.get(ctx.profile.name,
-                                                                               LOADING_SETTINGS["ci"])
+    default_steps, default_counts, max_steps, max_count, max_entries = LOADING_SETTINGS.get(ctx.profile.name,
+                                                                                            LOADING_SETTINGS["ci"])
     steps, counts = steps or default_steps, tuple(counts or default_counts)
     evidence = {
         "assumption": ASSUMPTION,
@@ -206,7 +208,8 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
     for ref, scene in scenes:
         control = controller(scene.chain, scene.trajectory, scene.control)
         cs = capture.study(scene.chain, scene.trajectory, control, counts, steps, forces, scene.horizon(), max_steps,
-                           max_count, progress=ctx.progress, budget=ctx.budget, scheme=scheme)
+                           max_count, progress=ctx.progress, budget=ctx.budget, scheme=scheme,
+                           max_entries=max_entries)
         verdicts.append(cs.verdict)
         _, order_start, _, _ = capture.convergence_verdict(cs.fine, cs.at_start, cs.floor) if cs.at_start else (
             None, None, None, None)
@@ -222,7 +225,8 @@ def loading_result(scenes, ctx, forces=motion.generalized_forces, steps=None, co
             "observed_integration_order": quantity(cs.integration_order, "estimate",
                                                    "order observed over 4h, 2h, h (the floor uses the lower of the "
                                                    "two, at least 1)"),
-            "work": {k: quantity(v, "count") for k, v in cs.work.as_dict().items()},
+            "work": {k: quantity(v, "count") for k, v in cs.work.as_dict().items()}
+            | {"dqj_entries": quantity(cs.entries, "count", "entries of dQJ/dq built (6 N n^2 a state)")},
             "fastest_rate": quantity(cs.rate, "estimate", "fastest closed-loop mode, rad/s"),
             "pieces": list(cs.counts),
             "error_at_rest_centred": [quantity(e, "residual") for e in cs.at_rest],

@@ -52,7 +52,7 @@ POINTS = 32  # (q, t) pairs per hunted example
 HUNT_SHARE = 3  # a hunt draws profile.examples // HUNT_SHARE chains (20 in ci, 666 in deep): drawing dominates its cost
 HUNT_JOINTS = 8  # hunted chains have 1 to 8 joints
 NO_SHRINK = (Phase.explicit, Phase.reuse, Phase.generate, Phase.target)  # a found point is concrete as it is;
-# shrinking dozens of floats took minutes
+# shrinking dozens of floats adds no meaning to it
 
 
 def _svd(a):

@@ -146,7 +146,7 @@ def _summary(run, grouped, verdicts, beyond):
              f"{by_check['INCONCLUSIVE']} INCONCLUSIVE) in {fmt.seconds(doc.get('runtime_s'))}; "
              f"{len(doc.get('skipped') or [])} left out."),
     )))
-    certificates, tally = certificate_tally(r.get("evidence") for r in checks)
+    certificates, tally = certificate_tally(checks)
     if certificates:
         blocks.append(Paragraph((Text("Certificates back the certified numbers of this run: "), Text(tally, "strong"),
                                  Text(" by the independent checker, which inertiaproof verify OUT runs again from "

@@ -21,7 +21,7 @@ flint = pytest.importorskip("flint")
 
 from arb_oracle import arb_body_jacobian, arb_mass_matrix, ball, eigen_enclosures, mat  # noqa: E402
 
-from inertiaproof.bounds import configuration  # noqa: E402
+from inertiaproof.bounds import branch, configuration  # noqa: E402
 from inertiaproof.bounds.domain import free_coordinates, search_box  # noqa: E402
 from inertiaproof.model.inertia import spatial_inertia  # noqa: E402
 from inertiaproof.scene import robots  # noqa: E402
@@ -34,15 +34,15 @@ RADIUS = 0.002  # half-width of a sampled box, as a fraction of the domain's wid
 def _capture(monkeypatch, compute):
     """Run ``compute()`` with bracket_extreme spied on: the result and every (quantity, box_bound, sense) it got."""
     calls = []
-    real = configuration.bracket_extreme
+    real = branch.bracket_extreme
 
     def spy(value, box_bound, lo, hi, **kwargs):
         calls.append((kwargs.get("quantity_name"), box_bound, kwargs.get("sense")))
         return real(value, box_bound, lo, hi, **kwargs)
 
-    monkeypatch.setattr(configuration, "bracket_extreme", spy)
+    monkeypatch.setattr(branch, "bracket_extreme", spy)
     result = compute()
-    monkeypatch.setattr(configuration, "bracket_extreme", real)
+    monkeypatch.setattr(branch, "bracket_extreme", real)
     final = [c for c in calls if c[0] == result.quantity and c[1] is not None]
     assert final, f"no certified box bound was used for {result.quantity}"
     return result, final[-1][1]
@@ -100,7 +100,7 @@ CASES = [  # (scene, what): lambda_min and lambda_max of M, sigma_max of QJ
 def _compute(scene, what, rng):
     chain = scene.chain
     thetas = scene.trajectory.base[None]
-    kw = dict(samples=200, refine_s=0.05, rng=rng)
+    kw = dict(samples=200, rounds=2, rng=rng)
     if what == "lmin":
         return lambda: configuration.mass_inf(chain, thetas, **kw), thetas
     if what == "lmax":
@@ -150,13 +150,13 @@ def test_arb_recheck_catches_an_optimistic_certified_side(scene, what, monkeypat
 @pytest.mark.parametrize("scene, what", [CASES[0], CASES[3], CASES[4]], ids=["2r-lmin", "3r-lmax", "3r-smax"])
 def test_arb_recheck_catches_an_optimistic_box_bound(scene, what, monkeypatch):
     """The vertex bound moved inwards by 30% of its size: box bounds claim more than M attains, and arb sees it."""
-    real = configuration.vertex_bound
+    real = branch.vertex_bound
 
     def optimistic(a, da, radii, free, kind):
         v = real(a, da, radii, free, kind)
         return v - 0.3 * np.abs(v) if kind in configuration.CONVEX else v + 0.3 * np.abs(v)
 
-    monkeypatch.setattr(configuration, "vertex_bound", optimistic)
+    monkeypatch.setattr(branch, "vertex_bound", optimistic)
     rng = np.random.default_rng(12)
     compute, thetas = _compute(scene, what, rng)
     _, box_bound = _capture(monkeypatch, compute)
@@ -283,7 +283,7 @@ def test_ladder_certified_side_agrees_with_arb(scene, form):
 
     chain = scene.chain
     thetas = _pivot_forms(scene)[form]
-    gamma = pivot_normality(chain, 0.5, 500, None if form == "unit" else thetas[..., 0])
+    gamma = pivot_normality(chain, 20, 500, None if form == "unit" else thetas[..., 0])
     assert gamma > 0
     lo, hi = search_box(chain)
     rng = np.random.default_rng(14)
@@ -299,10 +299,10 @@ def test_ladder_certified_side_agrees_with_arb(scene, form):
 
 
 def test_upper_ladder_certified_side_agrees_with_arb():
-    """The upper ladder's certified sup lambda_max of Panda's (2 kg) mass matrix (configuration._pivot_sup at the
+    """The upper ladder's certified sup lambda_max of Panda's (2 kg) mass matrix (ladders.pivot_sup at the
     ci budget, goal 1.3) lies above arb's lower end of lambda_max at the sampled maximiser and at random
     configurations; a side claimed 1% below the sampled max is refuted by arb there."""
-    from inertiaproof.bounds.configuration import _pivot_sup
+    from inertiaproof.bounds.ladders import pivot_sup
     from inertiaproof.bounds.spectral import spectral
     from inertiaproof.dynamics import composite
 
@@ -312,7 +312,7 @@ def test_upper_ladder_certified_side_agrees_with_arb():
     q = lo + (hi - lo) * np.random.default_rng(15).random((4000, chain.n))
     values = spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmax").max(1)
     k = int(np.argmax(values))
-    gamma, note, _ = _pivot_sup(chain, thetas, 0.5, float(values[k]), q[k], 1.3)
+    gamma, note, _ = pivot_sup(chain, thetas, 20, float(values[k]), q[k], 1.3)
     assert np.isfinite(gamma), note
     for p in [q[k]] + list(q[:6]):
         low, high = _arb_spectra(chain, [ball(x) for x in p], thetas, "lmax")
@@ -353,7 +353,7 @@ def test_axial_form_and_its_ladder_agree_with_arb():
             form = sum((xs[i] * (ball(z[v, l, i, j]) - ball(raised[i, j])) * xs[j] for i in range(6) for j in range(6)),
                        flint.arb(0))
             assert form < 0, (l, v)
-    gamma, inf, *_ = form_ladder(chain, forms, 0.5, 500, np.inf, probe=True)
+    gamma, inf, *_ = form_ladder(chain, forms, 20, 500, np.inf, probe=True)
     assert gamma > 0
     values = spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmin").min(1)
     for p in [q[np.argmin(values)]] + list(q[:6]):

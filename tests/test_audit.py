@@ -25,8 +25,8 @@ from inertiaproof.model.consistency import CONSISTENT, DEGENERATE, INCONSISTENT,
 from inertiaproof.model.inertia import pack, rotation_rpy, skew
 from inertiaproof.suite.profiles import PROFILES
 
-CI = dict(samples=PROFILES["ci"].audit_samples, refine_s=PROFILES["ci"].audit_refine_s)
-SWEEP = dict(samples=PROFILES["ci"].audit_samples, refine_s=0.05)  # dozens of chains: below PIVOT_MIN_S, no ladders
+CI = dict(samples=PROFILES["ci"].audit_samples, rounds=PROFILES["ci"].audit_rounds)
+SWEEP = dict(samples=PROFILES["ci"].audit_samples, rounds=2)  # dozens of chains: below PIVOT_MIN_ROUNDS, no ladders
 ALLEGRO_TIP = np.array([[4.701248e-06, 1.255968e-06, 1.2936e-06],
                         [1.255968e-06, 3.649312e-06, 1.7622e-06],
                         [1.2936e-06, 1.7622e-06, 4.701248e-06]])
@@ -265,6 +265,7 @@ def test_link_verdicts_use_the_wording_of_inertiaproof_inertia(tmp_path, capsys)
 @settings(max_examples=25)  # each example audits with every bracket (0.4 s)
 @given(st.lists(st.floats(min_value=-1e3, max_value=1e3) | st.sampled_from([0.0, 1e-300, -1e-30, 1e60, -1e60]),
                 min_size=7, max_size=7))
+@pytest.mark.slow
 def test_any_numbers_in_range_give_a_verdict_never_a_crash(tmp_path_factory, numbers):
     second = inertial(numbers[0], "0.1 0 0", "0 0 0", *numbers[1:])
     path = write(tmp_path_factory.mktemp("fuzz"), two_link_arm(second=second))
@@ -294,6 +295,7 @@ def test_panda_ur5_and_a_hand(capsys):
 
 
 @needs_robots
+@pytest.mark.slow
 def test_sweep_of_example_robot_data():
     start = time.perf_counter()
     files = audit_paths([ROBOTS], **SWEEP, bounds="arms")

@@ -5,7 +5,7 @@ import pytest
 from inertiaproof.checks import bound_ingredients
 from inertiaproof.checks.bound_ingredients import ingredients_result, replay_ingredient
 
-from inertiaproof.bounds import configuration, spectral, time
+from inertiaproof.bounds import apriori, block_form, branch, families, ladders, spectral, strategies, time
 from inertiaproof.result import Verdict
 from inertiaproof.scene import robots
 
@@ -44,7 +44,7 @@ def test_the_ingredients_hold(small):
 def test_a_wrong_ingredient_is_violated(ctx, small, monkeypatch, mistake):
     if mistake == "sigma_max and sigma_min swapped":
         wrong = _swapped_singular_values(spectral.spectral)
-        for module in (configuration, time):
+        for module in (families, branch, apriori, ladders, strategies, block_form, time):
             monkeypatch.setattr(module, "spectral", wrong)
     elif mistake == "Theorem 3 without its factor 2":
         monkeypatch.setattr(bound_ingredients, "upper_constants",
@@ -53,14 +53,16 @@ def test_a_wrong_ingredient_is_violated(ctx, small, monkeypatch, mistake):
         range_ = time.profile_range
         monkeypatch.setattr(time, "profile_range", lambda profile, span: (range_(profile, span)[0],) * 2)
     else:
-        monkeypatch.setattr(configuration, "ROUNDING", -configuration.ROUNDING)
+        for module in (families, apriori, ladders, strategies, block_form):
+            monkeypatch.setattr(module, "ROUNDING", -module.ROUNDING)
     result = small()
     assert result.verdict == Verdict.VIOLATED, result.summary
     assert result.counterexample["kind"] == "bound-ingredient"
 
 
 def test_the_replayer_reruns_the_audit(ctx, monkeypatch):
-    monkeypatch.setattr(configuration, "ROUNDING", -configuration.ROUNDING)
+    for module in (families, apriori, ladders, strategies, block_form):
+        monkeypatch.setattr(module, "ROUNDING", -module.ROUNDING)
     data = {"where": "vertex bound", "what": "vertex bound lmax strictly outside an exact value", "excess": 1.0}
     monkeypatch.setattr(bound_ingredients, "ingredients_result",
                         lambda c: ingredients_result(c, [], {}))

@@ -20,7 +20,7 @@ from inertiaproof.bounds.time import BODY_FUNCTIONS, lumped_velocity_bounds, mov
 from inertiaproof.model.inertia import spatial_inertia, unit_body
 from inertiaproof.model.positive_map import (
     exact_map,
-    key_step_certificate,
+    key_step_proof,
     kraus_factors,
     spatial_from_pseudo,
     verify_choi,
@@ -31,22 +31,22 @@ from inertiaproof.suite.context import Context
 from inertiaproof.suite.profiles import Profile
 from inertiaproof.suite.registry import REPLAYERS
 
-FAST = Profile("test", examples=8, samples=300, refine_s=0.2, symbolic_max_n=2, derandomize=True)
+FAST = Profile("test", examples=8, samples=300, rounds=8, symbolic_max_n=2, derandomize=True)
 
 
 def ctx():
     return Context(FAST, seed=0)
 
 
-def test_key_step_certificate_is_exact_and_sharp():
-    cert = key_step_certificate()
+def test_key_step_proof_is_exact_and_sharp():
+    cert = key_step_proof()
     assert cert["ok"] and cert["choi_psd"] and cert["choi_mismatch"] == 0 and cert["choi_rank"] == 3
     assert (cert["lower"], cert["upper"]) == (1.0, 2.0)
     assert cert["l_identity_diagonal"] == ["1", "1", "1", "2", "2", "2"]
 
 
 def test_perturbed_map_is_not_certified():
-    choi = [[Fraction(x) for x in row] for row in key_step_certificate()["choi"]]
+    choi = [[Fraction(x) for x in row] for row in key_step_proof()["choi"]]
 
     def wrong(f):
         z = exact_map(f)
@@ -87,7 +87,7 @@ def test_qj_is_degree_one_per_coordinate():
 
 def test_bracket_contains_dense_grid_extreme():
     chain = robots.planar_2r().chain
-    b = jacobian_sup(chain, samples=50, refine_s=0.3, rng=np.random.default_rng(0))
+    b = jacobian_sup(chain, samples=50, rounds=12, rng=np.random.default_rng(0))
     q2 = np.linspace(-np.pi, np.pi, 20001)
     dense = np.linalg.svd(chain.body_jacobian(np.stack([0 * q2, q2], -1)), compute_uv=False)[:, 0].max()
     assert b.lower <= dense + 1e-12 and dense <= b.upper
@@ -264,7 +264,7 @@ def test_the_trolleys_mass_matrix_brackets_are_certified_over_its_hull_and_repro
         certified, observed = bracket[side]["value"], bracket["upper" if side == "lower" else "lower"]["value"]
         assert np.isfinite(certified) and ((certified <= observed) if side == "lower" else (observed <= certified))
         assert "hull of the rest's vertices" in bracket[side]["note"]
-        assert check(bracket[side]["certificate"])["status"] == "re-proved"
+        assert check(bracket[side]["certificate"].certificate)["status"] == "re-proved"
 
 
 def test_triangular_normality_floor_is_valid_on_random_chains():
@@ -343,7 +343,7 @@ def test_a_sup_side_of_six_joints_comes_with_a_partition_the_checker_walks():
     from inertiaproof.verify.cli import check
 
     scene = robots.ur5()
-    b = mass_sup(scene.chain, scene.trajectory.base[None], samples=300, refine_s=0.5, rng=np.random.default_rng(0))
+    b = mass_sup(scene.chain, scene.trajectory.base[None], samples=300, rounds=20, rng=np.random.default_rng(0))
     cert = bracket_certificate(b)
     assert b.proof is not None and cert["tree"] != "." and b.upper <= 1.05 * b.lower
     assert check(cert)["status"] == "re-proved"

@@ -99,11 +99,11 @@ def test_axial_ladder_is_below_dense_samples_and_a_raised_form_is_caught():
     q = _samples(chain, 30000, 63)
     sampled = spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmin").min()
     observed = form_lmin(chain, forms, q).min()
-    gamma, inf, *_ = form_ladder(chain, forms, 0.5, 500, observed / 1.01, probe=True)
+    gamma, inf, *_ = form_ladder(chain, forms, 20, 500, observed / 1.01, probe=True)
     mu = spectral(spatial_inertia(thetas), "lmin").min(0)
     iso = form_lmin(chain, (mu[:, None, None] * np.eye(6))[None], q).min()
     assert iso < gamma <= sampled and gamma <= inf
-    bad, *_ = form_ladder(chain, 1.3 * forms, 0.5, 500, 1.3 * observed / 1.01, probe=True)
+    bad, *_ = form_ladder(chain, 1.3 * forms, 20, 500, 1.3 * observed / 1.01, probe=True)
     assert bad > sampled
 
 
@@ -112,7 +112,7 @@ def test_ur5_mass_inf_adopts_the_axial_form_in_ci():
     below 30,000 sampled values."""
     scene = robots.ur5()
     chain, thetas = scene.chain, parameter_vertices(scene.trajectory)[0]
-    b = mass_inf(chain, thetas, samples=2000, refine_s=0.5, rng=np.random.default_rng(0))
+    b = mass_inf(chain, thetas, samples=2000, rounds=20, rng=np.random.default_rng(0))
     assert "axial_form" in b.note and b.upper / b.lower < 1.4
     q = _samples(chain, 30000, 64)
     assert b.lower <= spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmin").min()

@@ -52,7 +52,7 @@ def test_entry_sups_lie_above_dense_samples(scene, thetas):
 
 @pytest.mark.parametrize("scene, thetas", CASES[:3], ids=IDS[:3])
 def test_perron_bound_lies_above_sampled_spectra(scene, thetas):
-    bound = fourier_perron_bound(scene.chain, thetas, 0.5)
+    bound = fourier_perron_bound(scene.chain, thetas, 20)
     m = composite.mass_matrix(scene.chain, _sampled(scene.chain, thetas, 5000)[1][:, None], thetas[None])
     assert bound >= spectral(m, "absmax").max()
 
@@ -88,7 +88,7 @@ def test_brackets_adopt_the_fourier_perron_bound():
     """Panda with 2 kg, ci budget: the sup sides close to within 2 (issue 12) through the Perron bound."""
     scene = robots.panda(payload=2.0)
     thetas, rates = parameter_vertices(scene.trajectory)[:2]
-    kw = dict(samples=2000, refine_s=0.5)
+    kw = dict(samples=2000, rounds=20)
     for b in (mass_sup(scene.chain, thetas, rng=np.random.default_rng(0), **kw),
               mass_sup(scene.chain, rates, kind="absmax", rng=np.random.default_rng(0), **kw),
               jacobian_sup(scene.chain, rng=np.random.default_rng(0), **kw)):

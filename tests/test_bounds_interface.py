@@ -36,7 +36,7 @@ def panda_split():
     chain, thetas, q, values = _panda()
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(interface, "RUNGS", (1.03,))
-        gamma, note, _ = split_ladder(chain, thetas, float(values.min()), 5.0)
+        gamma, note, _ = split_ladder(chain, thetas, float(values.min()), 200)
     return chain, thetas, q, values, gamma, note
 
 
@@ -142,12 +142,12 @@ def test_an_interface_inertia_raised_is_refused_by_the_tail_and_caught_without_i
 
     monkeypatch.setattr(interface, "_interfaces", raised)
     monkeypatch.setattr(interface, "RUNGS", (1 / 1.1,))
-    gamma, note, _ = split_ladder(chain, thetas, float(values.min()), 0.5)
+    gamma, note, _ = split_ladder(chain, thetas, float(values.min()), 20)
     assert gamma == -np.inf, note
 
     def forgetful(family, armature, lower, k, c, r):
         return np.ones((len(c), len(thetas)), bool), np.zeros((len(c), chain.n))
 
     monkeypatch.setattr(interface, "interface_test", forgetful)
-    gamma, note, _ = split_ladder(chain, thetas, float(values.min()), 0.5)
+    gamma, note, _ = split_ladder(chain, thetas, float(values.min()), 20)
     assert gamma > values.min(), note

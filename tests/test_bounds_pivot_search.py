@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from inertiaproof.budget import available_cores
-from inertiaproof.bounds import pivot_search, pivots
+from inertiaproof.bounds import ladders, pivot_search, pivots
 from inertiaproof.bounds.configuration import jacobian_normality, mass_inf, pivot_normality
 from inertiaproof.bounds.domain import free_coordinates, search_box
 from inertiaproof.bounds.pivots import PivotFamily, pivot_bounds, pivot_test
@@ -205,11 +205,11 @@ def test_a_ladder_bound_raised_50_percent_is_caught():
 
 
 def test_ci_brackets_of_panda_and_ur5_within_2x():
-    """The ci budget (refine_s 0.5 s, 2000 samples) brackets Panda's (2 kg) inf lambda_min(M) and inf
+    """The ci budget (20 rounds, 2000 samples) brackets Panda's (2 kg) inf lambda_min(M) and inf
     sigma_min(QJ)^2 and UR5's inf sigma_min(QJ)^2 within 2x (issue 12)."""
     for scene, inf in ((robots.panda(payload=2.0), True), (robots.ur5(), False)):
         chain = scene.chain
-        kw = dict(samples=2000, refine_s=0.5, rng=np.random.default_rng(0))
+        kw = dict(samples=2000, rounds=20, rng=np.random.default_rng(0))
         brackets = [jacobian_normality(chain, **kw)]
         if inf:
             brackets.append(mass_inf(chain, parameter_vertices(scene.trajectory)[0], **dict(kw, rng=np.random.default_rng(0))))
@@ -219,9 +219,9 @@ def test_ci_brackets_of_panda_and_ur5_within_2x():
 
 def test_pivot_normality_stops_at_its_goal_and_caches():
     chain = robots.ur5().chain
-    first = pivot_normality(chain, 0.5, 500)
-    assert first > 0 and pivot_normality(chain, 0.5, 500) == first
-    assert pivot_search.ladder_goal(0.5) == 2.0 and pivot_search.ladder_goal(20.0) < 1.1
+    first = pivot_normality(chain, 20, 500)
+    assert first > 0 and pivot_normality(chain, 20, 500) == first
+    assert pivot_search.ladder_goal(20) == 2.0 and pivot_search.ladder_goal(800) < 1.1
 
 
 def _block_form(scene):
@@ -237,21 +237,21 @@ def _block_form(scene):
 def test_block_lower_form_is_below_every_body_and_m(scene):
     """diag(mu_l I3, nu_l I3) <= Z(Theta_v)_l for every body and parameter set, so sum_l QJ_l^T Y_l QJ_l <= M(q)
     at sampled q; the ladder's bound of the form lies below sampled lambda_min(M); nu raised 30% breaks the first."""
-    from inertiaproof.bounds.configuration import _block_rows
+    from inertiaproof.bounds.lengths import block_rows
 
     chain, thetas, (mu, nu) = _block_form(scene)
     z = spatial_inertia(thetas)
-    y = spatial_inertia(_block_rows(mu, nu)[None])  # (1, N, 6, 6)
+    y = spatial_inertia(block_rows(mu, nu)[None])  # (1, N, 6, 6)
     assert np.all(np.linalg.eigvalsh(z - y)[..., 0] >= 0)
-    y_bad = spatial_inertia(_block_rows(mu, 1.3 * nu)[None])
+    y_bad = spatial_inertia(block_rows(mu, 1.3 * nu)[None])
     assert np.any(np.linalg.eigvalsh(z - y_bad)[..., 0] < 0)
     lo, hi = search_box(chain)
     q = lo + (hi - lo) * np.random.default_rng(51).random((3000, chain.n))
     m = composite.mass_matrix(chain, q[:, None], thetas[None])
-    form = composite.mass_matrix(chain, q[:, None], _block_rows(mu, nu)[None][None])
+    form = composite.mass_matrix(chain, q[:, None], block_rows(mu, nu)[None][None])
     assert np.linalg.eigvalsh(m - form)[..., 0].min() >= -1e-12
     if scene.name == "panda":  # UR5's block form proves nothing in this budget (-inf, sound): Panda only
-        gamma = pivot_normality(chain, 0.5, 500, mu[None], angular=nu)
+        gamma = pivot_normality(chain, 20, 500, mu[None], angular=nu)
         assert 0 < gamma <= _lmin(chain, thetas, q).min()
 
 
@@ -303,7 +303,8 @@ def _upper_ladder(scene, form, boxes=6000):
 
 
 @pytest.mark.parametrize("scene, form, boxes", [(robots.ur5(), 1, 6000), (robots.panda(payload=2.0), 0, 6000),
-                                                (robots.panda(payload=2.0), 2, 1500)],
+                                                pytest.param(robots.panda(payload=2.0), 2, 1500,
+                                                             marks=pytest.mark.slow)],
                          ids=["ur5-real", "panda-unit", "panda-rates"])
 def test_upper_ladder_is_above_every_sampled_value(scene, form, boxes):
     chain, thetas, (gamma, tested, size, ratio, rungs, _) = _upper_ladder(scene, form, boxes)
@@ -340,12 +341,12 @@ def test_mass_sup_adopts_the_upper_ladder_where_the_fourier_bound_is_short(monke
     """Where the bracket is wider than the ladder's goal (here: the Fourier bound left out, the ci budget's vertex
     bracket 2.5x) mass_sup's certified side of Panda's (2 kg) sup lambda_max comes from the upper ladder, within
     1.5x and above dense samples."""
-    from inertiaproof.bounds import configuration
+    from inertiaproof.bounds import configuration, perron
 
-    monkeypatch.setattr(configuration, "fourier_perron_bound", lambda *a, **k: None)
+    monkeypatch.setattr(perron, "fourier_perron_bound", lambda *a, **k: None)
     scene = robots.panda(payload=2.0)
     chain, thetas = scene.chain, parameter_vertices(scene.trajectory)[0]
-    b = configuration.mass_sup(chain, thetas, samples=500, refine_s=0.5, rng=np.random.default_rng(0))
+    b = configuration.mass_sup(chain, thetas, samples=500, rounds=20, rng=np.random.default_rng(0))
     assert "gamma I - M" in b.note and b.upper / b.lower < 1.5, (b.lower, b.upper, b.note)
     lo, hi = search_box(chain)
     q = lo + (hi - lo) * np.random.default_rng(44).random((20000, chain.n))
@@ -368,8 +369,6 @@ def test_pivot_test_over_threads_answers_as_one():
 def test_upper_ladder_leaves_out_only_sets_with_every_body_negative(monkeypatch):
     """Theorem 4's stack is the rates and their negatives; a set whose every Z_l <= 0 (Weyl) has M <= 0, below
     any positive target, and is left out of the upper ladder; a set with one body indefinite is kept."""
-    from inertiaproof.bounds import configuration
-
     scene = robots.panda(payload=2.0)
     rate = parameter_vertices(scene.trajectory)[1]
     rate = rate[np.argmax(spectral(spatial_inertia(rate), "lmin").min(1))]  # the growing payload: every Z_l >= 0
@@ -377,12 +376,13 @@ def test_upper_ladder_leaves_out_only_sets_with_every_body_negative(monkeypatch)
     mixed[-1, 0] = 1.0  # the payload's mass up, its rotational inertia down: indefinite
     assert spectral(spatial_inertia(mixed[-1]), "lmin") < 0 < spectral(spatial_inertia(mixed[-1]), "lmax")
     seen = []
-    monkeypatch.setattr(configuration, "_ladder", lambda chain, family, *a, **k: (seen.append(family.z.shape[0]), (1.0, ""))[1])
+    monkeypatch.setattr(ladders, "_ladder", lambda chain, family, *a, **k: (seen.append(family.z.shape[0]), (1.0, ""))[1])
     for stack, kept in (([rate, -rate], 1), ([-rate, mixed], 1), ([rate, -rate, mixed], 2)):
-        configuration._pivot_sup(scene.chain, np.array(stack), 20.0, 1.0, np.zeros(scene.chain.n), 1.01)
+        ladders.pivot_sup(scene.chain, np.array(stack), 800, 1.0, np.zeros(scene.chain.n), 1.01)
         assert seen.pop() == kept
 
 
+@pytest.mark.slow
 def test_real_inertias_close_so101s_bracket_in_ci():
     """SO-101's jaw (its inertia mostly m rho^2 of an off-axis com) defeats every lower form (2.87x in ci); the
     ladder on the bodies themselves, in the |F| metric, brings the ci bracket within 2x, above dense samples."""
@@ -398,7 +398,7 @@ def test_real_inertias_close_so101s_bracket_in_ci():
     robots_dir = dist.locate_file("cmeel.prefix/share/example-robot-data/robots")
     sc = kinematic_tree(read_robot(robots_dir / "so_arm_description/urdf/so101.urdf")).chains[0]
     chain, thetas = sc.chain, np.asarray(sc.theta)[None]
-    b = mass_inf(chain, thetas, samples=512, refine_s=0.5, rng=np.random.default_rng(0))
+    b = mass_inf(chain, thetas, samples=512, rounds=20, rng=np.random.default_rng(0))
     assert "pivots of M(q) - gamma I" in b.note and b.upper / b.lower < 2, (b.lower, b.upper, b.note)
     lo, hi = search_box(chain)
     q = np.where(free_coordinates(chain), lo + (hi - lo) * np.random.default_rng(45).random((20000, chain.n)),

@@ -77,11 +77,11 @@ def test_a_turn_without_its_loss_is_caught(monkeypatch):
 
 def test_pivot_normality_is_certified_and_cached():
     chain = robots.ur5().chain
-    first = pivot_normality(chain, 0.25, 500)
+    first = pivot_normality(chain, 10, 500)
     q = np.random.default_rng(10).uniform(-np.pi, np.pi, (20000, chain.n))
     sampled = spectral(composite.mass_matrix(chain, q[:, None], _unit(chain)[None]), "lmin").min()
-    assert 0 < first <= sampled and pivot_normality(chain, 0.25, 500) == first
-    assert pivots.PIVOT_MIN_S <= 0.5  # the ci profile's budget runs it
+    assert 0 < first <= sampled and pivot_normality(chain, 10, 500) == first
+    assert pivots.PIVOT_MIN_ROUNDS <= 20  # the ci profile's budget runs it
 
 
 @pytest.mark.parametrize("scene", [robots.ur5(), robots.spatial_3r()], ids=lambda s: s.name)
@@ -92,7 +92,7 @@ def test_weighted_pivot_floor_is_below_the_sampled_inf_of_lambda_min(scene):
 
     chain, thetas = scene.chain, parameter_vertices(scene.trajectory)[0]
     mu = spectral(spatial_inertia(thetas), "lmin")
-    bound = pivot_normality(chain, 0.25, 500, mu)
+    bound = pivot_normality(chain, 10, 500, mu)
     q = np.random.default_rng(11).uniform(-np.pi, np.pi, (20000, chain.n))
     sampled = spectral(composite.mass_matrix(chain, q[:, None], thetas[None]), "lmin").min()
     assert 0 < bound <= sampled

@@ -19,6 +19,7 @@ import pytest
 
 from inertiaproof.bounds.certificate import spectrum_certificate
 from inertiaproof.bounds.completion import complete
+from inertiaproof.citation import cite
 from inertiaproof.dynamics import composite
 from inertiaproof.dynamics.chain import Chain, origin
 from inertiaproof.result import Result, Verdict
@@ -155,8 +156,8 @@ def test_a_proof_aid_that_falls_short_is_not_refuted_and_the_check_inconclusive(
     out = check(loose)
     assert out["status"] == "not re-proved", out
     result = Result("Thm3", Verdict.HOLDS, "held", {"paper": {"value": 1.0, "kind": "upper_bound",
-                                                              "certificate": loose}})
-    settle(result, out_dir=None, boxes=0, verify=True, memo={})
+                                                              "certificate": cite(loose)}})
+    result = settle(result, out_dir=None, boxes=0, verify=True, memo={})
     assert result.verdict == Verdict.INCONCLUSIVE and "not re-proved" in result.summary
 
 
@@ -187,6 +188,7 @@ def test_a_refutation_shows_its_witness_and_both_sides(arm):
         "pivot", "bound"}, out
 
 
+@pytest.mark.slow
 def test_verify_reads_results_json(run_out, tmp_path):
     out = tmp_path / "out"
     shutil.copytree(run_out, out)

@@ -182,6 +182,7 @@ def test_decide_exactly_matches_the_oracle():
         assert LABELS[decide_exactly(row)[0]] == verdict_of_phi(row)
 
 
+@pytest.mark.slow
 def test_lambda_min_is_accurate_on_graded_clustered_and_singular_f():
     """lambda_min(f) (Laguerre with an a-posteriori bound, else LAPACK) within max(1e-6 |lambda|, 64 eps ||f||) of
     eigvalsh: robot-like graded f in SI units, two nearly equal smallest eigenvalues, and exactly singular f."""

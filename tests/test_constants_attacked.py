@@ -22,7 +22,7 @@ from inertiaproof.suite.outputs import Outputs
 from inertiaproof.suite.profiles import Profile
 from inertiaproof.suite.replay import replay
 
-ATTACK = Profile("test", examples=30, samples=300, refine_s=0.1, symbolic_max_n=2, derandomize=True)
+ATTACK = Profile("test", examples=30, samples=300, rounds=4, symbolic_max_n=2, derandomize=True)
 PAYLOAD = [robots.planar_2r(payload=1.0)]
 TROLLEY = [robots.trolley_2r(loop=True, mass=2.0)]
 
@@ -167,7 +167,7 @@ def audit_margin(example):
     side ``chain_bounds`` (what ``inertiaproof audit`` reports) gives for the chain; below -1e-9: a reported bound
     is wrong."""
     chain, theta = example
-    found = chain_bounds(chain, theta, samples=200, refine_s=0.02)
+    found = chain_bounds(chain, theta, samples=200, rounds=0.8)
     lo, hi = chain.coordinate_box()
     q = lo + (hi - lo) * np.random.default_rng(1).random((400, chain.n))
     w = np.linalg.eigvalsh(composite.mass_matrix(chain, q, theta))

@@ -8,6 +8,10 @@ from __future__ import annotations
 import importlib.util
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.slow  # two runs of the scene, one of them beside two CPU hogs
+
 ROOT = Path(__file__).resolve().parents[1]
 spec = importlib.util.spec_from_file_location("bench_cpu_hog", ROOT / "bench" / "cpu_hog.py")
 bench = importlib.util.module_from_spec(spec)

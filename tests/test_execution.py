@@ -94,10 +94,11 @@ def test_a_run_gives_the_same_results_json_on_one_and_two_dask_workers(dask2, tm
     # (brackets on two workers: the reduced deep run below)
 
 
+@pytest.mark.slow
 def test_a_reduced_deep_run_gives_the_same_results_json_on_one_and_two_forked_workers(tmp_path, monkeypatch):
     """The deep profile (a Hypothesis database, hunts not derandomised, brackets), with fewer examples and a smaller
     bracket budget; each run starts from its own empty cache."""
-    reduced = dataclasses.replace(PROFILES["deep"], examples=12, samples=400, refine_s=0.3, shard_examples=4)
+    reduced = dataclasses.replace(PROFILES["deep"], examples=12, samples=400, rounds=12, shard_examples=4)
     docs = []
     for i, executor in enumerate((Executor(), ForkExecutor(2))):
         monkeypatch.setenv("INERTIAPROOF_CACHE", str(tmp_path / f"cache{i}"))
@@ -120,6 +121,7 @@ def test_a_violation_is_the_first_in_shard_order_and_is_journaled_on_arrival(two
     assert found[0] == found[1]
 
 
+@pytest.mark.slow
 def test_a_killed_worker_has_its_tasks_rerun_and_the_hunt_ends_the_same(dask2):
     import distributed
 
@@ -154,7 +156,7 @@ def test_an_audit_gives_the_same_files_on_one_and_two_workers(two):
 
     folder = pybullet_data.getDataPath()
     paths = [os.path.join(folder, name) for name in ("r2d2.urdf", "cartpole.urdf", os.path.join("kuka_iiwa", "model.urdf"), "plane.urdf")]
-    options = dict(samples=64, refine_s=0.0, bounds="arms")
+    options = dict(samples=64, rounds=0, bounds="arms")
     alone, split = audit_paths(paths, **options), audit_paths(paths, executor=two, **options)
     assert list(alone) == list(split) == paths
     assert without_timings(alone) == without_timings(split)

@@ -68,7 +68,7 @@ def with_doctype(text, root, declarations):
 
 
 def audit(path):
-    return audit_paths([path], samples=64, refine_s=0.0, bounds="none")[str(path)]
+    return audit_paths([path], samples=64, rounds=0, bounds="none")[str(path)]
 
 
 def same_audit(plain, expanded):

@@ -74,7 +74,7 @@ def test_a_bracket_of_other_parameters_is_no_counterexample():
     value is not found again on the saved parameter sets, so the case does not report a VIOLATED it cannot show."""
     ctx = light_context(Context(PROFILES["deep"], seed=0))
     heavy, light_one = (hunted_scene((CHAIN, _trajectory(s), 0)) for s in (2.0, 1.0))
-    wrong = mass_sup(CHAIN, parameter_vertices(heavy.trajectory)[0], samples=200, refine_s=0.02,
+    wrong = mass_sup(CHAIN, parameter_vertices(heavy.trajectory)[0], samples=200, rounds=0.8,
                      rng=ctx.rng("wrong"))
     constant = upper_bound_case(ctx, light_one, 1.0)[2]["constant_range"]
     lo, hi = constant["lower"]["value"], constant["upper"]["value"]

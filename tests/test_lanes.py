@@ -2,6 +2,8 @@
 
 import os
 
+import pytest
+
 from inertiaproof.result import Verdict
 from inertiaproof.suite.execution import ForkExecutor
 from inertiaproof.suite.lanes import side_by_side
@@ -15,6 +17,7 @@ def _answers(run):
     return [(r.check, r.verdict, r.summary) for r in run.results]
 
 
+@pytest.mark.slow
 def test_lanes_give_the_answers_of_one_lane_in_the_same_order(tmp_path):
     one = run_checks(only=ONLY, out_dir=tmp_path / "one", verify=False)
     two = run_checks(only=ONLY, out_dir=tmp_path / "two", verify=False, executor=ForkExecutor(2))

@@ -6,7 +6,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from inertiaproof.bounds.configuration import _comparison_inverse, triangular_normality_floor
+from inertiaproof.bounds.apriori import comparison_inverse, triangular_normality_floor
 from inertiaproof.bounds.extremes import bracket_extreme
 from inertiaproof.dynamics.chain import Chain
 from inertiaproof.suite.profiles import PROFILES
@@ -30,7 +30,7 @@ def test_comparison_inverse_bounds_the_exact_inverse_from_above_and_closely(seed
     n = 12
     diag = rng.uniform(0.5, 1.5, n)
     off = np.tril(rng.uniform(0, 2, (n, n)), -1)
-    upper = _comparison_inverse(diag, off)
+    upper = comparison_inverse(diag, off)
     exact = _exact_inverse(diag, off)
     for l in range(n):
         for k in range(n):
@@ -51,7 +51,7 @@ def test_comparison_inverse_rounded_to_nearest_would_not_be_an_upper_bound():
         plain[l] = row / diag[l]
     exact = _exact_inverse(diag, off)
     assert any(Fraction(float(plain[l, k])) < exact[l][k] for l in range(n) for k in range(l + 1))
-    upper = _comparison_inverse(diag, off)
+    upper = comparison_inverse(diag, off)
     assert all(Fraction(float(upper[l, k])) >= exact[l][k] for l in range(n) for k in range(l + 1))
 
 
@@ -79,7 +79,7 @@ def test_a_budget_that_pays_for_no_box_gives_no_certified_side_and_says_so():
         calls.append(len(c))
         return np.zeros(len(c))
 
-    kw = dict(sense="min", quantity_name="x", samples=16, refine_s=0.05, rng=np.random.default_rng(0))
+    kw = dict(sense="min", quantity_name="x", samples=16, rounds=2, rng=np.random.default_rng(0))
     cheap = bracket_extreme(value, box_bound, -np.ones(3), np.ones(3), **kw)
     assert cheap.certified is not None and cheap.boxes > 1 and calls
     calls.clear()
@@ -93,7 +93,7 @@ def test_a_budget_that_pays_for_no_box_gives_no_certified_side_and_says_so():
 
 def test_audit_budgets_quick_by_default_full_with_bounds_all():
     ci, deep = PROFILES["ci"], PROFILES["deep"]
-    assert ci.audit_budget("arms") == (512, 0.05) and ci.audit_budget("all") == (512, 0.5)
-    from inertiaproof.bounds.pivots import PIVOT_MIN_S
-    assert ci.audit_budget("arms")[1] < PIVOT_MIN_S <= ci.audit_budget("all")[1]
-    assert deep.audit_budget("arms")[1] >= PIVOT_MIN_S
+    assert ci.audit_budget("arms") == (512, 2) and ci.audit_budget("all") == (512, 20)
+    from inertiaproof.bounds.pivots import PIVOT_MIN_ROUNDS
+    assert ci.audit_budget("arms")[1] < PIVOT_MIN_ROUNDS <= ci.audit_budget("all")[1]
+    assert deep.audit_budget("arms")[1] >= PIVOT_MIN_ROUNDS

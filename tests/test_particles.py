@@ -63,7 +63,8 @@ def _flip_angular_velocity(body_twist):
     return wrong
 
 
-@pytest.mark.parametrize("mutant", ["sign of S(h) in Z", "sign of the body angular velocity"])
+@pytest.mark.parametrize("mutant", [pytest.param("sign of S(h) in Z", marks=pytest.mark.slow),
+                                    "sign of the body angular velocity"])
 def test_a_wrong_z_or_twist_turns_gre_violated_even_after_the_lockfile_is_updated(fresh, ctx, tmp_path, monkeypatch,
                                                                                   mutant):
     if mutant == "sign of S(h) in Z":

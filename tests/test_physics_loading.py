@@ -118,6 +118,7 @@ def test_the_implicit_scheme_decides_the_loading_study(implicit_loading):
     assert entry["work"]["newton_iterations"]["value"] >= entry["work"]["steps"]["value"] > 0
 
 
+@pytest.mark.slow
 def test_the_implicit_scheme_sees_a_perturbed_equation():
     scene = robots.planar_2r(2.0)
     result = physics.loading_result([({"builtin": "planar-2r-payload"}, scene)], Context(PROFILES["ci"]),

@@ -25,6 +25,7 @@ def audit_folder(folder):
     return code, json.loads(out.getvalue()), err.getvalue()
 
 
+@pytest.mark.slow
 def test_pybullet_data_is_audited():
     pybullet_data = pytest.importorskip("pybullet_data", reason="pybullet is not installed (test extra)")
     folder = Path(pybullet_data.getDataPath())

@@ -21,7 +21,7 @@ import pytest
 
 from inertiaproof import cli
 from inertiaproof.bounds.certificate import spectrum_certificate
-from inertiaproof.result import Result, Verdict
+from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.scene import robots
 from inertiaproof.suite import registry
 from inertiaproof.suite.discovery import load_checks
@@ -72,7 +72,7 @@ def _certificate(tamper):
         i = int(np.argmin(values))
         cert = spectrum_certificate(chain, theta, "lambda_min", 0.9 * values[i], witness=q[i])
         tamper(cert, values[i])
-        return Result("Thm2", Verdict.HOLDS, "held", {"bracket": {"lower": {"value": 0.0, "certificate": cert}}})
+        return Result("Thm2", Verdict.HOLDS, "held", {"bracket": {"lower": quantity(0.0, "lower_bound", certificate=cert)}})
     return fn
 
 
@@ -205,6 +205,7 @@ def test_every_file_a_ci_run_saves_replays_to_its_verdict(ci_run):
     assert len(saved) >= sum(v == "VIOLATED" for v in VERDICTS.values())
 
 
+@pytest.mark.slow
 def test_every_file_a_deep_run_saves_replays_to_its_verdict(deep_run):
     tmp, doc, saved = deep_run
     _verdicts_as_expected(doc)

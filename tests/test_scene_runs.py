@@ -21,7 +21,7 @@ from inertiaproof.suite import runner
 from inertiaproof.suite.profiles import PROFILES
 
 SCENES = sorted((Path(__file__).resolve().parent.parent / "scenes").glob("*.toml"))
-QUICK = dataclasses.replace(PROFILES["ci"], samples=256, refine_s=0.05, examples=8, check_s=1.5, run_s=4.0,
+QUICK = dataclasses.replace(PROFILES["ci"], samples=256, rounds=2, examples=8, check_s=1.5, run_s=4.0,
                             tree_boxes=500)  # the checker still runs on every certificate; the prover completes
 # a tree it does not re-prove with at most 500 boxes (the ci profile's 2,000 would take much of the run on the 24-link
 # scene), and a certificate left not re-proved is an honest INCONCLUSIVE (test_verify*.py re-prove them in full)

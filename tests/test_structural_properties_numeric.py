@@ -22,7 +22,7 @@ from inertiaproof.suite.registry import REPLAYERS
 from tests.pinocchio_oracle import pinocchio_model
 from tests.test_model import random_phi
 
-FAST = Profile("test", examples=30, samples=300, refine_s=0.2, symbolic_max_n=2, derandomize=True)
+FAST = Profile("test", examples=30, samples=300, rounds=8, symbolic_max_n=2, derandomize=True)
 
 
 def ctx():

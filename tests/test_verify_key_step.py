@@ -13,7 +13,7 @@ from inertiaproof.verify.cli import check
 
 @pytest.fixture(scope="module")
 def cert():
-    return key_step_evidence()["certificate"]
+    return key_step_evidence()["certificate"].certificate
 
 
 def test_the_key_step_is_reproved(cert):

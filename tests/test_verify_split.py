@@ -33,7 +33,7 @@ def split():
     values = mass_spectra(chain, thetas, q, "lmin").min(1)
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(interface, "RUNGS", (1.95,))
-        gamma, note, proof = interface.split_ladder(chain, thetas, float(values.min()), 0.5)
+        gamma, note, proof = interface.split_ladder(chain, thetas, float(values.min()), 20)
     assert proof is not None, note
     cert = spectrum_certificate(chain, thetas, "lambda_min", gamma, proof=proof, witness=q[np.argmin(values)])
     assert cert["split"]["body"] == 2 and cert["split"]["tail"] and cert["split"]["head"]

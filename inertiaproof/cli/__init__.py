@@ -36,6 +36,7 @@ COMMANDS = {  # name: (module, help)
     "verify": ("inertiaproof.verify.cli", "re-prove certificates with the independent checker"),
     "envelope": ("inertiaproof.cli.envelope", "certified alpha1, alpha2, chi for every payload a link may carry"),
     "adapt": ("inertiaproof.cli.adapt", "adaptive tracking of a scene's reference: time series of errors and spectra"),
+    "identify": ("inertiaproof.cli.identify", "identify a robot's (or a payload's) inertial parameters from torques"),
 }
 
 

@@ -207,13 +207,13 @@ def main(args):
     out = Path(args.out) if args.out else None
     executor = Executor()
     executor.say = say  # the re-proof's progress ("certificates: k/N tasks, ETA")
-    settle(result, out_dir=out, boxes=PROFILES[args.profile].tree_boxes, verify=not args.no_verify, memo={},
-           executor=executor)
+    result = settle(result, out_dir=out, boxes=PROFILES[args.profile].tree_boxes, verify=not args.no_verify, memo={},
+                    executor=executor)
     if out is not None:
         _write(out, result)
     if args.json:
         print(json.dumps(result.to_json()))
     else:
-        _print(result, certificate_tally([result.evidence])[1])
+        _print(result, certificate_tally([result])[1])
     return exit_status([result])
 

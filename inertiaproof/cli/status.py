@@ -36,6 +36,10 @@ EXIT_STATUS = {  # command -> the meaning of its exit status (shown by --help)
     "envelope": f"exit status: {HOLDS} every constant certified and re-proved, no payload of the set beyond one; "
                 f"{VIOLATED} a payload of the set beyond a constant, or a certificate refuted; {BAD_INPUT} bad usage "
                 f"or input; {INCONCLUSIVE} something not certified or not re-proved",
+    "identify": f"exit status: {HOLDS} the fit shown certified (without the consistent fit: every identified body "
+                f"consistent); {VIOLATED} the data demand inconsistent inertia (certified), some identified body is "
+                f"inconsistent, or a crash; {BAD_INPUT} bad usage or input; {INCONCLUSIVE} the consistent fit not "
+                "certified",
     "audit": f"exit status: {HOLDS} every moving link and every body is consistent, no body inside a link's geometry "
              f"is ruled out and every total mass is as expected (with --baseline: no new such finding); {VIOLATED} "
              f"some finding of level error (new against the baseline); {BAD_INPUT} some file cannot be read (the "

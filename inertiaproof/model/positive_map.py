@@ -32,7 +32,7 @@ import numpy as np
 from .inertia import pseudo_inertia_inverse, skew, spatial_inertia
 
 __all__ = [
-    "choi_sdp", "exact_map", "exact_psd", "extreme_eigenvalue_sdp", "key_step_certificate", "kraus_choi",
+    "choi_sdp", "exact_map", "exact_psd", "extreme_eigenvalue_sdp", "key_step_proof", "kraus_choi",
     "kraus_factors", "map_of_choi", "rational", "spatial_from_pseudo", "SYM4_BASIS", "unit_symmetric",
     "verify_choi",
 ]
@@ -230,7 +230,7 @@ def extreme_eigenvalue_sdp(matrix, sense):
 
 
 @lru_cache(maxsize=4)
-def key_step_certificate(max_denominator=1000):
+def key_step_proof(max_denominator=1000):
     """The certificate behind Theorems 2-4, computed once per process.
 
     Returns plain data: the SDP's Choi matrix rounded to rationals and its exact

@@ -114,12 +114,33 @@ class Solution:
     mode: complex = complex(np.nan)  # the fastest eigenvalue of (RoboticEquation)'s closed loop at b
     scheme: fixedstep.Scheme = fixedstep.RK4
     work: fixedstep.Work = field(default_factory=fixedstep.Work)  # counts over every model
+    equation_points: int = 0  # states at which this call built dQJ/dq: the equation's evaluations, the feedforward's
+
+
+def jacobian_entries(chain, points):
+    """Entries of dQJ/dq (6N x n x n, one complex step per coordinate) built at ``points`` states of ``chain``: the
+    count the loading study's budget is in (a right-hand side of the equation and a feedforward point build one)."""
+    return 6 * chain.bodies * chain.n**2 * int(points)
+
+
+def least_points(steps, scheme):
+    """The fewest states at which a :func:`solve` with ``steps`` not in its memo builds dQJ/dq: the equation at
+    steps, steps / 2 and steps / 4 (RK4 four evaluations a step, Radau IIA at least one Newton iteration of its two
+    stages) and the feedforward at the scheme's nodes of those grids."""
+    grids = steps + steps // 2 + steps // 4
+    return grids * ((2 if scheme.implicit else 4) + len(scheme.nodes))
 
 
 def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.generalized_forces, horizon=2.0,
-          progress=lambda message: None, scheme=fixedstep.RK4, work=None):
+          progress=lambda message: None, scheme=fixedstep.RK4, work=None, memo=None):
     """Integrate (RoboticEquation) and every capture model over the mass window with ``scheme``, counting into
-    ``work``; see :class:`Solution`. Raises fixedstep.NewtonFailure when an implicit step does not converge."""
+    ``work``; see :class:`Solution`. Raises fixedstep.NewtonFailure when an implicit step does not converge.
+
+    ``memo`` (a dict the caller keeps for one chain, trajectory, control, forces and horizon) holds the runs that
+    depend on the steps and the scheme alone (the equation at steps, steps / 2 and steps / 4, the rigid chain
+    without momentum exchange, the closed loop's fastest mode) and each capture by (steps, scheme, pieces): a
+    later call with the same steps integrates only the captures it has not seen, and ``work`` counts only what
+    was integrated."""
     a, b = mass_window(trajectory, horizon)
     n = scene_chain.n
     pd = FeedforwardPD(scene_chain, control)
@@ -129,14 +150,23 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
     start = np.concatenate([q0, qd0])
 
     work = work if work is not None else fixedstep.Work()
+    memo = {} if memo is None else memo
 
     def grid(count):
         times = np.linspace(a, b, count + 1)
         ff = pd.feedforward(times[:-1, None] + np.diff(times)[:, None] * np.asarray(scheme.nodes))
         return times, ff
 
+    points = [0]  # states at which dQJ/dq is built: the equation's evaluations and the feedforward's points
+
     def run(rhs, grid_times, inputs, jumps=None):
         return fixedstep.integrate(scheme, rhs, start, grid_times, inputs, jumps, work)
+
+    def run_equation(grid_times, inputs):
+        before = work.evaluations
+        state = run(equation_rhs, grid_times, inputs)
+        points[0] += work.evaluations - before + inputs.shape[0] * inputs.shape[1]
+        return state
 
     def equation_rhs(t, state, ff):
         q, qd = state[..., :n], state[..., n:]
@@ -145,10 +175,14 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
         tau = pd.torque(ff, t, q, qd)
         return np.concatenate([qd, simulate.accelerations(kin, scene_chain.gravity, p, qd, tau, forces)], -1)
 
-    times, ff = grid(steps)
-    progress(f"(RoboticEquation) over [{a:g}, {b:g}] s in {steps} steps of {scheme.name}")
-    equation = run(equation_rhs, times, ff)
-    equation_half, equation_quarter = (run(equation_rhs, *grid(steps // k)) for k in (2, 4))
+    base = memo.get((steps, scheme.name))
+    if base is None:
+        times, ff = grid(steps)
+        progress(f"(RoboticEquation) over [{a:g}, {b:g}] s in {steps} steps of {scheme.name}")
+        equation = run_equation(times, ff)
+        equation_half, equation_quarter = (run_equation(*grid(steps // k)) for k in (2, 4))
+    else:
+        times, ff, equation, equation_half, equation_quarter, without_rate, mode = base
 
     rigid = RigidChain(scene_chain, trajectory)
     rider_cache = {}
@@ -181,12 +215,16 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
             return np.stack([rhs(ti, row, fi) for ti, row, fi in zip(times, state, inputs)])
         return rhs
 
-    progress("rigid chain with Theta(t), no momentum exchanged with the added mass")
-    without_rate = run(rigid_rhs(lambda t: t), times, ff)
+    if base is None:
+        progress("rigid chain with Theta(t), no momentum exchanged with the added mass")
+        without_rate = run(rigid_rhs(lambda t: t), times, ff)
 
     out = Solution((a, b), steps, equation, equation_half, without_rate, equation_quarter_steps=equation_quarter,
                    scheme=scheme, work=work)
     for piece in pieces:
+        if (steps, scheme.name, piece) in memo:
+            out.captures[piece] = memo[steps, scheme.name, piece]
+            continue
         index, mass_times = piece.schedule(a, b, steps)
         current = {"mass_time": a}
 
@@ -205,14 +243,23 @@ def solve(scene_chain, trajectory, control, pieces, steps=256, forces=motion.gen
             return np.concatenate([q, qd])
 
         progress(piece.name)
-        out.captures[piece] = run(rigid_rhs(lambda t, c=current: c["mass_time"]), times, ff, jumps)
+        out.captures[piece] = memo[steps, scheme.name, piece] = run(rigid_rhs(lambda t, c=current: c["mass_time"]),
+                                                                    times, ff, jumps)
     span = np.abs(equation - start)
     tiny = np.finfo(float).tiny
     out.scale = np.concatenate([np.full(n, max(span[:n].max(), np.abs(qd0).max() * (b - a), tiny)),
                                 np.full(n, max(np.abs(equation[n:]).max(), np.abs(qd0).max(), tiny))])
-    ff_end = pd.feedforward(np.array(b))
-    out.mode = simulate.fastest_eigenvalue(lambda states: np.stack([equation_rhs(b, s, ff_end) for s in states]),
-                                           equation, out.scale)
+    if base is None:
+        ff_end = pd.feedforward(np.array(b))
+
+        def at_end(states):
+            points[0] += len(states)
+            return np.stack([equation_rhs(b, s, ff_end) for s in states])
+
+        mode = simulate.fastest_eigenvalue(at_end, equation, out.scale)
+        points[0] += 1
+        memo[steps, scheme.name] = times, ff, equation, equation_half, equation_quarter, without_rate, mode
+    out.mode, out.equation_points = mode, points[0]
     return out
 
 
@@ -321,20 +368,24 @@ class CaptureStudy:
     scheme: fixedstep.Scheme = fixedstep.RK4
     integration_order: float = np.nan  # observed over 4h, 2h, h (against scheme.order)
     work: fixedstep.Work = field(default_factory=fixedstep.Work)  # counts over every solve
+    entries: int = 0  # dQJ/dq entries built (jacobian_entries), what ``max_entries`` of :func:`study` counts
 
 
 def study(chain, trajectory, control, counts, steps, forces=motion.generalized_forces, horizon=2.0, max_steps=2048,
-          max_count=256, progress=lambda message: None, budget=UNLIMITED, scheme=None):
+          max_count=256, progress=lambda message: None, budget=UNLIMITED, scheme=None, max_entries=None):
     """Captures of pieces at rest (and carried) against (RoboticEquation). The scheme (unless given) is RK4 unless
     the fastest closed-loop mode needs more than ``max_steps`` of it (then Radau IIA, :func:`scheme_for`). The steps
     double until the integration floor lies FLOOR_BELOW under the smallest error (or an implicit step's Newton
     iterations did not converge); K doubles while the order is unsettled or between the bands of convergence and
     levelling off, but not once the floor is above MAX_FLOOR with the steps at ``max_steps``. Every limit is a
-    count (steps, pieces, Newton iterations), except the wall-clock safety net ``budget``."""
+    count (steps, pieces, Newton iterations, and ``max_entries``: the entries of dQJ/dq the study may build,
+    :func:`jacobian_entries`, so that the steps a long chain gets shrink with its n^3 cost; a solve that the entries
+    left cannot pay for at :func:`least_points` ends the study INCONCLUSIVE), except the wall-clock safety net
+    ``budget``."""
     window = mass_window(trajectory, horizon)
     rate = simulate.fastest_rate(chain, trajectory, control, window)
     condition = simulate.conditioning(chain, trajectory, control, window)
-    counts, history, work = tuple(counts), [], fixedstep.Work()
+    counts, history, work, memo, spent = tuple(counts), [], fixedstep.Work(), {}, 0
     chosen, resolved = scheme_for(window, rate, counts, steps, max_steps)
     if scheme is not None and scheme is not chosen:
         resolved = rate if scheme is fixedstep.RK4 else 0.0
@@ -342,7 +393,7 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
 
     def unanswered(need, why):
         return CaptureStudy(window, need, counts, rate, np.nan, [], counts[-3:], [], [], [], np.nan,
-                            Verdict.INCONCLUSIVE, None, why, history, scheme, work=work)
+                            Verdict.INCONCLUSIVE, None, why, history, scheme, work=work, entries=spent)
 
     if condition > simulate.MAX_CONDITION:
         return unanswered(steps, f"M is numerically singular for forward dynamics (scaled cond {condition:.1e}): qdd "
@@ -359,18 +410,25 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
         if need > max_steps:
             return unanswered(need, f"too stiff for the fixed-step study: the fastest closed-loop mode ({rate:.3g} "
                                     f"rad/s) needs {need} {scheme.name} steps over the window, more than {max_steps}")
+        if max_entries is not None and (need, scheme.name) not in memo:
+            cost = jacobian_entries(chain, least_points(need, scheme))
+            if spent + cost > max_entries:
+                return unanswered(need, f"the study's count of {max_entries:.3g} dQJ/dq entries does not pay for "
+                                        f"{need} {scheme.name} steps on {chain.n} joints (at least {cost:.3g} more, "
+                                        f"{spent:.3g} spent)" + (" (refining)" if history else ""))
         history.append((need, counts))
         pieces = ([Pieces(k, "middle", "rest") for k in counts] + [Pieces(k, "start", "rest") for k in fine]
                   + [Pieces(k, "middle", "carried") for k in fine])
         try:
             with np.errstate(all="ignore"):
-                sol = solve(chain, trajectory, control, pieces, need, forces, horizon, progress, scheme, work)
+                sol = solve(chain, trajectory, control, pieces, need, forces, horizon, progress, scheme, work, memo)
         except fixedstep.NewtonFailure as failure:
             if 2 * need > max_steps:
                 return unanswered(need, f"{failure}, and {2 * need} steps would exceed {max_steps}")
             steps = 2 * need
             progress(f"{failure}; {steps} steps")
             continue
+        spent += jacobian_entries(chain, sol.equation_points)
         d = lambda x, y=None: distance(x, sol.equation if y is None else y, sol.scale)  # noqa: E731
         floor, integration_order = integration_floor(sol)
         at_rest = [d(sol.captures[Pieces(k, "middle", "rest")]) for k in counts]
@@ -394,4 +452,4 @@ def study(chain, trajectory, control, counts, steps, forces=motion.generalized_f
         [d(sol.captures[Pieces(k, "start", "rest")]) for k in fine],
         [d(sol.captures[Pieces(k, "middle", "carried")]) for k in fine],
         [d(sol.captures[Pieces(k, "middle", "carried")], sol.without_rate) for k in fine],
-        d(sol.without_rate), verdict, order, why, history, scheme, integration_order, work)
+        d(sol.without_rate), verdict, order, why, history, scheme, integration_order, work, spent)

@@ -249,8 +249,8 @@ class Batch:
         are the ones that stall Newton on a long chain: on the 24-link snake BDF took 5,584 right-hand sides and
         403 Jacobians for one run, 1,120 and 62 with these columns. For Newton's matrix, not exact: qdd is quadratic
         in qd, and the step's truncation error is h_j/2 d^2 qdd / dqd_j^2 (on the thin rod, with its qdd of 4e4,
-        up to 11 % of the block; exact central differences or complex steps took 2n states and 1.2x, 1.4x the time on
-        the snake, with the same steps). The law's rows keep their analytic columns: differences there, against
+        up to 11 % of the block; exact central differences or complex steps take 2n states, with the same steps on
+        the snake). The law's rows keep their analytic columns: differences there, against
         micro_2r's tolerances of 1e-13 on its estimate, stalled Newton (t = 0.011 of 1.7 s in 3,000 evaluations)."""
         n, runs = self.n, len(self.specs)
         state = y.reshape(runs, self.size)
@@ -508,15 +508,20 @@ def choose_method(batch, horizon, max_evaluations, method="auto", implicit=IMPLI
     return implicit if not need * RK45_MARGIN <= max_evaluations else "RK45"
 
 
+FIXED_WORK = 0.5  # work units of one evaluation whatever the chain: the solver's own step
+KINEMATICS_WORK = 0.1  # per joint, once per batch: the kinematics of the batch's configuration
+PASS_WORK = 0.016  # per joint and run: the recursive passes of the closed loop
+SOLVE_WORK = 0.00013  # per joint cubed and run: the dense solve with M(q) (an n x n factorization)
+
+
 def evaluation_cost(n, runs):
     """The counted work of one evaluation (right-hand side or LU factorization; a Jacobian counts
-    Batch.jacobian_cost of them) of a batch of ``runs`` runs on an n-joint chain: 0.5 + 0.1 n + runs (0.016 n +
-    0.00013 n^3) units, about a millisecond each on the machine it was fitted on (2 cores; ci APP batches of 12
-    runs: 2R 1.0-1.2 ms, Panda 2.8-2.9 ms, a 24-link snake 39 ms; alone 0.75, 1.3 and 7 ms; measured again on
-    2026-11-28: 1.0, 1.8 and 19.9 ms, alone 0.66, 0.87 and 2.3 ms, so the formula now counts the snake's
-    evaluations at twice their time). A formula of counts, the same on every machine: budgets in these units let
-    the count, not the clock, stop a run wherever the machine is no more than a few times slower."""
-    return 0.5 + 0.1 * n + runs * (0.016 * n + 0.00013 * n**3)
+    Batch.jacobian_cost of them) of a batch of ``runs`` runs on an n-joint chain, in work units: an operation count
+    model FIXED_WORK + KINEMATICS_WORK n + runs (PASS_WORK n + SOLVE_WORK n^3) = 0.5 + 0.1 n + runs (0.016 n +
+    0.00013 n^3), one term per part of the evaluation and its order in n and runs. A count of operations, not a
+    time: a budget in work units stops a run at the same point on every machine (the wall clock stays the safety
+    net). How these weights compare with measured seconds: bench/results/machine_timings.md."""
+    return FIXED_WORK + KINEMATICS_WORK * n + runs * (PASS_WORK * n + SOLVE_WORK * n**3)
 
 
 def _stiffened(solver, batch, end, max_evaluations):
@@ -526,8 +531,8 @@ def _stiffened(solver, batch, end, max_evaluations):
     alone (checks.applications.simulate_recipes) instead of all of them stepping at the stiff one's pace until the
     budget ends (trolley_2r: a batch of 12 spent all its 21,888 counted evaluations to reach t = 0.68 of 1.7 s); a
     run alone starts again with an implicit method (simulate; trolley's natural run of the 0.25 s traverse spent
-    31,355 RK45 evaluations, 26 s, before BDF took it). A count, not the clock: the same on every machine. A look
-    counts as a Jacobian."""
+    31,355 RK45 evaluations before BDF took it). A count, not the clock: the same on every machine. A look counts
+    as a Jacobian."""
     batch.jacobians += 1
     modes = np.nan_to_num(batch.fastest_modes(solver.t, solver.y))
     i = int(np.argmax(np.abs(modes)))

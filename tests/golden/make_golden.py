@@ -52,5 +52,39 @@ def write(name, expect, cert):
     (HERE / f"{name}.{expect}.json").write_text(json.dumps(cert, sort_keys=True) + "\n")
 
 
+def identify():
+    """The ``residual-bound`` goldens (issue 50), from consistent fits of the spatial 3R arm's torques (a consistent
+    truth; one whose body 3 has a negative mass): ``python tests/golden/make_golden.py --identify``."""
+    import numpy as np
+
+    from inertiaproof.dynamics import motion, regressors
+    from inertiaproof.identify.consistent import consistent_fit
+    from inertiaproof.identify.problem import NormalEquations
+    from inertiaproof.scene import robots
+
+    scene = robots.spatial_3r()
+    rng = np.random.default_rng(0)
+    q, qd, qdd = rng.uniform(-np.pi, np.pi, (60, 3)), rng.normal(0, 1.5, (60, 3)), rng.normal(0, 3, (60, 3))
+    kin = motion.kinematics(scene.chain, q)
+    a = np.moveaxis(regressors.regressor(kin.qj, kin.dqj, kin.rotations, scene.chain.gravity, qd, qd, qdd), 2, 1)
+    a = a.reshape(180, 30)
+    base = np.asarray(scene.trajectory.base, float)
+    for name, mass in (("lower", base[2, 0]), ("excess", -1.0)):
+        truth = base.copy()
+        truth[2, 0] = mass
+        ne = NormalEquations.of_rows(a, a @ truth.ravel() + rng.normal(0, 0.05, 180), ("link1", "link2", "link3"))
+        fit = consistent_fit(ne, trace_bounds=[50.0] * 3)
+        cert = next(c for c in fit.certificates if c["claim"].get("quantity") == name)
+        write(f"residual-bound-{name}", "reproved", cert)
+        if name == "lower":
+            write("residual-bound-lower", "refuted", {**cert, "claim": {**cert["claim"], "bound": str(
+                Fraction(fit.residual) * 2)}, "dual": {**cert["dual"], "theta": [str(Fraction(x)) for x in fit.theta]}})
+        else:
+            write("residual-bound-excess", "refuted", scaled(cert, 10**6))
+        zero = [[["0"] * 4] * 4] * 3  # no dual: the Lagrangian bound falls far below, no point refutes the claim
+        write(f"residual-bound-{name}", "unproved", {**cert, "dual": {**cert["dual"], "Z": zero}})
+        write(f"residual-bound-{name}", "bad", {**cert, "claim": {**cert["claim"], "statement": "better than L"}})
+
+
 if __name__ == "__main__":
-    main(sys.argv[1])
+    identify() if sys.argv[1] == "--identify" else main(sys.argv[1])
