@@ -207,7 +207,7 @@ def simulate_recipes(recipes, s, forces=motion.generalized_forces):
     return runs, batches
 
 
-WORK_JOINTS = 24  # a study on a longer chain gets the work of one on this many joints, so the work stops growing
+WORK_JOINTS = 12  # a study on a longer chain gets the work of one on this many joints, so the work stops growing
 # as n^3 with the chain: its runs that need more end by the count, INCONCLUSIVE with no evidence, on every machine
 
 

@@ -73,9 +73,7 @@ from .urdf import (
     Problem,
     Robot,
     UrdfJoint,
-    _declare,
-    _parse,
-    _undeclared_prefixes,
+    parse_declaring,
 )
 
 __all__ = ["DEFAULT_INERTIAL", "SDF_JOINTS", "is_sdf", "read_sdf", "sdf_inertial_text"]
@@ -388,16 +386,7 @@ def _open(path, warnings, data=None):
             raise InputError(f"{path}: cannot read: {exc.strerror}") from None
     if not data.strip():
         raise InputError(f"{path}: empty file")
-    try:
-        root = _parse(data, path)
-    except ElementError as exc:
-        prefixes = _undeclared_prefixes(exc)
-        if not prefixes:
-            raise
-        warnings.append(f"namespace prefixes {', '.join(prefixes)} are not declared: their elements and attributes "
-                        "are read as unknown ones")
-        data = _declare(data, prefixes)
-        root = _parse(data, path)
+    root, data = parse_declaring(data, path, warnings)
     if etree.QName(root).localname != "sdf":
         raise InputError(f"{path}: the root element is <{root.tag}>, not <sdf>")
     return _Reader(path, root, data, warnings)

@@ -62,7 +62,8 @@ from .geometry import read_geometry
 from .locate import decode, element_spans, urdf_sources
 
 __all__ = [
-    "ElementError", "INERTIA_ATTRIBUTES", "Inertial", "JOINT_TYPES", "LARGEST", "Link", "Problem", "read_urdf", "Robot",
+    "ElementError", "INERTIA_ATTRIBUTES", "Inertial", "JOINT_TYPES", "LARGEST", "Link", "parse_declaring", "Problem",
+    "read_urdf", "Robot",
     "UrdfJoint", "XACRO",
 ]
 
@@ -231,9 +232,18 @@ def _parse_xml(data, path, warnings):
     """The root <robot> of the file's bytes, with what urdfdom reads and lxml does not set right (see the module)."""
     if not data.strip():
         raise InputError(f"{path}: empty file")
-    data = _tolerated(data, warnings)
+    root, _ = parse_declaring(_tolerated(data, warnings), path, warnings)
+    if root.tag != "robot":
+        raise InputError(f"{path}: the root element is <{root.tag}>, not <robot>")
+    return root
+
+
+def parse_declaring(data, path, warnings):
+    """(root element, bytes read) of an XML file's bytes, its undeclared namespace prefixes declared on the root
+    start tag (a warning each): the element or attribute kept with its prefixed name, as urdfdom (TinyXML) reads
+    it."""
     try:
-        root = _parse(data, path)
+        return _parse(data, path), data
     except ElementError as exc:
         prefixes = _undeclared_prefixes(exc)
         if not prefixes:
@@ -241,10 +251,8 @@ def _parse_xml(data, path, warnings):
         for prefix in prefixes:
             warnings.append(f"namespace prefix '{prefix}' is not declared: its elements and attributes are read as "
                             "unknown ones, as urdfdom (TinyXML) reads them")
-        root = _parse(_declare(data, prefixes), path)
-    if root.tag != "robot":
-        raise InputError(f"{path}: the root element is <{root.tag}>, not <robot>")
-    return root
+        data = _declare(data, prefixes)
+        return _parse(data, path), data
 
 
 def _parse(data, path):
