@@ -108,7 +108,7 @@ def audit_urdf(path, *, profile="ci", bounds="arms", floating_base=False, slack=
     extra = {"xacro_args": dict(xacro_args)} if xacro_args else {}
     samples, rounds = budget.audit_budget(bounds)
     with np.errstate(all="ignore"):
-        files = audit_paths([path], samples=samples, rounds=rounds, bounds=bounds,
+        files = audit_paths([path], samples=samples, rounds=rounds, bounds=bounds, **budget.audit_chains(bounds),
                             floating_base=floating_base, slack=slack, seed=seed, **extra)
     return Audit(document(files, profile=profile, seed=seed, bounds=bounds, floating_base=floating_base, slack=slack,
                           runtime_s=time.perf_counter() - start, versions=versions("yourdfpy", "mujoco")))

@@ -118,8 +118,10 @@ def is_serial_arm(chains):
 # -- one file ------------------------------------------------------------------
 
 def audit_robot(robot, *, samples, rounds, bounds="arms", floating_base=False, slack=DEFAULT_SLACK, seed=0,
-                max_density=DENSEST, packages=None):
-    """The audit of one parsed robot as a JSON-ready dict (see README, ``inertiaproof audit``); ``max_density``
+                max_density=DENSEST, packages=None, full_chains=None, quick_rounds=None):
+    """The audit of one parsed robot as a JSON-ready dict (see README, ``inertiaproof audit``); with ``full_chains``
+    (a count) only that many chains, in the tree's order, get the budget of ``rounds``, the others that of
+    ``quick_rounds`` (each chain's ``bounds_rounds`` and a warning say which); ``max_density``
     (kg/m^3) is the premise of the theorems on the bodies inside each link's geometry (:mod:`.bodies_inside`: URDF
     and SDFormat shapes, MJCF geoms by :mod:`.mjcf_geometry`, which also holds a declared MJCF inertial against
     MuJoCo's own inertia from the geoms)."""
@@ -179,11 +181,19 @@ def audit_robot(robot, *, samples, rounds, bounds="arms", floating_base=False, s
     body_out = _bodies(tree, links, verdicts, massless, floating_base, frames)
     judged += [(f"body {name}", b["verdict"]) for name, b in body_out.items() if b["judged"]]
     chains_out, arm = {}, is_serial_arm(tree.chains)
-    for sc in tree.chains:
+    capped = (full_chains is not None and quick_rounds is not None and quick_rounds < rounds
+              and len(tree.chains) > full_chains)
+    cap = {"full_chains": full_chains, "chains": len(tree.chains), "full_rounds": rounds, "quick_rounds": quick_rounds,
+           "note": f"--bounds {bounds}: {full_chains} of the {len(tree.chains)} chains (the first in the tree's order) "
+                   f"bounded with the full budget ({rounds:g} rounds per bracket), the other "
+                   f"{len(tree.chains) - full_chains} with the quick one ({quick_rounds:g} rounds: no pivot ladders, "
+                   "certified sides looser); the profile's audit_full_chains"} if capped else None
+    for index, sc in enumerate(tree.chains):
         names = [b.anchor for b in sc.bodies]
         codes = [LABELS.index(body_out[name]["verdict"]) for name in names]
         want = bounds == "all" or (bounds == "arms" and arm)
-        found = chain_bounds(sc.chain, sc.theta, samples=samples, rounds=rounds, seed=seed) if want else None
+        chain_rounds = quick_rounds if capped and index >= full_chains else rounds
+        found = chain_bounds(sc.chain, sc.theta, samples=samples, rounds=chain_rounds, seed=seed) if want else None
         chains_out[sc.bodies[-1].anchor] = {
             "name": sc.name,
             "joints": [j.name for j in sc.chain.joints],
@@ -192,6 +202,7 @@ def audit_robot(robot, *, samples, rounds, bounds="arms", floating_base=False, s
             "bodies": names,
             "bodies_consistent": all(c == CONSISTENT for c in codes),
             "bounds": found,
+            **({"bounds_rounds": chain_rounds} if capped and want else {}),
             "singular": _singularity(sc, codes, names, found, frames),
         }
     not_consistent = [name for name, v in judged if v != "consistent"]
@@ -206,7 +217,8 @@ def audit_robot(robot, *, samples, rounds, bounds="arms", floating_base=False, s
         "status": "ok",
         "robot": robot.name,
         "format": robot.format,
-        "warnings": list(robot.warnings),
+        "warnings": list(robot.warnings) + ([cap["note"]] if capped else []),  # the CLI prints them on stderr
+        **({"bounds_cap": cap} if capped else {}),  # chains beyond the profile's count of fully bounded ones
         "problems": [{"link": p.link, "kind": p.kind, "message": p.message, "reads": p.reads,
                       "location": _region(robot.path, p.span, p.expanded)} for p in robot.problems],
         "geometry_errors": [f"{name}: {found['rule']}" for name, entry in link_out.items() if entry["moving"]

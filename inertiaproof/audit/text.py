@@ -149,8 +149,9 @@ def format_file(path, f):
             out.append(f"  body    {name} (joint {body['joint']}; links {', '.join(body['links'])}): "
                        f"{body['verdict']}: {body['reason']}")
     for leaf, c in f["chains"].items():
+        budget = f", bounds with {c['bounds_rounds']:g} rounds per bracket" if "bounds_rounds" in c else ""
         out.append(f"  chain   {c['name']}: {len(c['joints'])} joints {c['kinds']}, bodies "
-                   f"{'all consistent' if c['bodies_consistent'] else 'not all consistent'}")
+                   f"{'all consistent' if c['bodies_consistent'] else 'not all consistent'}{budget}")
         out.append(f"          M(q) singular: {c['singular']['verdict']}: {c['singular']['argument']}")
         for key, q in (c["bounds"] or {}).items():
             if isinstance(q, dict) and "kind" in q:

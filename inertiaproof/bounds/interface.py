@@ -194,7 +194,7 @@ def split_ladder(chain, thetas, observed, rounds, floor=-np.inf):
     if k is None or not observed > 0:
         return -np.inf, f"no split (fewer than {SPLIT_MIN} free coordinates)", None
     z = spatial_inertia(np.asarray(thetas, float))
-    boxes, guard_s = ladder_budget(rounds)
+    boxes, guard_s = ladder_budget(rounds, chain.n)
     boxes, deadline = boxes // SHARE, time.perf_counter() + guard_s / SHARE
     lo, hi = search_box(chain)
     free = free_coordinates(chain)

@@ -67,7 +67,8 @@ def _pivot_normality(chain, rng, rounds, samples, weights, angular, stop):
                             quantity_name="inf_q lambda_min of the unit form (pivots)", samples=samples,
                             rounds=rounds, rng=rng, free=free)
     stop = found.observed / ladder_goal(rounds) if stop is None else stop
-    return _ladder(chain, family, values, found.observed, found.witness, ladder_budget(rounds), stop, forms=True)
+    return _ladder(chain, family, values, found.observed, found.witness, ladder_budget(rounds, chain.n), stop,
+                   forms=True)
 
 
 def _ladder(chain, family, values, observed, witness, budget, stop, sign=1.0, forms=False):
@@ -108,7 +109,7 @@ def _form_ladder(chain, forms, rounds, samples, stop, probe, metrics):
     found = bracket_extreme(lambda q: values(q).min(-1), None, lo, hi, sense="min",
                             quantity_name="inf_q lambda_min of a lower form (pivots)", samples=samples,
                             rounds=min(rounds, FORM_ROUNDS), rng=np.random.default_rng(0), free=free)
-    boxes, guard_s = ladder_budget(min(rounds, PIVOT_MIN_ROUNDS) if probe else rounds)
+    boxes, guard_s = ladder_budget(min(rounds, PIVOT_MIN_ROUNDS) if probe else rounds, chain.n)
     if probe:  # a share of the ci budget whatever the profile: a form that fails here fails with more too (measured)
         boxes, guard_s = boxes // probe, guard_s / probe
     gamma, note, proof = _ladder(chain, family, values, found.observed, found.witness, (boxes, guard_s), stop,
@@ -172,7 +173,7 @@ def pivot_sup(chain, thetas, rounds, observed, witness, goal, boxes=None):
     def values(q):
         return mass_spectra(chain, thetas, q, "lmax")  # (K, V)
 
-    budget = ladder_budget(rounds)
+    budget = ladder_budget(rounds, chain.n)
     if boxes is not None and boxes > budget[0]:  # more boxes, and the wall-clock guard in proportion
         budget = (boxes, budget[1] * boxes / budget[0])
     return _ladder(chain, family, values, observed, witness, budget, observed * goal, sign=-1.0)

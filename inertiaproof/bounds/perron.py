@@ -17,11 +17,23 @@ from .fourier import (
 )
 from .memo import memo
 from .spectral import EPS
+from .taylor import fourier_terms
 
-__all__ = ["FOURIER_DEEP_ROUNDS", "FOURIER_PAIRS_ROUNDS", "fourier_perron_bound", "fourier_step", "tighten_by_fourier"]
+__all__ = ["FOURIER_DEEP_ROUNDS", "FOURIER_PAIRS_ROUNDS", "FOURIER_TERMS_PER_ROUND", "fourier_fits",
+           "fourier_perron_bound", "fourier_step", "fourier_terms", "tighten_by_fourier"]
 
 FOURIER_PAIRS_ROUNDS = 10  # bracket budgets (rounds) from which pairs of coordinates are gridded too (head entries)
 FOURIER_DEEP_ROUNDS = 200  # bracket budgets (rounds) from which four coordinates pair up, on grids twice as fine
+FOURIER_TERMS_PER_ROUND = 200_000  # terms 5^m n^2 of M's Fourier series (coefficients times entries) one round of a
+# bracket's budget pays for (a budget under one round counts as one): ci's 20 rounds pay for 4e6, a 7-joint chain
+# with every coordinate free (5^7 49 = 3.8e6) and not an 8-joint one (5^7 64 = 5.0e6); deep's 800 for every chain
+
+
+def fourier_fits(chain, rounds):
+    """Whether the Fourier strategy's terms (:func:`inertiaproof.bounds.taylor.fourier_terms`; each grid cell of
+    :func:`inertiaproof.bounds.fourier.certified_entry_sups` sums over them, for every parameter set) fit the count
+    ``FOURIER_TERMS_PER_ROUND`` times the bracket's budget of ``rounds`` (at least one)."""
+    return fourier_terms(chain) <= FOURIER_TERMS_PER_ROUND * max(float(rounds), 1.0)
 
 
 def tighten_by_fourier(result, chain, thetas, rounds, square):

@@ -34,14 +34,17 @@ import numpy as np
 
 from .pivots import METRICS, RIDGES, pivot_test
 
-__all__ = ["CHUNK", "LADDER", "Ladder", "calibrated_radii", "ladder_budget", "ladder_goal", "partition", "pivot_ladder",
-           "rung_cost"]
+__all__ = ["CHUNK", "LADDER", "LADDER_JOINTS", "Ladder", "calibrated_radii", "ladder_budget", "ladder_goal",
+           "partition", "pivot_ladder", "rung_cost"]
 
 LADDER = (64.0, 16.0, 8.0, 4.0, 2.8, 1.95, 1.6, 1.45, 1.35, 1.25, 1.18, 1.15, 1.12, 1.1, 1.08, 1.05, 1.03, 1.02, 1.01)  # observed / target
 CHUNK = 4096  # boxes per pivot test call
 GRID = np.geomspace(0.003, 3.0, 11)  # radii tried by the calibration
 BOXES = (40_000, 250, 400)  # boxes a ladder may test: the first plus the second (from DEEP_ROUNDS the third) per
 # round of a bracket's budget
+LADDER_JOINTS = 8  # a ladder's count of work is its boxes times n^3 (the pivots of a box: O(n^3) on n joints): a
+# chain of more joints gets the boxes of this many joints' work, (LADDER_JOINTS / n)^3 of BOXES' (a 7-joint arm and
+# its gripper's slide: all of them)
 EXTRA = 6  # after the goal, a ladder goes on with 1/EXTRA of its budget
 DEEP_ROUNDS = 200  # rounds per bracket from which a ladder goes on below the issue's 2x (the deep profile's 800)
 LADDER_GUARD = (30.0, 0.3)  # a ladder's wall-clock safety net, seconds: the first plus the second per round
@@ -65,12 +68,16 @@ class Ladder(NamedTuple):
     partition: tuple | None = None
 
 
-def ladder_budget(rounds):
+def ladder_budget(rounds, joints=None):
     """(boxes, seconds): the count of boxes a ladder may test for a bracket budget of ``rounds`` (ci's 20: 45,000;
-    deep's 800: 360,000) and the wall-clock safety net ``LADDER_GUARD`` (a loaded machine ends with a lower, still
-    certified target)."""
+    deep's 800: 360,000) on a chain of ``joints`` joints (more than ``LADDER_JOINTS``: the boxes whose count times
+    n^3 is that of LADDER_JOINTS joints) and the wall-clock safety net ``LADDER_GUARD`` (a loaded machine ends with
+    a lower, still certified target)."""
     per_round = BOXES[1] if rounds < DEEP_ROUNDS else BOXES[2]
-    return int(BOXES[0] + per_round * rounds), LADDER_GUARD[0] + LADDER_GUARD[1] * rounds
+    boxes = BOXES[0] + per_round * rounds
+    if joints is not None and joints > LADDER_JOINTS:
+        boxes = boxes * LADDER_JOINTS**3 / joints**3
+    return int(boxes), LADDER_GUARD[0] + LADDER_GUARD[1] * rounds
 
 
 def ladder_goal(rounds):

@@ -42,7 +42,7 @@ from .families import mass_spectra
 from .interface import EVIDENCE, split_ladder
 from .ladders import adopt_upper, form_ladder, pivot_normality, upper_ladder_step
 from .lengths import block_rows
-from .perron import fourier_step
+from .perron import fourier_fits, fourier_step
 from .pivot_search import DEEP_ROUNDS, EXTRA, ladder_budget, ladder_goal
 from .pivots import METRICS, PIVOT_LIMIT, PIVOT_MIN_ROUNDS
 from .spectral import EPS, ROUNDING, spectral
@@ -116,7 +116,7 @@ class Strategy:
 
     def boxes(self, walk):
         """The count of boxes the strategy may test (its counted work)."""
-        return ladder_budget(walk.rounds)[0]
+        return ladder_budget(walk.rounds, walk.chain.n)[0]
 
     def sampled(self, walk):
         """The sampled value of the strategy's form (it cannot certify more); inf where it has none."""
@@ -325,7 +325,8 @@ class OwnBodies(Strategy):
     name, quantities, stage = "bodies", frozenset({"mass_inf"}), (3, 3)
 
     def boxes(self, walk):
-        return ladder_budget(walk.rounds)[0] + ladder_budget(min(walk.rounds, 20))[0] // REAL_PROBE
+        return (ladder_budget(walk.rounds, walk.chain.n)[0]
+                + ladder_budget(min(walk.rounds, 20), walk.chain.n)[0] // REAL_PROBE)
 
     def tighten(self, bracket, walk):  # |F| keeps an indefinite P's light directions: every metric
         gamma, how, proof = proved(walk, bodies(walk).z, REAL_PROBE, METRICS)
@@ -338,8 +339,8 @@ class OwnBodies(Strategy):
 class Fourier(Strategy):
     name, quantities, unconditional = "fourier", frozenset({"mass_sup", "jacobian_sup"}), True
 
-    def applies(self, walk):
-        return walk.obstacle is None
+    def applies(self, walk):  # its terms 5^m n^2 within the count its rounds pay for (perron.fourier_fits)
+        return walk.obstacle is None and fourier_fits(walk.chain, walk.rounds)
 
     def boxes(self, walk):
         return 0
@@ -352,7 +353,7 @@ class Upper(Strategy):
     name, quantities, stage, unconditional = "upper", frozenset({"mass_sup", "jacobian_sup"}), (1, 1), True
 
     def boxes(self, walk):
-        return max(ladder_budget(walk.rounds)[0], walk.boxes or 0)
+        return max(ladder_budget(walk.rounds, walk.chain.n)[0], walk.boxes or 0)
 
     def tighten(self, bracket, walk):
         thetas = walk.thetas if walk.ladder_thetas is None else walk.ladder_thetas

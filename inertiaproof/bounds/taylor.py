@@ -49,7 +49,7 @@ from .spectral import EPS, ROUNDING
 
 __all__ = [
     "box_bounds", "certified_box_bound", "ENTRY_ROUNDING", "entry_degrees", "entry_factors", "entry_sups",
-    "FOURIER_LIMIT", "fourier_coefficients", "fourier_sups", "perron_of",
+    "FOURIER_LIMIT", "FOURIER_TERMS", "fourier_coefficients", "fourier_terms", "fourier_sups", "perron_of",
     "MassFamily", "perron_bound",
 ]
 
@@ -104,11 +104,13 @@ def entry_sups(chain, thetas):
 
 
 FOURIER_LIMIT = 7  # free turning coordinates up to which the 5^m Fourier coefficients of M are computed
+FOURIER_TERMS = 4_000_000  # terms 5^m n^2 of M's Fourier series (coefficients times entries, from 5^m samples of M)
+# computed at most: a 7-joint chain with every coordinate free (5^7 49 = 3.8e6), not an 8-joint one (5^7 64 = 5.0e6)
 
 
 def fourier_sups(chain, thetas, free):
-    """W[v, i, l] = sum_k |F_k| >= sup_q |M_il(q, Theta_v)| over all q, or None (a free slide, or more than
-    ``FOURIER_LIMIT`` free coordinates).
+    """W[v, i, l] = sum_k |F_k| >= sup_q |M_il(q, Theta_v)| over all q, or None (a free slide, more than
+    ``FOURIER_LIMIT`` free coordinates, or more than ``FOURIER_TERMS`` terms 5^m n^2).
 
     M is a trigonometric polynomial of degree <= 2 in every turning coordinate, so its values on the grid of 5
     angles per free coordinate give its Fourier coefficients F_k (k in {-2..2}^m) exactly, and
@@ -124,6 +126,11 @@ def fourier_sups(chain, thetas, free):
     return (np.abs(coefficients).sum(0) + m * delta) * (1 + 2 * m * EPS)
 
 
+def fourier_terms(chain, free=None):
+    """5^m n^2: the terms of M's Fourier series in the m free coordinates (``free``, default the chain's)."""
+    return 5 ** int(np.sum(free_coordinates(chain) if free is None else free)) * chain.n**2
+
+
 def fourier_coefficients(chain, thetas, free):
     """(F, k, delta): the exact Fourier coefficients F (5^m, V, n, n) of M(q, Theta_v) in the m free coordinates,
     their integer frequencies k (5^m, m) in {-2..2}, and the allowance delta (V, n, n) of every computed
@@ -131,7 +138,8 @@ def fourier_coefficients(chain, thetas, free):
     FFT, times 1.01); None where :func:`fourier_sups` is None. Cached by content; read only."""
     idx = np.flatnonzero(free)
     m = len(idx)
-    if m > FOURIER_LIMIT or not all(chain.joints[j].revolute for j in idx):
+    if m > FOURIER_LIMIT or fourier_terms(chain, free) > FOURIER_TERMS or not all(chain.joints[j].revolute
+                                                                                 for j in idx):
         return None
     thetas = np.asarray(thetas, float)
     return memo("fourier", chain, (thetas, np.asarray(free, bool)), lambda: _coefficients(chain, thetas, idx))

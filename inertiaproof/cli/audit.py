@@ -109,7 +109,7 @@ def main(args):
     profile = PROFILES[args.profile]
     start = time.perf_counter()
     samples, rounds = profile.audit_budget(args.bounds)
-    options = dict(samples=samples, rounds=rounds, bounds=args.bounds,
+    options = dict(samples=samples, rounds=rounds, bounds=args.bounds, **profile.audit_chains(args.bounds),
                    floating_base=args.floating_base, slack=args.repair_slack, seed=args.seed,
                    max_density=args.max_density, **({"packages": packages} if packages else {}))
     xacro_args = parse_arguments(args.xacro_arg)

@@ -25,6 +25,8 @@ class Profile:
     audit_rounds: float = 2  # an audit's bracket budget per chain (rounds, as ``rounds``) with the default --bounds
     # arms: below PIVOT_MIN_ROUNDS, so no pivot ladders: M(q) certified nonsingular, the lower side loose
     audit_full_rounds: float = 20  # the same with --bounds all: the pivot ladders run (lower sides within 2x)
+    audit_full_chains: int = 12  # chains of one file --bounds all bounds with audit_full_rounds, in the tree's order;
+    # the others get audit_rounds (a tree of 99 chains: 12 full, 87 quick; every chain of a serial arm fits)
     check_s: float = 180.0  # seconds one check may run (inertiaproof.budget): then it ends INCONCLUSIVE with what it
     # has (the safety net behind the counted budgets; bench/cpu_hog.py measures a run beside two CPU hogs)
     run_s: float = 300.0  # seconds a whole run may take: a check started late gets only what is left
@@ -33,6 +35,11 @@ class Profile:
     def audit_budget(self, bounds):
         """(samples, rounds) per chain of an audit with ``--bounds`` ``bounds``."""
         return self.audit_samples, self.audit_full_rounds if bounds == "all" else self.audit_rounds
+
+    def audit_chains(self, bounds):
+        """{full_chains, quick_rounds} of :func:`inertiaproof.audit.document.audit_robot` for ``--bounds``
+        ``bounds``: with all, at most ``audit_full_chains`` chains of a file get the full budget; else no cap."""
+        return {"full_chains": self.audit_full_chains, "quick_rounds": self.audit_rounds} if bounds == "all" else {}
 
     envelope_goal: float = 1.2  # the payload envelope's sup brackets: the pivot ladder goes on to this ratio
     envelope_boxes: int = 0  # boxes the ladder of alpha2's sup over the payload set may test (0: the bracket budget's)
