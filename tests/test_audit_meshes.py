@@ -233,6 +233,7 @@ def _uniform_links(folder):
                 yield path, name, inertial, replace(geometry, inertial_pose=Pose(xyz))
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not _corpora(), reason="neither example-robot-data nor pybullet is installed")
 def test_no_hard_finding_on_the_uniform_inertia_of_the_corpora_watertight_meshes():
     flagged, count = [], 0

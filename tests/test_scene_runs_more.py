@@ -7,6 +7,7 @@ from test_scene_runs import SCENES, run_shipped_scene
 SECOND_HALF = SCENES[1::2]
 
 
+@pytest.mark.slow  # the first half runs in the default set (test_scene_runs.py)
 @pytest.mark.parametrize("path", SECOND_HALF, ids=[p.stem for p in SECOND_HALF])
 def test_every_shipped_scene_runs_without_a_crash_or_a_violation(path, tmp_path):
     run_shipped_scene(path, tmp_path)
