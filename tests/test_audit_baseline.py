@@ -5,7 +5,7 @@ updated errors) in text, JSON, SARIF and GitHub annotations."""
 import json
 
 import pytest
-from test_audit_ci import SCHEMA
+from test_audit_ci import valid_sarif
 from urdf_samples import inertial, joint, link, robot, write
 
 from inertiaproof import cli
@@ -21,11 +21,6 @@ def _audit(capsys, *argv):
     code = cli.main(["audit", "--bounds", "none", *map(str, argv)])
     out, err = capsys.readouterr()
     return code, out, err
-
-
-def _validate(log):
-    jsonschema = pytest.importorskip("jsonschema", reason="jsonschema is not installed")
-    jsonschema.validate(log, json.loads(SCHEMA.read_text()), cls=jsonschema.Draft4Validator)
 
 
 def _results(path):
@@ -65,7 +60,7 @@ def test_expected_mass_mismatch_is_a_finding_of_the_file(tmp_path, capsys):
     (result,) = [r for r in _results(sarif) if r["ruleId"] == "total-mass-mismatch"]
     assert result["level"] == "error" and result["message"]["text"] == mass["message"]
     assert result["properties"]["subject"] == "model"
-    _validate(json.loads(sarif.read_text()))
+    valid_sarif(json.loads(sarif.read_text()))
     code, out, _ = _audit(capsys, path, "--expect-mass", "arm=3.6")
     assert code == 1 and f"mass    {mass['message']}" in out and "total mass not the expected" in out
     code, out, _ = _audit(capsys, path, "--expect-mass", "3.6", "--github")
@@ -110,7 +105,7 @@ def test_baseline_of_an_unchanged_model(tmp_path, capsys, kind):
     results = _results(sarif)
     assert results and all(r["baselineState"] == "unchanged" for r in results)
     assert {r["properties"]["subject"] for r in results} == {"link l2"}
-    _validate(json.loads(sarif.read_text()))
+    valid_sarif(json.loads(sarif.read_text()))
     doc = json.loads(out)
     assert doc["findings"] and all(f["baseline_state"] == "unchanged" for f in doc["findings"])
     assert doc["baseline"]["counts"] == {"new": 0, "updated": 0, "unchanged": len(results), "absent": 0}
@@ -136,7 +131,7 @@ def test_baseline_catches_a_new_bad_link(tmp_path, capsys, kind):
     code, out, _ = _audit(capsys, path, "--baseline", base, "--sarif", sarif, "--json")
     assert code == 1
     results = _results(sarif)
-    _validate(json.loads(sarif.read_text()))
+    valid_sarif(json.loads(sarif.read_text()))
     new = [r for r in results if r["baselineState"] == "new"]
     assert new and all(r["properties"]["subject"] == "link l3" and "'l3'" in r["message"]["text"] for r in new)
     assert any(r["level"] == "error" for r in new)
@@ -160,7 +155,7 @@ def test_baseline_updated_and_absent(tmp_path, capsys):
     assert _audit(capsys, path, "--baseline", base, "--sarif", sarif)[0] == 1
     states = {r["ruleId"]: r["baselineState"] for r in _results(sarif)}
     assert states["inconsistent"] == "updated"
-    _validate(json.loads(sarif.read_text()))
+    valid_sarif(json.loads(sarif.read_text()))
     # l2 repaired: its findings are absent, nothing fails
     path.write_text(robot(*KNOWN[:2], link("l2", inertial(0.5, "0.2 0 0")), *KNOWN[3:], name="arm"))
     code, out, _ = _audit(capsys, path, "--baseline", base, "--sarif", sarif, "--json")
@@ -168,7 +163,7 @@ def test_baseline_updated_and_absent(tmp_path, capsys):
     results = _results(sarif)
     assert results and all(r["baselineState"] == "absent" and r["level"] == "none" for r in results)
     assert "inconsistent" in {r["ruleId"] for r in results}
-    _validate(json.loads(sarif.read_text()))
+    valid_sarif(json.loads(sarif.read_text()))
     doc = json.loads(out)
     assert doc["findings"] == [] and doc["baseline"]["counts"]["absent"] == len(results)
     # a baseline whose SARIF was itself compared with another leaves its own absent results out

@@ -11,12 +11,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from urdf_samples import inertial, joint, link, robot, robots_folder, write
 
 from inertiaproof import audit_urdf, cli
 from inertiaproof.audit.repair import nearest_consistent_inertia, written_inertia
 from inertiaproof.model.consistency import CONSISTENT, physical_consistency
 from inertiaproof.model.inertia import pack
-from urdf_samples import inertial, joint, link, robot, robots_folder, write
 
 SCHEMA = Path(__file__).parent / "sarif" / "sarif-schema-2.1.0.json"
 REPO = Path(__file__).resolve().parent.parent
@@ -50,13 +50,20 @@ def _region_text(text, region):
     return start, end, text[start:end]
 
 
-def test_sarif_validates_and_points_at_each_inertia_element(tmp_path, capsys):
+
+def valid_sarif(log):
+    """``log`` (a SARIF document) after validating it against SARIF 2.1.0's schema (draft 4)."""
     jsonschema = pytest.importorskip("jsonschema", reason="jsonschema is not installed")
+    jsonschema.validate(log, json.loads(SCHEMA.read_text()), cls=jsonschema.Draft4Validator)
+    return log
+
+
+def test_sarif_validates_and_points_at_each_inertia_element(tmp_path, capsys):
+    pytest.importorskip("jsonschema", reason="jsonschema is not installed")
     path = write(tmp_path, BAD)
     sarif = tmp_path / "audit.sarif"
     code, _, _ = _audit(capsys, path, "--bounds", "none", "--sarif", sarif)
-    log = json.loads(sarif.read_text())
-    jsonschema.validate(log, json.loads(SCHEMA.read_text()), cls=jsonschema.Draft4Validator)
+    log = valid_sarif(json.loads(sarif.read_text()))
     assert code == 1
     results = log["runs"][0]["results"]
     rules = [r["id"] for r in log["runs"][0]["tool"]["driver"]["rules"]]
