@@ -104,13 +104,6 @@ class Bracket:
             self._made = (sources, values, Certificate.of(self.certify(self.certified, self.note, witness, self.proof)))
         return self._made[2]
 
-    def evidence(self):
-        """The ``bracket`` evidence of this bracket (:func:`inertiaproof.presentation.bracket_evidence`, where the
-        presentation lives)."""
-        from inertiaproof.presentation import bracket_evidence
-
-        return bracket_evidence(self)
-
 
 def local_search(value, q, lo, hi, free, *, sign, rounds=40, step=0.25):
     """Batched pattern search from starting points q (K, n): each round tries +-step along every free coordinate."""

@@ -37,6 +37,7 @@ import numpy as np
 
 from inertiaproof.dynamics import composite
 from inertiaproof.model.inertia import point_mass, pseudo_inertia, skew
+from inertiaproof.presentation import bracket_evidence
 
 from . import formulas
 from .certificate import PayloadClaim, payload_f_certificate, sum_certificate
@@ -270,7 +271,7 @@ def envelope(chain, theta, payloads, *, rate, speed=None, masses=(), goal=None, 
                               "q": np.asarray(high.witness).tolist()},
             "lower": lower, "upper": upper, "chi": _chi(chain, payloads, rate, sigma, kw, goal, speed),
             **({"theorem5": _theorem5(chain, payloads, speed, kw)} if speed is not None else {}),
-            "brackets": {"inf lambda_min(M)": low.evidence(), "sup lambda_max(M)": high.evidence()},
+            "brackets": {"inf lambda_min(M)": bracket_evidence(low), "sup lambda_max(M)": bracket_evidence(high)},
             "curve": [_curve_row(chain, theta, payloads.with_mass(mass), rate, sigma, kw, speed) for mass in masses],
             "ingredients": {"inf_sigma_min_QJ_sq": gamma, "sup_sigma_max_QJ": sigma, "zeta": [zeta_observed, zeta]}}
 
@@ -289,8 +290,8 @@ def _theorem5(chain, payloads, speed, kw):
     psi = math.sqrt(psi_square(payloads, speed)) * (1 + 4 * np.finfo(float).eps)
     return {"psi_star": psi, "paper": formulas.lumped_velocity(psi, worst.upper, 6 * chain.n),
             "sharp": formulas.lumped_velocity_sharp(psi, rss.upper),
-            "brackets": {"max_p sup_q sigma_max(Y_p)": worst.evidence(),
-                         "sup_q (sum_p sigma_max(Y_p)^2)^(1/2)": rss.evidence()}}
+            "brackets": {"max_p sup_q sigma_max(Y_p)": bracket_evidence(worst),
+                         "sup_q (sum_p sigma_max(Y_p)^2)^(1/2)": bracket_evidence(rss)}}
 
 
 def _moving(chain, payloads, speed, sigma, factor):
