@@ -40,7 +40,7 @@ class Joint:
         self.before_map, self.after_map = twist_map(self.before), twist_map(self.after)
         k, zero = _skew(self.axis), arb_mat(3, 3)
         n_map = _blocks(-k, zero, zero, -k) if self.revolute else _blocks(zero, -k, zero, zero)
-        self.generators = n_map, n_map * n_map  # N and N^2 of the twist map by delta (see _turn_terms)
+        self.generators = n_map, n_map * n_map  # N and N^2 of the twist map by delta (see _turn_matrices)
         rt = self.after[0].transpose()  # the column of QJ_l in body l's axes: (a x w, w) of a turn, (w, 0) of a slide
         w = rt * self.axis
         lin, ang = (_skew(-(rt * self.after[1])) * w, w) if self.revolute else (w, arb_mat(3, 1))
@@ -136,7 +136,8 @@ class Chain:
                 w = twist_map(joint.motion(arb(centre))) * joint.before_map * base
                 d = (base.transpose() * inertias[0] * base)[0, 0] + _turned_form(joint, t, w, radius) + shift
                 return (0, d) if not d > 0 else (None, d if d.mid() < smallest.mid() else smallest)
-            t = _congruence(t - _turn_loss(joint, t, radius, metric), twist_map(joint.motion(arb(centre))))
+            pieces = memo.setdefault(("loss", l, marks[l + 1:], _near(joint, radius)), {}) if memo is not None else {}
+            t = _congruence(t - _turn_loss(joint, t, radius, metric, pieces), twist_map(joint.motion(arb(centre))))
             lower = inertias[l - 1] + _congruence(t, joint.before_map)
         return None, smallest
 
@@ -174,55 +175,82 @@ def _congruence(a, x):
     return x.transpose() * a * x
 
 
-def _turn_terms(joint, t, radius):
-    """Terms (weight, kind, M) with X(delta)^T t X(delta) - t >= -sum weight W(M) for |delta| <= radius, W(M) >= +-M
-    (kind "abs") or W(M) >= M, 0 ("pos").
+def _near(joint, radius):
+    """Whether a turn by up to ``radius`` takes its loss about the centre's derivative (else by harmonics)."""
+    return joint.revolute and arb(radius) < NEAR
+
+
+def _turn_matrices(joint, t, near):
+    """(kind, M) of the terms of :func:`_turn_weights`: X(delta)^T t X(delta) - t >= -sum weight W(M) for |delta|
+    <= radius, W(M) >= +-M (kind "abs") or W(M) >= M, 0 ("pos").
 
     The twist map by delta is I + s N + c N^2, s = sin delta, c = 1 - cos delta (N = -blockdiag(K, K), K =
     S(axis)); with s^2 = 2 c - c^2 the turned t is t + s G + c A + c^2 B + s c J, G = N^T t + t N, A = N^2 t +
-    t N^2 + 2 H, B = N^2 t N^2 - H, J = N^T t N^2 + N^2 t N, H = N^T t N. Up to NEAR with |s| <= sin r, 0 <= c <=
-    1 - cos r; beyond by harmonics: (G + J) sin d - J/2 sin 2d - (A + 2 B) (cos d - 1) + B/2 (cos 2d - 1). A slide
-    by delta is I + delta N, N = [[0, -S(axis)], [0, 0]]: t + delta G + delta^2 H."""
+    t N^2 + 2 H, B = N^2 t N^2 - H, J = N^T t N^2 + N^2 t N, H = N^T t N. ``near`` (up to NEAR) with |s| <= sin r,
+    0 <= c <= 1 - cos r; beyond by harmonics: (G + J) sin d - J/2 sin 2d - (A + 2 B) (cos d - 1) + B/2 (cos 2d -
+    1). A slide by delta is I + delta N, N = [[0, -S(axis)], [0, 0]]: t + delta G + delta^2 H."""
     n_map, q_map = joint.generators
-    r = arb(radius)
     g, h = n_map.transpose() * t + t * n_map, _congruence(t, n_map)
     if not joint.revolute:
-        return [(r, "abs", g), (r * r, "pos", -h)]
+        return [("abs", g), ("pos", -h)]
     a = q_map * t + t * q_map + h * 2
     b = _congruence(t, q_map) - h
     j = n_map.transpose() * t * q_map + q_map * t * n_map
-    if r < NEAR:
+    if near:
+        return [("abs", g), ("pos", -a), ("pos", -b), ("abs", j)]
+    return [("abs", g + j), ("abs", j), ("pos", -(a + b * 2)), ("pos", b)]
+
+
+def _turn_weights(joint, radius):
+    """The weights of :func:`_turn_matrices`' terms for |delta| <= radius, upper ends."""
+    r = arb(radius)
+    if not joint.revolute:
+        weights = [r, r * r]
+    elif _near(joint, radius):
         sin1, cos1 = r.sin(), 1 - r.cos()
-        return [(sin1, "abs", g), (cos1, "pos", -a), (cos1 * cos1, "pos", -b), (sin1 * cos1, "abs", j)]
-    half = arb.pi() / 2
-    sin1, sin2 = (x.sin() if x < half else arb(1) for x in (r, 2 * r))
-    cos1, cos2 = (1 - x.cos() if x < 2 * half else arb(2) for x in (r, 2 * r))
-    return [(sin1, "abs", g + j), (sin2 / 2, "abs", j), (cos1, "pos", -(a + b * 2)), (cos2 / 2, "pos", b)]
+        weights = [sin1, cos1, cos1 * cos1, sin1 * cos1]
+    else:
+        half = arb.pi() / 2
+        sin1, sin2 = (x.sin() if x < half else arb(1) for x in (r, 2 * r))
+        cos1, cos2 = (1 - x.cos() if x < 2 * half else arb(2) for x in (r, 2 * r))
+        weights = [sin1, sin2 / 2, cos1, cos2 / 2]
+    return [arb(w.abs_upper()) for w in weights]
 
 
-def _turn_loss(joint, t, radius, metric=None):
-    """A bound L with X(delta)^T t X(delta) >= t - L for |delta| <= radius: each term of :func:`_turn_terms` in a
+def _turn_loss(joint, t, radius, metric=None, pieces=None):
+    """A bound L with X(delta)^T t X(delta) >= t - L for |delta| <= radius: each term of :func:`_turn_matrices` in a
     metric H = C C^T (``metric``: C from t's eigen-decomposition, :func:`_metric_factor`; else C = I; any invertible
     C is sound), W(M) = C Y C^T with Y >= +-X (or X, 0) for X = C^-1 M C^-T (:func:`_bounding`); a term whose loss
-    is below SMALL as ||X||_F C C^T."""
-    factor = _metric_factor(t, *metric) if metric else None
-    inverse = factor.inv() if metric else None
+    is below SMALL as ||X||_F C C^T. ``pieces`` (a dict, empty or filled by an earlier call with the same t, metric
+    and branch) keeps C, each X, ||X||_F and Y, which do not depend on the radius."""
+    pieces = {} if pieces is None else pieces
+    if "terms" not in pieces:
+        factor = _metric_factor(t, *metric) if metric else None
+        inverse = factor.inv() if metric else None
+        pieces["factor"], pieces["terms"] = factor, []
+        for kind, m in _turn_matrices(joint, t, _near(joint, radius)):
+            x = inverse * m * inverse.transpose() if metric else m
+            pieces["terms"].append([kind, x, _frobenius(x), None])
     total = arb_mat(6, 6)
-    for weight, kind, m in _turn_terms(joint, t, radius):
-        x = inverse * m * inverse.transpose() if metric else m
-        weight = arb(weight.abs_upper())
-        size = _frobenius(x) * weight
-        total += _diagonal([size] * 6) if size < SMALL else _bounding(x, kind) * weight
+    for weight, term in zip(_turn_weights(joint, radius), pieces["terms"]):
+        kind, x, frobenius, bounding = term
+        size = frobenius * weight
+        if size < SMALL:
+            total += _diagonal([size] * 6)
+        else:
+            term[3] = bounding = _bounding(x, kind) if bounding is None else bounding
+            total += bounding * weight
+    factor = pieces["factor"]
     return factor * total * factor.transpose() if metric else total
 
 
 def _turned_form(joint, t, w, radius):
-    """A lower bound of w^T X(delta)^T t X(delta) w over |delta| <= radius (:func:`_turn_terms`, as scalars)."""
+    """A lower bound of w^T X(delta)^T t X(delta) w over |delta| <= radius (:func:`_turn_matrices`, as scalars)."""
     form = lambda a: (w.transpose() * a * w)[0, 0]  # noqa: E731
     loss = arb(0)
-    for weight, kind, m in _turn_terms(joint, t, radius):
+    for weight, (kind, m) in zip(_turn_weights(joint, radius), _turn_matrices(joint, t, _near(joint, radius))):
         v = form(m)
-        loss += arb(weight.abs_upper()) * arb((abs(v) if kind == "abs" else v.max(arb(0))).abs_upper())
+        loss += weight * arb((abs(v) if kind == "abs" else v.max(arb(0))).abs_upper())
     return form(t) - loss
 
 
