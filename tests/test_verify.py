@@ -27,9 +27,10 @@ from inertiaproof.scene import robots
 from inertiaproof.suite.certificates import settle
 from inertiaproof.suite.outputs import Outputs
 from inertiaproof.suite.replay import replay
-from inertiaproof.verify.tree import parse
+from inertiaproof.verify.claims import decimal
 from inertiaproof.verify.cli import about, check
 from inertiaproof.verify.exact import BadCertificate
+from inertiaproof.verify.tree import parse
 
 CHECKER = Path(__file__).resolve().parents[1] / "inertiaproof" / "verify"
 
@@ -143,6 +144,18 @@ def test_the_tree_covers_the_domain_exactly():
     assert boxes == [[(0, Fraction(1, 2)), (-1, 0)], [(0, Fraction(1, 2)), (0, 1)], [(Fraction(1, 2), 1), (-1, 1)]]
     with pytest.raises(BadCertificate):
         leaves("0 1 . .", domain)
+
+
+def test_a_statement_writes_a_number_by_its_rounded_value():
+    """10 significant digits rounded outward; the form (plain from 1e-10 to below 1e15) follows the rounded value,
+    so 10^15 reads the same whether it is exact or 10^15 - 1 rounded up (the old form wrote 1000000000000000)."""
+    tenth = Fraction(1, 10**10)
+    assert [decimal(x, True) for x in (10**15, 10**15 - 1, tenth, tenth - tenth**3)] == [
+        "1e15", "1e15", "0.0000000001", "0.0000000001"]
+    thirds = [(Fraction(1, 3), True), (Fraction(1, 3), False), (Fraction(-2, 3), True), (Fraction(-2, 3), False)]
+    assert [decimal(x, up) for x, up in thirds] == ["0.3333333334", "0.3333333333", "-0.6666666666", "-0.6666666667"]
+    assert [decimal(x, False) for x in (0, 123456789012345, -tenth / 7, 3 * 10**20)] == [
+        "0", "123456789000000", "-1.428571429e-11", "3e20"]
 
 
 def test_a_refuted_certificate_turns_the_check_violated(planar, tmp_path):

@@ -15,7 +15,6 @@ from collections import deque
 from inertiaproof.verify import payload as checked_payload
 from inertiaproof.verify import skew, spectrum
 from inertiaproof.verify.lengths import perron_side
-from inertiaproof.verify.tree import encode, leaf_nodes
 
 __all__ = ["complete"]
 
@@ -50,6 +49,28 @@ def _spectrum(cert, boxes, leaves):
         return {"method": "tree", "tree": encode(problem.root)}
     k, _, tail, head = problem.split
     return {"method": "tree", "split": {**cert["split"], "tail": encode(tail), "head": encode(head)}}
+
+
+def encode(root):
+    """The prefix code of the tree below ``root`` (the inverse of :func:`inertiaproof.verify.tree.parse`)."""
+    tokens, stack = [], [root]
+    while stack:
+        node = stack.pop()
+        tokens.append("." if node.children is None else str(node.k))
+        stack.extend(reversed(node.children or []))
+    return " ".join(tokens)
+
+
+def leaf_nodes(root, boxes):
+    """The leaves of the tree below ``root`` whose boxes (as an outcome writes them) are among ``boxes``."""
+    wanted = {tuple(map(tuple, box)) for box in boxes}
+    leaves, stack = [], [root]
+    while stack:
+        node = stack.pop()
+        if node.children is None and tuple((str(lo), str(hi)) for lo, hi in node.box) in wanted:
+            leaves.append(node)
+        stack.extend(node.children or [])
+    return leaves
 
 
 def _lengths_prove(problem):

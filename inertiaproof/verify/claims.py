@@ -7,6 +7,7 @@ that proves it; the rest of the certificate is that kind's data (README: "Certif
 
 import hashlib
 import json
+from decimal import MAX_EMAX, MIN_EMIN, ROUND_CEILING, ROUND_FLOOR, Context, Decimal
 from fractions import Fraction
 
 from . import bodies, key_step, moving, payload, product, residual, skew, spectrum
@@ -36,30 +37,11 @@ def prove(cert):
 
 def decimal(x, up):
     """The rational ``x`` as a decimal of 10 significant digits, rounded up (or down): a statement never claims
-    more than its exact bound."""
+    more than its exact bound. Plain from 1e-10 to below 1e15, else d.ddde(exponent)."""
     x = Fraction(str(x))
-    if x == 0:
-        return "0"
-    a, exponent = abs(x), 0
-    while a >= 10**10:
-        a, exponent = a / 10, exponent + 1
-    while a < 10**9:
-        a, exponent = a * 10, exponent - 1
-    scaled = x / Fraction(10) ** exponent
-    return _plain(-((-scaled.numerator) // scaled.denominator) if up else scaled.numerator // scaled.denominator,
-                  exponent)
-
-
-def _plain(n, exponent):
-    sign, digits = ("-" if n < 0 else ""), str(abs(n))
-    if not -20 < exponent < 6:
-        frac = digits[1:].rstrip("0")
-        return f"{sign}{digits[0]}{'.' + frac if frac else ''}e{exponent + len(digits) - 1}"
-    if exponent >= 0:
-        return sign + digits + "0" * exponent
-    digits = digits.rjust(-exponent + 1, "0")
-    whole, frac = digits[:exponent], digits[exponent:].rstrip("0")
-    return sign + whole + ("." + frac if frac else "")
+    context = Context(prec=10, rounding=ROUND_CEILING if up else ROUND_FLOOR, Emax=MAX_EMAX, Emin=MIN_EMIN)
+    d = context.divide(Decimal(x.numerator), Decimal(x.denominator)).normalize(context)
+    return f"{d:f}" if -10 <= d.adjusted() < 15 else f"{d:e}".replace("e+", "e")
 
 
 def _side(claim, lower):

@@ -86,6 +86,20 @@ def ball_max(balls, what):
     return arb(max(finite(x, what).upper() for x in balls))
 
 
+def unproved_pivot(rows):
+    """The first pivot of the LDL^T of the symmetric matrix of balls ``rows`` (its lower triangle read) that is not
+    a positive finite ball, or None: then every symmetric matrix in the balls is positive definite."""
+    a = [list(r) for r in rows]
+    for k in range(len(a)):
+        if not (a[k][k].is_finite() and a[k][k] > 0):
+            return k
+        for i in range(k + 1, len(a)):
+            f = a[i][k] / a[k][k]
+            for j in range(k + 1, i + 1):
+                a[i][j] -= f * a[j][k]
+    return None
+
+
 def above(rows, sign, shift):
     """Whether sign F + shift I >= 0 for the symmetric matrix of exact rationals F (``rows``), decided exactly."""
     return semidefinite([[sign * x + (shift if i == j else 0) for j, x in enumerate(r)] for i, r in enumerate(rows)])

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from flint import arb, arb_mat
 
-from .exact import need, rational_matrix
+from .exact import need, rational_matrix, unproved_pivot
 
 JOINTS, ORIGINS = 200, 64  # the longest chain a certificate may describe; the most origins of one fixed transform
 SMALL = 2**-20  # a term whose whitened size times its weight is below this is bounded by its norm alone
@@ -143,19 +143,8 @@ class Chain:
 
 
 def definite(a):
-    """Whether every symmetric matrix in the ball matrix ``a`` (its upper triangle read) is positive definite: every
-    pivot of its LDL^T a positive ball."""
-    n = a.nrows()
-    s = [[a[min(i, j), max(i, j)] for j in range(n)] for i in range(n)]
-    for k in range(n):
-        if not s[k][k] > 0:
-            return False
-        for i in range(k + 1, n):
-            f = s[i][k] / s[k][k]
-            for j in range(k + 1, i + 1):
-                s[i][j] -= f * s[k][j]
-                s[j][i] = s[i][j]
-    return True
+    """Whether every symmetric matrix in the ball matrix ``a`` (its upper triangle read) is positive definite."""
+    return unproved_pivot([[a[min(i, j), max(i, j)] for j in range(a.ncols())] for i in range(a.nrows())]) is None
 
 
 def _blocks(a, b, c, d):

@@ -23,7 +23,7 @@ import re
 from flint import arb, ctx, fmpq, fmpq_mat
 
 from .bodies import pseudo_inertia
-from .exact import finite, need, rational, rational_matrix, semidefinite
+from .exact import finite, need, rational, rational_matrix, semidefinite, unproved_pivot
 from .outcome import REPROVED, UNPROVED, Outcome, refuted
 
 __all__ = ["dual_side", "parse", "prove", "statement"]
@@ -96,19 +96,6 @@ def _inside(q, theta):
         abs(x) <= b for x, b in zip(theta[10 * q["n"]:], q["B"]))
 
 
-def _pivot(h, sigma):
-    """The first pivot of the LDL^T of H + sigma I (in balls) that is not a positive finite ball, or None."""
-    a = [[arb(x) + (arb(sigma) if i == j else 0) for j, x in enumerate(row)] for i, row in enumerate(h)]
-    for k in range(len(a)):
-        if not (a[k][k].is_finite() and a[k][k] > 0):
-            return k
-        for i in range(k + 1, len(a)):
-            f = a[i][k] / a[k][k]
-            for j in range(k + 1, i + 1):
-                a[i][j] -= f * a[j][k]
-    return None
-
-
 def dual_side(q):
     """(a ball below r on K, why) from the parsed certificate ``q``'s dual, or (None, why not)."""
     y = q["y"]
@@ -124,7 +111,8 @@ def dual_side(q):
     s = [hy[i, 0] - gp[i] for i in range(len(y))]
     dual = sum(a * (b - c) for a, b, c in zip(y, s, gp)) + q["c"] - sum(m * t for m, t in zip(q["mu"], q["T"]))
     with ctx.workprec(PRECISION):
-        k = _pivot(q["H"], q["sigma"])
+        sigma = arb(q["sigma"])
+        k = unproved_pivot([[arb(x) + (sigma if i == j else 0) for j, x in enumerate(r)] for i, r in enumerate(q["H"])])
         if k is not None:
             return None, f"H + sigma I is not proved positive definite: pivot {k + 1} of its LDL^T"
         radius = arb(sum(3 * t * t for t in q["T"]) + sum(b * b for b in q["B"])).sqrt() + arb(sum(

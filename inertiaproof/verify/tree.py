@@ -25,13 +25,6 @@ class Node:
         self.k, self.children = k, [Node(lower), Node(upper)]
         return self.children
 
-    def leaves(self):
-        stack = [self]
-        while stack:
-            node = stack.pop()
-            yield from [node] if node.children is None else []
-            stack.extend(node.children or [])
-
 
 def parse(tree, domain):
     """The root :class:`Node` of the prefix code ``tree`` over ``domain``."""
@@ -47,22 +40,6 @@ def parse(tree, domain):
             stack.extend(reversed(node.cut(int(token))))  # the lower half is read first
     need(not stack, f"tree: {len(stack)} box(es) have no token: the leaves do not cover the domain")
     return root
-
-
-def leaf_nodes(root, boxes):
-    """The leaves of the tree below ``root`` whose boxes (as an outcome writes them) are among ``boxes``."""
-    wanted = {tuple(map(tuple, box)) for box in boxes}
-    return [node for node in root.leaves() if tuple((str(lo), str(hi)) for lo, hi in node.box) in wanted]
-
-
-def encode(root):
-    """The prefix code of the tree below ``root`` (the inverse of :func:`parse`)."""
-    tokens, stack = [], [root]
-    while stack:
-        node = stack.pop()
-        tokens.append("." if node.children is None else str(node.k))
-        stack.extend(reversed(node.children or []))
-    return " ".join(tokens)
 
 
 def prove(problem, walks):
