@@ -26,6 +26,13 @@ def known(cert, keys):
     need(set(cert) <= set(keys), f"unknown field(s) {sorted(set(cert) - set(keys))}")
 
 
+def fields(obj, keys, where, optional=()):
+    """``obj``, an object with every field of ``keys`` and none beyond them and ``optional``."""
+    need(isinstance(obj, dict) and set(keys) <= set(obj) <= set(keys) | set(optional),
+         f"{where}: the fields {sorted(keys)}" + (f" (and {sorted(optional)})" if optional else ""))
+    return obj
+
+
 def _pairs(pairs):
     seen = {}
     for key, value in pairs:
@@ -62,6 +69,18 @@ def rational_matrix(rows, shape, where):
                                                                   for r in rows),
          f"{where}: expected a {shape[0]}x{shape[1]} list of numbers")
     return [[rational(x, f"{where}[{i}][{j}]") for j, x in enumerate(r)] for i, r in enumerate(rows)]
+
+
+def vector(xs, n, where):
+    """The ``n`` exact rationals of the list ``xs``."""
+    return rational_matrix([xs], (1, n), where)[0]
+
+
+def symmetric(rows, n, where):
+    """The exact rationals of the symmetric ``n`` x ``n`` matrix ``rows``."""
+    m = rational_matrix(rows, (n, n), where)
+    need(all(m[i][j] == m[j][i] for i in range(n) for j in range(i)), f"{where}: not symmetric")
+    return m
 
 
 def dyadic(x):

@@ -13,15 +13,11 @@ from pathlib import Path
 
 from flint import arb, arb_mat
 
-from .exact import need, rational_matrix, unproved_pivot
+from .exact import need, unproved_pivot, vector
 
 JOINTS, ORIGINS = 200, 64  # the longest chain a certificate may describe; the most origins of one fixed transform
 SMALL = 2**-20  # a term whose whitened size times its weight is below this is bounded by its norm alone
 NEAR = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative, beyond by harmonics
-
-
-def _vector(data, n, where):
-    return rational_matrix([data], (1, n), where)[0]
 
 
 class Joint:
@@ -30,12 +26,12 @@ class Joint:
              f"{where}: a joint is an object of name, kind, axis, before, after and limits")
         self.revolute = {"revolute": True, "prismatic": False}.get(data.get("kind"))
         need(self.revolute is not None, f"{where}.kind: 'revolute' or 'prismatic', not {data.get('kind')!r}")
-        axis = [arb(x) for x in _vector(data.get("axis"), 3, f"{where}.axis")]
+        axis = [arb(x) for x in vector(data.get("axis"), 3, f"{where}.axis")]
         norm = sum(a * a for a in axis).sqrt()
         need(norm > 0, f"{where}.axis: the axis must be a nonzero vector")
         self.axis = arb_mat(3, 1, [a / norm for a in axis])
         self.before, self.after = (_composed(data.get(k), f"{where}.{k}") for k in ("before", "after"))
-        self.limits = data.get("limits") and tuple(_vector(data["limits"], 2, f"{where}.limits"))
+        self.limits = data.get("limits") and tuple(vector(data["limits"], 2, f"{where}.limits"))
         need(not self.limits or self.limits[0] <= self.limits[1], f"{where}.limits: lower > upper")
         self.before_map, self.after_map = twist_map(self.before), twist_map(self.after)
         k, zero = _skew(self.axis), arb_mat(3, 3)
@@ -60,7 +56,7 @@ def _composed(origins, where):
     r, p = _diagonal([1] * 3), arb_mat(3, 1)
     for i, data in enumerate(origins):
         need(isinstance(data, dict) and set(data) == {"xyz", "rpy"}, f"{where}[{i}]: an origin {{xyz, rpy}}")
-        xyz, rpy = (_vector(data[k], 3, f"{where}[{i}].{k}") for k in ("xyz", "rpy"))
+        xyz, rpy = (vector(data[k], 3, f"{where}[{i}].{k}") for k in ("xyz", "rpy"))
         (cr, sr), (cp, sp), (cy, sy) = ((arb(a).cos(), arb(a).sin()) for a in rpy)
         ri = arb_mat([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
                       [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], [-sp, cp * sr, cp * cr]])

@@ -23,7 +23,7 @@ A matrix condition linear in the row, holding at every set, holds on their hull;
 from flint import arb, fmpq
 
 from .bodies import parameter_sets, pseudo_inertia, spatial_inertia
-from .exact import above, dyadic, finite, need, rational, rational_matrix
+from .exact import above, dyadic, finite, need, rational, rational_matrix, vector
 from .outcome import REPROVED, UNPROVED, Outcome
 
 PEAKS = {  # sup |s'| and sup |s''| of the ramps s(x) on [0, 1], x = (t - start) / T (times 1/T and 1/T^2)
@@ -53,13 +53,12 @@ def _profile(data, where):
 def _path(data, where):
     """(C^2 exact, d1, d2): bounds of |c|^2, |dc/ds| and |d2c/ds2| over the path."""
     shape = data.get("shape") if isinstance(data, dict) else None
-    vector = lambda key: rational_matrix([data.get(key)], (1, 3), f"{where}.{key}")[0]  # noqa: E731
     norm2 = lambda v: sum(x * x for x in v)  # noqa: E731
     if shape == "line":
-        a, b = vector("start"), vector("end")
+        a, b = vector(data.get("start"), 3, f"{where}.start"), vector(data.get("end"), 3, f"{where}.end")
         return max(norm2(a), norm2(b)), arb(norm2([y - x for x, y in zip(a, b)])).sqrt(), arb(0)
     need(shape == "circle", f"{where}.shape: 'line' or 'circle'")
-    centre2, r = norm2(vector("center")), rational(data.get("radius"), f"{where}.radius")
+    centre2, r = norm2(vector(data.get("center"), 3, f"{where}.center")), rational(data.get("radius"), f"{where}.radius")
     need(r >= 0, f"{where}.radius: must be >= 0")
     reach = dyadic(((arb(centre2).sqrt() + arb(r)) ** 2).upper())
     while not (reach - centre2 - r * r >= 0 and (reach - centre2 - r * r) ** 2 >= 4 * r * r * centre2):

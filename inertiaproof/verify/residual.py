@@ -23,7 +23,7 @@ import re
 from flint import arb, ctx, fmpq, fmpq_mat
 
 from .bodies import pseudo_inertia
-from .exact import finite, need, rational, rational_matrix, semidefinite, unproved_pivot
+from .exact import fields, finite, need, rational, semidefinite, symmetric, unproved_pivot, vector
 from .outcome import REPROVED, UNPROVED, Outcome, refuted
 
 __all__ = ["dual_side", "parse", "prove", "statement"]
@@ -33,51 +33,38 @@ PRECISION = 320  # bits of the balls of the LDL^T of H + sigma I
 UNITS = [pseudo_inertia([fmpq(int(i == k)) for i in range(10)]) for k in range(10)]  # f^*(Z)_k = <Z, f(e_k)>
 
 
-def _fields(obj, keys, where, optional=()):
-    need(isinstance(obj, dict) and set(keys) <= set(obj) <= set(keys) | set(optional),
-         f"{where}: the fields {sorted(keys)}" + (f" (and {sorted(optional)})" if optional else ""))
-    return obj
-
-
 def _vector(xs, n, where, sign=False):
-    need(isinstance(xs, list) and len(xs) == n, f"{where}: {n} numbers")
-    out = [rational(x, f"{where}[{i}]") for i, x in enumerate(xs)]
+    out = vector(xs, n, where)
     return out if not sign or all(x >= 0 for x in out) else need(False, f"{where}: numbers >= 0")
-
-
-def _symmetric(rows, n, where):
-    m = rational_matrix(rows, (n, n), where)
-    need(all(m[i][j] == m[j][i] for i in range(n) for j in range(i)), f"{where}: not symmetric")
-    return m
 
 
 def parse(cert):
     """The certificate's exact numbers, checked for shape (a dict)."""
-    _fields(cert, {"schema", "claim", "data", "bounds", "dual"}, "certificate", {"reference", "provenance"})
-    claim = _fields(cert["claim"], {"kind", "quantity", "bound"}, "claim")
+    fields(cert, {"schema", "claim", "data", "bounds", "dual"}, "certificate", {"reference", "provenance"})
+    claim = fields(cert["claim"], {"kind", "quantity", "bound"}, "claim")
     need(claim["quantity"] in ("lower", "excess") and (claim["quantity"] == "excess") == ("reference" in cert),
          "claim.quantity: lower, or excess with a reference")
-    data = _fields(cert["data"], {"H", "g", "c", "rows", "bodies", "extra"}, "data", {"source"})
+    data = fields(cert["data"], {"H", "g", "c", "rows", "bodies", "extra"}, "data", {"source"})
     names, source = (data["bodies"], data["extra"]), data.get("source", {"path": "", "sha256": "0" * 64})
     need(all(isinstance(v, list) and all(isinstance(x, str) for x in v) for v in names) and type(data["rows"]) is int
          and data["rows"] >= 0 and 0 < 10 * len(names[0]) + len(names[1]) <= COLUMNS,
          f"data: bodies and extra are lists of names (1 to {COLUMNS} columns), rows a count")
-    need(isinstance(_fields(source, {"path", "sha256"}, "data.source")["path"], str)
+    need(isinstance(fields(source, {"path", "sha256"}, "data.source")["path"], str)
          and re.fullmatch(r"[0-9a-f]{64}", str(source["sha256"])), "data.source: {path, sha256 (64 hex digits)}")
     n, p = len(names[0]), 10 * len(names[0]) + len(names[1])
-    bounds, dual = _fields(cert["bounds"], {"trace", "extra"}, "bounds", {"ellipsoids"}), _fields(cert["dual"], {
+    bounds, dual = fields(cert["bounds"], {"trace", "extra"}, "bounds", {"ellipsoids"}), fields(cert["dual"], {
         "Z", "mu", "theta", "sigma"}, "dual", {"nu"})
     need(all(isinstance(v, list) and len(v) == n for v in (dual["Z"], bounds.get("ellipsoids", dual["Z"]))) and (
         "ellipsoids" in bounds) == ("nu" in dual), f"dual.Z, bounds.ellipsoids: a 4x4 matrix per body ({n}); dual.nu "
          "with the ellipsoids")
     zero = [[fmpq(0)] * 4] * 4
     return {"quantity": claim["quantity"], "bound": rational(claim["bound"], "claim.bound"), "n": n, "names": names,
-            "H": _symmetric(data["H"], p, "data.H"), "g": _vector(data["g"], p, "data.g"),
+            "H": symmetric(data["H"], p, "data.H"), "g": _vector(data["g"], p, "data.g"),
             "c": rational(data["c"], "data.c"), "T": _vector(bounds["trace"], n, "bounds.trace", True),
             "B": _vector(bounds["extra"], p - 10 * n, "bounds.extra", True),
             "y": _vector(dual["theta"], p, "dual.theta"),
-            "Z": [_symmetric(z, 4, f"dual.Z[{l}]") for l, z in enumerate(dual["Z"])],
-            "Q": [_symmetric(m, 4, f"bounds.ellipsoids[{l}]") for l, m in enumerate(bounds["ellipsoids"])]
+            "Z": [symmetric(z, 4, f"dual.Z[{l}]") for l, z in enumerate(dual["Z"])],
+            "Q": [symmetric(m, 4, f"bounds.ellipsoids[{l}]") for l, m in enumerate(bounds["ellipsoids"])]
             if "ellipsoids" in bounds else [zero] * n, "nu": _vector(dual.get("nu", ["0"] * n), n, "dual.nu", True),
             "mu": _vector(dual["mu"], n, "dual.mu", True), "sigma": _vector([dual["sigma"]], 1, "dual.sigma", True)[0],
             "ref": _vector(cert["reference"], p, "reference") if "reference" in cert else None}

@@ -14,7 +14,7 @@ from flint import arb, arb_mat, fmpq
 
 from . import tree
 from .bodies import parameter_sets, spatial_inertia
-from .exact import finite, known, need, rational, rational_matrix, semidefinite
+from .exact import finite, known, need, rational, semidefinite, symmetric
 from .kinematics import Chain, definite
 from .lengths import perron_side
 from .outcome import REPROVED, UNPROVED, Outcome, refuted
@@ -29,12 +29,6 @@ def fields(cert, keys, quantities):
     """Nothing, or :class:`.exact.BadCertificate` for a field beyond ``keys`` or a quantity not in ``quantities``."""
     known(cert, keys)
     need(cert["claim"].get("quantity") in quantities, f"claim.quantity: one of {sorted(quantities)}")
-
-
-def _symmetric(rows, where):
-    m = rational_matrix(rows, (6, 6), where)
-    need(all(m[i][j] == m[j][i] for i in range(6) for j in range(i)), f"{where}: not symmetric")
-    return m
 
 
 def domain_of(cert, chain):
@@ -96,7 +90,7 @@ class Problem:
              f"forms: for a lambda_min claim, one set of body matrices or one per parameter set ({sets})")
         for f, form in enumerate(forms or []):
             need(isinstance(form, list) and len(form) == self.chain.n, f"forms[{f}]: one matrix per body")
-        self.forms = forms and [[_symmetric(y, f"forms[{f}][{l}]") for l, y in enumerate(form)]
+        self.forms = forms and [[symmetric(y, 6, f"forms[{f}][{l}]") for l, y in enumerate(form)]
                                 for f, form in enumerate(forms)]
         self.split = None
         if split is not None:
@@ -108,7 +102,7 @@ class Problem:
                  f"split.body: a body between 1 and {self.chain.n - 2}")
             need(isinstance(inner, list) and len(inner) == sets,
                  f"split.interfaces: one 6x6 matrix per parameter set ({sets})")
-            self.split = (body, [_symmetric(m, f"split.interfaces[{v}]") for v, m in enumerate(inner)],
+            self.split = (body, [symmetric(m, 6, f"split.interfaces[{v}]") for v, m in enumerate(inner)],
                           tree.parse(split["tail"], self.domain), tree.parse(split["head"], self.domain))
 
     def refute(self, point, why, boxes=0):
