@@ -4,14 +4,14 @@ The claim: for every body l and every Phi in the hull of body l's rows in the se
 (``matrix`` "pseudo_inertia", 4x4) or Z(Phi) ("spatial_inertia", 6x6), ``lambda_min`` F - bound I >= 0,
 ``lambda_max`` bound I - F >= 0, ``sigma_max`` both bound I -+ F >= 0. F is linear in Phi and the semidefinite cone
 convex, so each row decides the hull. Optional ``directions`` (``lambda_min``): the hull plus any nonnegative
-multiple of body l's direction D_l, when also f(D_l) >= 0. Every row is decided in exact rational arithmetic.
+multiple of body l's direction D_l, when also F(D_l) >= 0. Every row is decided in exact rational arithmetic.
 """
 
 import itertools
 
 from flint import fmpq
 
-from .exact import above, dyadic, need, rational, semidefinite
+from .exact import dyadic, need, rational, rationals, semidefinite, vector
 from .outcome import REPROVED, Outcome, refuted
 
 QUANTITIES = {"lambda_min": ((1, -1, "F - bound I"),), "lambda_max": ((-1, 1, "bound I - F"),),
@@ -44,25 +44,14 @@ MATRICES = {"pseudo_inertia": pseudo_inertia, "spatial_inertia": spatial_inertia
 def parameter_sets(cert, bodies=None):
     """The exact rows (V lists of N rows of 10) of a certificate's ``parameters``; ``bodies`` N when known. With a
     ``formation``, the sets must be the vertices it forms (:func:`formed`), no more and no fewer."""
-    rows = rows_of(cert.get("parameters"), bodies, "parameters")
+    sets = cert.get("parameters")
+    need(isinstance(sets, list) and sets and isinstance(sets[0], list) and sets[0],
+         "parameters: a nonempty list of parameter sets, each a nonempty list of bodies")
+    rows = rationals(sets, (len(sets), bodies or len(sets[0]), 10), "parameters")
     keyed = lambda sets: {tuple(tuple(row) for row in r) for r in sets}  # noqa: E731
     need("formation" not in cert or keyed(rows) == keyed(formed(cert["formation"], len(rows[0]))),
          "parameters: not the vertices the formation forms")
     return rows
-
-
-def rows_of(sets, bodies, key):
-    """The exact rows of the sets ``sets`` (V lists of N rows of 10; the field ``key``); ``bodies`` N when known."""
-    need(isinstance(sets, list) and sets and isinstance(sets[0], list) and sets[0],
-         f"{key}: a nonempty list of parameter sets, each a nonempty list of bodies")
-    bodies = bodies or len(sets[0])
-    for v, body_rows in enumerate(sets):
-        need(isinstance(body_rows, list) and len(body_rows) == bodies,
-             f"{key}[{v}]: one row of 10 parameters per body ({bodies})")
-        for l, row in enumerate(body_rows):
-            need(isinstance(row, list) and len(row) == 10, f"{key}[{v}][{l}]: 10 numbers")
-    return [[[rational(x, f"{key}[{v}][{l}][{i}]") for i, x in enumerate(row)] for l, row in enumerate(body_rows)]
-            for v, body_rows in enumerate(sets)]
 
 
 def formed(formation, bodies):
@@ -71,59 +60,70 @@ def formed(formation, bodies):
     ranges (and, for the rate, ds of their rates +- r), in float64 in that order (as the prover forms them), each
     float an exact rational."""
     need(isinstance(formation, dict) and set(formation) == {"of", "base", "loads"} and formation["of"] in (
-        "theta", "rate") and isinstance(formation["loads"], list), "formation: {of: theta or rate, base, loads}")
-    base = [[float(x) for x in row] for row in rows_of([formation["base"]], bodies, "formation.base")[0]]
-    loads = []
+        "theta", "rate") and isinstance(formation["loads"], list) and len(formation["loads"]) <= 12,
+         "formation: {of: theta or rate, base, loads (at most 12: 2^12 corners)}")
+    rates, floats = formation["of"] == "rate", lambda xs, n, at: [float(x) for x in vector(xs, n, at)]  # noqa: E731
+    base, loads = [[float(x) for x in row] for row in rationals(formation["base"], (bodies, 10), "formation.base")], []
     for i, load in enumerate(formation["loads"]):
         where, kind = f"formation.loads[{i}]", load.get("kind") if isinstance(load, dict) else None
         need(kind in ("payload", "scaling") and type(load.get("body")) is int and 1 <= load["body"] <= bodies,
              f"{where}: {{kind: payload or scaling, body from 1 to {bodies}, ...}}")
-        phi = [float(rational(x, f"{where}.phi")) for x in load.get("phi", [])] if kind == "payload" else None
-        need(phi is None or len(phi) == 10, f"{where}.phi: 10 numbers")
-        ends = load.get("range") if isinstance(load.get("range"), list) and len(load["range"]) == 2 else [None] * 2
-        loads.append((kind, load["body"] - 1, phi, [float(rational(x, f"{where}.range")) for x in ends],
-                      float(rational(load.get("rate"), f"{where}.rate"))))
-    need(len(loads) <= 12, "formation.loads: at most 12 (2^12 corners)")
-    rates = itertools.product(*[(-r, r) for *_, r in loads]) if formation["of"] == "rate" else [None]
-    out = [_corner(base, loads, s, ds) for ds in rates for s in itertools.product(*[ends for *_, ends, _ in loads])]
-    return [[[dyadic(x) for x in row] for row in rows] for rows in out]
+        rate = float(rational(load.get("rate"), f"{where}.rate"))
+        corners = [(s, ds) for s in floats(load.get("range"), 2, f"{where}.range")
+                   for ds in ((-rate, rate) if rates else (0.0,))]
+        loads.append((kind, load["body"] - 1, floats(load.get("phi"), 10, f"{where}.phi") if kind == "payload"
+                      else None, corners))
+    loads.sort(key=lambda load: load[0] == "payload")  # every scaling, then every payload, each in the list's order
+    vertices = [_corner(base, loads, corner)[rates]
+                for corner in itertools.product(*[corners for *_, corners in loads])]
+    return [[[dyadic(x) for x in row] for row in rows] for rows in vertices]
 
 
-def _corner(base, loads, s, ds):
+def _corner(base, loads, corner):
+    """(Theta, Thetadot) at one corner, a pair (s, ds) per load."""
     theta, dot = [list(row) for row in base], [[0.0] * 10 for _ in base]
-    for k, ((kind, body, _, _, _), si) in enumerate(zip(loads, s)):
+    for (kind, l, phi, _), (s, ds) in zip(loads, corner):
         if kind == "scaling":
-            d, row = 0.0 if ds is None else ds[k], theta[body]
-            theta[body], dot[body] = [si * x for x in row], [d * x + si * y for x, y in zip(row, dot[body])]
-    for k, ((kind, body, phi, _, _), si) in enumerate(zip(loads, s)):
-        if kind == "payload":
-            theta[body] = [x + si * p for x, p in zip(theta[body], phi)]
-            dot[body] = [x + (0.0 if ds is None else ds[k]) * p for x, p in zip(dot[body], phi)]
-    return theta if ds is None else dot
+            theta[l], dot[l] = [s * x for x in theta[l]], [ds * x + s * y for x, y in zip(theta[l], dot[l])]
+        else:
+            theta[l], dot[l] = [x + s * p for x, p in zip(theta[l], phi)], [y + ds * p for y, p in zip(dot[l], phi)]
+    return theta, dot
+
+
+def first_failure(sets, conditions):
+    """The first (set v, body l, what) at which sign F + shift I >= 0 fails, decided exactly for every one of the
+    ``conditions(l, row)`` (tuples (what, F, sign, shift)) of every row of the sets; or None. And how many were
+    decided."""
+    tested = 0
+    for v, rows in enumerate(sets):
+        for l, row in enumerate(rows):
+            for what, f, sign, shift in conditions(l, row):
+                tested += 1
+                if not semidefinite(f, sign, shift):
+                    return (v, l, what), tested
+    return None, tested
 
 
 def prove(cert):
-    """The :class:`Outcome` of the claim: every (parameter set, body) decided exactly."""
+    """The :class:`Outcome` of the claim: the directions, then every (parameter set, body), decided exactly."""
     claim = cert["claim"]
     matrix, quantity = claim.get("matrix"), claim.get("quantity")
     need(matrix in MATRICES, f"claim.matrix: one of {sorted(MATRICES)}, not {matrix!r}")
     need(quantity in QUANTITIES, f"claim.quantity: one of {sorted(QUANTITIES)}")
-    build, bound, sets, tested = MATRICES[matrix], rational(claim.get("bound"), "claim.bound"), parameter_sets(cert), 0
     need("directions" not in cert or quantity == "lambda_min", "directions: only for a lambda_min claim")
-    for l, row in enumerate(rows_of([cert["directions"]], len(sets[0]), "directions")[0] if "directions" in cert
-                            else []):
-        tested += 1
+    build, bound, sets = MATRICES[matrix], rational(claim.get("bound"), "claim.bound"), parameter_sets(cert)
+    directions = rationals(cert["directions"], (len(sets[0]), 10), "directions") if "directions" in cert else []
+    for l, row in enumerate(directions):
         if not semidefinite(build(row)):
-            return refuted(f"direction of body {l + 1}: {matrix}(D) is not positive semidefinite, so lambda_min "
-                           "falls without bound along it (exact rational arithmetic)", {"direction": l + 1},
-                           {matrix + "(D)": "indefinite"}, tested)
-    for v, body_rows in enumerate(sets):
-        for l, row in enumerate(body_rows):
-            for sign, shift, what in QUANTITIES[quantity]:
-                tested += 1
-                if not above(build(row), sign, shift * bound):
-                    return refuted(f"parameter set {v}, body {l + 1}: {what} is not positive semidefinite for F = "
-                                   f"{matrix}(Phi) (exact rational arithmetic)", {"parameter_set": v, "body": l + 1},
-                                   {what: "not positive semidefinite", "bound": str(bound)}, tested)
+            return refuted(f"direction of body {l + 1}: {matrix}(D) is not positive semidefinite, so lambda_min falls "
+                           "without bound along it (exact rational arithmetic)", {"direction": l + 1},
+                           {f"{matrix}(D)": "indefinite"}, l + 1)
+    fail, tested = first_failure(sets, lambda l, row: [(what, build(row), sign, shift * bound)
+                                                       for sign, shift, what in QUANTITIES[quantity]])
+    if fail:
+        v, l, what = fail
+        return refuted(f"parameter set {v}, body {l + 1}: {what} is not positive semidefinite for F = {matrix}(Phi) "
+                       "(exact rational arithmetic)", {"parameter_set": v, "body": l + 1},
+                       {what: "not positive semidefinite", "bound": str(bound)}, tested + len(directions))
     return Outcome(REPROVED, f"{len(sets)} parameter set(s) x {len(sets[0])} bodies: every {matrix}(Phi) decided "
-                   "exactly", tested)
+                   "exactly", tested + len(directions))

@@ -5,7 +5,7 @@ import json
 import re
 from fractions import Fraction
 
-from flint import arb, fmpq
+from flint import arb, fmpq, fmpq_mat
 
 DIGITS = 2000  # the longest number a certificate may write (characters): exact arithmetic on it stays bounded
 NUMBER = re.compile(r"[-+]?(\d+(\.\d*)?|\.\d+)([eE][-+]?\d{1,4})?(/\d+)?")
@@ -41,13 +41,16 @@ def _pairs(pairs):
     return seen
 
 
+def _refuse(why):
+    return lambda text: need(False, why.format(text))
+
+
 def read_json(text, floats=False):
     """The JSON document ``text``, read strictly: a duplicate key, NaN or Infinity, or (unless ``floats``) a JSON
     float is a :class:`BadCertificate`; so is trailing data (``json.loads``)."""
+    strict = {} if floats else {"parse_float": _refuse("the JSON number {}: exact numbers are written as strings")}
     try:
-        return json.loads(text, object_pairs_hook=_pairs, parse_constant=lambda t: need(
-            False, f"{t} is not a number a certificate may hold"), **({} if floats else {"parse_float": lambda t: need(
-                False, f"the JSON number {t}: exact numbers are written as strings (\"p/q\" or a decimal)")}))
+        return json.loads(text, object_pairs_hook=_pairs, parse_constant=_refuse("{} is not a number"), **strict)
     except json.JSONDecodeError as exc:
         raise BadCertificate(f"not JSON: {exc}") from None
 
@@ -63,22 +66,23 @@ def rational(text, where):
     return fmpq(value.numerator, value.denominator)
 
 
-def rational_matrix(rows, shape, where):
-    """The exact rationals of a certificate's ``shape`` matrix ``rows`` (lists of numbers)."""
-    need(isinstance(rows, list) and len(rows) == shape[0] and all(isinstance(r, list) and len(r) == shape[1]
-                                                                  for r in rows),
-         f"{where}: expected a {shape[0]}x{shape[1]} list of numbers")
-    return [[rational(x, f"{where}[{i}][{j}]") for j, x in enumerate(r)] for i, r in enumerate(rows)]
+def rationals(xs, shape, where):
+    """The exact rationals of the nested lists ``xs`` of ``shape`` (lengths, outermost first)."""
+    if not shape:
+        return rational(xs, where)
+    what = f"{shape[0]} numbers" if len(shape) == 1 else f"a {'x'.join(map(str, shape))} array of numbers"
+    need(isinstance(xs, list) and len(xs) == shape[0], f"{where}: {what}")
+    return [rationals(x, shape[1:], f"{where}[{i}]") for i, x in enumerate(xs)]
 
 
 def vector(xs, n, where):
     """The ``n`` exact rationals of the list ``xs``."""
-    return rational_matrix([xs], (1, n), where)[0]
+    return rationals(xs, (n,), where)
 
 
 def symmetric(rows, n, where):
     """The exact rationals of the symmetric ``n`` x ``n`` matrix ``rows``."""
-    m = rational_matrix(rows, (n, n), where)
+    m = rationals(rows, (n, n), where)
     need(all(m[i][j] == m[j][i] for i in range(n) for j in range(i)), f"{where}: not symmetric")
     return m
 
@@ -119,27 +123,12 @@ def unproved_pivot(rows):
     return None
 
 
-def above(rows, sign, shift):
-    """Whether sign F + shift I >= 0 for the symmetric matrix of exact rationals F (``rows``), decided exactly."""
-    return semidefinite([[sign * x + (shift if i == j else 0) for j, x in enumerate(r)] for i, r in enumerate(rows)])
-
-
-def semidefinite(rows):
-    """Whether the symmetric matrix of exact rationals ``rows`` is positive semidefinite, decided exactly: LDL^T
-    with the largest remaining diagonal entry as pivot; once every remaining diagonal entry is zero, the rest
-    must vanish (a zero diagonal entry of a semidefinite matrix has a zero row)."""
-    a = [list(r) for r in rows]
-    left = list(range(len(a)))
-    while left:
-        k = max(left, key=lambda i: a[i][i])
-        d = a[k][k]
-        if d < 0:
-            return False
-        if d == 0:
-            return all(a[i][j] == 0 for i in left for j in left)
-        left.remove(k)
-        for i in left:
-            f = a[i][k] / d
-            for j in left:
-                a[i][j] -= f * a[k][j]
-    return True
+def semidefinite(rows, sign=1, shift=0):
+    """Whether sign F + shift I >= 0 for the symmetric n x n matrix F of exact rationals (``rows``), decided exactly:
+    its eigenvalues t_i are real, and all are >= 0 iff q(s) = (-1)^n p(-s) = prod_i (s + t_i), p its characteristic
+    polynomial, has no negative coefficient (if all t_i >= 0, the product has none; if none, q(s) >= s^n > 0 for
+    s > 0, so no -t_i > 0 is a root)."""
+    n = len(rows)
+    a = fmpq_mat(n, n, [sign * fmpq(x.numerator, x.denominator) + (shift if i == j else 0)
+                        for i, row in enumerate(rows) for j, x in enumerate(row)])
+    return all((-1) ** (n - k) * c >= 0 for k, c in enumerate(a.charpoly().coeffs()))

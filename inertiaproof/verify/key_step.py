@@ -8,30 +8,30 @@ symmetric, positive semidefinite and sum_ij X_ij C_ij = L(X) on a basis of sym(4
 from flint import fmpq
 
 from .bodies import spatial_inertia
-from .exact import above, rational, rational_matrix, semidefinite
+from .exact import rational, rationals, semidefinite
 from .outcome import REPROVED, UNPROVED, Outcome, refuted
 
 
 def _map(f):
-    """L(F): Phi with f(Phi) = F (m = F44, h = F[:3, 3], I = tr(Sigma) I3 - Sigma), then Z(Phi)."""
+    """L(F) = Z(Phi), f(Phi) = F: m = F44, h = F[:3, 3], I = tr(Sigma) I3 - Sigma (theorem:PhysicalConsistency)."""
     tr = f[0][0] + f[1][1] + f[2][2]
-    i = [[(tr if r == c else 0) - f[r][c] for c in range(3)] for r in range(3)]
-    return spatial_inertia([f[3][3], f[0][3], f[1][3], f[2][3], i[0][0], i[1][1], i[2][2], i[0][1], i[1][2], i[0][2]])
+    return spatial_inertia([f[3][3], f[0][3], f[1][3], f[2][3], tr - f[0][0], tr - f[1][1], tr - f[2][2], -f[0][1],
+                            -f[1][2], -f[0][2]])
 
 
 def prove(cert):
     """The :class:`Outcome` of the claim."""
     lower, upper = (rational(cert["claim"].get(k), f"claim.{k}") for k in ("lower", "upper"))
-    c = rational_matrix(cert.get("choi"), (24, 24), "choi")
+    c = rationals(cert.get("choi"), (24, 24), "choi")
     if any(c[i][j] != c[j][i] for i in range(24) for j in range(i)) or not semidefinite(c):
         return Outcome(UNPROVED, "the Choi matrix is not symmetric positive semidefinite (exact arithmetic)", 1)
-    for a, b in ((a, b) for a in range(4) for b in range(a, 4)):
+    for a, b in ((a, b) for a in range(4) for b in range(a, 4)):  # E_ab = (e_a e_b^T + e_b e_a^T) / 2, E_aa
         z = _map([[fmpq(int({r, s} == {a, b})) / (1 if a == b else 2) for s in range(4)] for r in range(4)])
         if any((c[6 * a + r][6 * b + s] + c[6 * b + r][6 * a + s]) / 2 != z[r][s] for r in range(6) for s in range(6)):
             return Outcome(UNPROVED, f"the Choi matrix's map differs from L at the basis element E_{a + 1}{b + 1}", 2)
     z = _map([[fmpq(int(r == s)) for s in range(4)] for r in range(4)])
     for sign, shift, what in ((1, -lower, "L(I4) - lower I6"), (-1, upper, "upper I6 - L(I4)")):
-        if not above(z, sign, shift):
+        if not semidefinite(z, sign, shift):
             return refuted(f"{what} is not positive semidefinite (exact arithmetic)", {"F": "I4"},
                            {what: "indefinite"}, 3)
     return Outcome(REPROVED, "the Choi matrix is positive semidefinite and extends L; lower I6 <= L(I4) <= upper "

@@ -1,11 +1,10 @@
 """A serial chain of a certificate, and M(q, Theta) + shift I proved positive definite over a box of configurations.
 
-Joint l has a fixed transform ``before``, a turn about (slide along) its ``axis`` by q_l and a fixed ``after``:
-T_l = T_(l-1) before_l X_l(q_l) after_l. A fixed transform is a list of URDF origins {xyz, rpy} (decimals, read
-exactly) composed in order; the checker builds each rotation Rz(yaw) Ry(pitch) Rx(roll) with arb's sin and cos, so
-every transform is rigid by construction and R^T is its inverse. M(q, Theta) = sum_l QJ_l^T Z(Phi_l) QJ_l
-(MassMatrix, DefMatrixZ), QJ_l's rows the twist (R_l^T v_l, omega_l) of body l (VelocityRigidMass), is never
-formed: :meth:`Chain.pivots` factors it from the tip as articulated-body inertias.
+Joint l is a fixed transform ``before``, a turn about (slide along) its ``axis`` by q_l and a fixed ``after``, a
+fixed transform a list of URDF origins {xyz, rpy} (decimals, read exactly) composed in order; each rotation Rz(yaw)
+Ry(pitch) Rx(roll) is built with arb's sin and cos, so every transform is rigid and R^T its inverse. M(q, Theta) =
+sum_l QJ_l^T Z(Phi_l) QJ_l (MassMatrix, DefMatrixZ; QJ_l's rows the twist (R_l^T v_l, omega_l) of body l,
+VelocityRigidMass) is never formed: :meth:`Chain.pivots` factors it from the tip.
 """
 
 import hashlib
@@ -13,50 +12,49 @@ from pathlib import Path
 
 from flint import arb, arb_mat
 
-from .exact import need, unproved_pivot, vector
+from .exact import fields, need, unproved_pivot, vector
 
 JOINTS, ORIGINS = 200, 64  # the longest chain a certificate may describe; the most origins of one fixed transform
 SMALL = 2**-20  # a term whose whitened size times its weight is below this is bounded by its norm alone
 NEAR = 0.4  # radius (rad) up to which a turn's loss is taken about the centre's derivative, beyond by harmonics
+KINDS = ("revolute", "prismatic")
 
 
 class Joint:
     def __init__(self, data, where):
-        need(isinstance(data, dict) and set(data) <= {"name", "kind", "axis", "before", "after", "limits"},
-             f"{where}: a joint is an object of name, kind, axis, before, after and limits")
-        self.revolute = {"revolute": True, "prismatic": False}.get(data.get("kind"))
-        need(self.revolute is not None, f"{where}.kind: 'revolute' or 'prismatic', not {data.get('kind')!r}")
-        axis = [arb(x) for x in vector(data.get("axis"), 3, f"{where}.axis")]
+        fields(data, ("kind", "axis", "before", "after"), where, optional=("name", "limits"))
+        need(data["kind"] in KINDS, f"{where}.kind: one of {list(KINDS)}, not {data['kind']!r}")
+        self.revolute = data["kind"] == "revolute"
+        axis = [arb(x) for x in vector(data["axis"], 3, f"{where}.axis")]
         norm = sum(a * a for a in axis).sqrt()
         need(norm > 0, f"{where}.axis: the axis must be a nonzero vector")
         self.axis = arb_mat(3, 1, [a / norm for a in axis])
-        self.before, self.after = (_composed(data.get(k), f"{where}.{k}") for k in ("before", "after"))
+        self.before, self.after = (_composed(data[k], f"{where}.{k}") for k in ("before", "after"))
         self.limits = data.get("limits") and tuple(vector(data["limits"], 2, f"{where}.limits"))
         need(not self.limits or self.limits[0] <= self.limits[1], f"{where}.limits: lower > upper")
-        self.before_map, self.after_map = twist_map(self.before), twist_map(self.after)
+        self.before_map, self.after_map = _twist_map(self.before), _twist_map(self.after)
         k, zero = _skew(self.axis), arb_mat(3, 3)
         n_map = _blocks(-k, zero, zero, -k) if self.revolute else _blocks(zero, -k, zero, zero)
         self.generators = n_map, n_map * n_map  # N and N^2 of the twist map by delta (see _turn_matrices)
         rt = self.after[0].transpose()  # the column of QJ_l in body l's axes: (a x w, w) of a turn, (w, 0) of a slide
         w = rt * self.axis
         lin, ang = (_skew(-(rt * self.after[1])) * w, w) if self.revolute else (w, arb_mat(3, 1))
-        self.subspace = arb_mat(6, 1, [lin[i, 0] for i in range(3)] + [ang[i, 0] for i in range(3)])
+        self.subspace = arb_mat(6, 1, [x[i, 0] for x in (lin, ang) for i in range(3)])
 
-    def motion(self, x):
-        """The joint's own transform (R, p) at the ball x of its variable."""
-        if not self.revolute:
-            return _diagonal([1] * 3), self.axis * x
-        k = _skew(self.axis)
-        return _diagonal([1] * 3) + k * x.sin() + (k * k) * (1 - x.cos()), arb_mat(3, 1)
+    def turn(self, x):
+        """The twist map of the joint's own transform at the ball x of its variable."""
+        k, eye = _skew(self.axis), _diagonal([1] * 3)
+        return _twist_map((eye + k * x.sin() + (k * k) * (1 - x.cos()), arb_mat(3, 1)) if self.revolute
+                          else (eye, self.axis * x))
 
 
 def _composed(origins, where):
-    """(R, p) of a list of origins {xyz, rpy} applied in order, each R = Rz(yaw) Ry(pitch) Rx(roll) built here."""
+    """(R, p) of a list of origins {xyz, rpy} applied in order."""
     need(isinstance(origins, list) and len(origins) <= ORIGINS, f"{where}: a list of at most {ORIGINS} origins")
     r, p = _diagonal([1] * 3), arb_mat(3, 1)
     for i, data in enumerate(origins):
-        need(isinstance(data, dict) and set(data) == {"xyz", "rpy"}, f"{where}[{i}]: an origin {{xyz, rpy}}")
-        xyz, rpy = (vector(data[k], 3, f"{where}[{i}].{k}") for k in ("xyz", "rpy"))
+        xyz, rpy = (vector(fields(data, ("xyz", "rpy"), f"{where}[{i}]")[k], 3, f"{where}[{i}].{k}")
+                    for k in ("xyz", "rpy"))
         (cr, sr), (cp, sp), (cy, sy) = ((arb(a).cos(), arb(a).sin()) for a in rpy)
         ri = arb_mat([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
                       [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], [-sp, cp * sr, cp * cr]])
@@ -64,78 +62,57 @@ def _composed(origins, where):
     return r, p
 
 
-def _source(source):
-    """The chain's source file (path as given, SHA-256), checked against the file where it is found here."""
-    if source is None:
-        return None
-    need(isinstance(source, dict) and set(source) == {"path", "sha256"} and isinstance(source["path"], str)
-         and isinstance(source["sha256"], str) and len(source["sha256"]) == 64, "chain.source: {path, sha256}")
-    path = Path(source["path"])
-    need(not path.is_file() or hashlib.sha256(path.read_bytes()).hexdigest() == source["sha256"],
-         f"chain.source: {path} is not the file the certificate is about (SHA-256 differs)")
-    return path, source["sha256"], path.is_file()
-
-
-def _skew(v):
-    """S(v): S(v) x = v x x."""
-    return arb_mat(3, 3, [0, -v[2, 0], v[1, 0], v[2, 0], 0, -v[0, 0], -v[1, 0], v[0, 0], 0])
-
-
 class Chain:
+    """The certificate's ``joints``; its ``source`` {path, sha256}, where that file is found here, must match it."""
+
     def __init__(self, data):
-        joints = data.get("joints") if isinstance(data, dict) and set(data) <= {"name", "source", "joints"} else None
-        need(isinstance(joints, list) and 0 < len(joints) <= JOINTS,
-             f"chain: {{name, source, joints}}, a list of 1 to {JOINTS} joints")
-        self.name, self.source = str(data.get("name", "chain")), _source(data.get("source"))
+        joints = fields(data, ("joints",), "chain", optional=("name", "source"))["joints"]
+        need(isinstance(joints, list) and 0 < len(joints) <= JOINTS, f"chain.joints: a list of 1 to {JOINTS} joints")
+        source = data.get("source")
+        if source is not None:
+            path, sha = fields(source, ("path", "sha256"), "chain.source")["path"], source["sha256"]
+            need(isinstance(path, str) and isinstance(sha, str) and len(sha) == 64, "chain.source: strings")
+            need(not Path(path).is_file() or hashlib.sha256(Path(path).read_bytes()).hexdigest() == sha,
+                 f"chain.source: {path} is not the file the certificate is about (SHA-256 differs)")
         self.joints = [Joint(j, f"chain.joints[{i}]") for i, j in enumerate(joints)]
         self.n = len(self.joints)
 
     def pivots(self, box, inertias, shift, metric=None, memo=None, top=None, stop=None):
-        """Prove sum_l QJ_l^T Z_l QJ_l + shift I > 0 for every q in ``box`` ((centre, radius) rationals), Z_l the
-        6 x 6 ball matrices ``inertias``: (l, pivot l's ball) of the first pivot not proved positive, or (None, the
-        smallest pivot).
+        """(l, pivot l) of the first pivot of sum_l QJ_l^T Z_l QJ_l + shift I (Z_l the ball matrices ``inertias``)
+        not proved positive over ``box`` ((centre, radius) rationals), or (None, the smallest pivot).
 
-        The pivots of the LDL^T decomposition from the tip are d_l = s_l^T A_l s_l + shift, A_n = Z_n and A_(l-1) =
-        Z_(l-1) + X_l^T (A_l - A_l s_l s_l^T A_l / d_l) X_l (articulated-body inertias with an armature): s_l is
-        joint l's column in body l's axes, X_l the twist map from body l-1 to body l (a function of q_l). Both steps
-        are Loewner-monotone, so a lower bound of A_l over the box bounds the pivots below; the turn by q_l = c_l +
-        delta, |delta| <= r_l, is bounded below by the turn by c_l less :func:`_turn_loss` in the ``metric`` (kind,
-        ridge). The last turn is seen only along the base joint's column: a scalar (:func:`_turned_form`). ``memo``
-        (for one set of inertias, shift and metric) holds the state entering joint l by the coordinates beyond l.
-        ``top``: the chain of joints 0..top only; ``stop`` k: the pivots beyond k only, returning (None, the lower
-        bound of A_k) where they are positive."""
-        top = self.n - 1 if top is None else top
-        start, state = top, (inertias[top], None)
-        marks = memo is not None and tuple((c.p, c.q, r.p, r.q) for c, r in box)  # fmpq hashes slowly
-        for l in range(stop or 0, top + 1) if memo is not None else ():
-            if (l, marks[l + 1:]) in memo:
-                start, state = l, memo[l, marks[l + 1:]]
-                break
-        lower, smallest = state
+        From the tip, d_l = s_l^T A_l s_l + shift, A_top = Z_top, A_(l-1) = Z_(l-1) + X_l^T (A_l - A_l s_l s_l^T A_l
+        / d_l) X_l (articulated-body inertias): s_l is joint l's column in body l's axes, X_l the twist map from body
+        l-1 to body l. Both steps are Loewner-monotone, so a lower bound of A_l bounds the pivots below; the turn by
+        q_l = c_l + delta is bounded below by the turn by c_l less :func:`_turn_loss` in the ``metric`` (kind, ridge),
+        the last one along joint 0's column only (:func:`_turned_form`). ``memo`` (for one set of inertias, shift and
+        metric) keeps the state entering joint l, and the turn's loss pieces, by the coordinates beyond l. ``top``:
+        the chain of joints 0..top; ``stop`` k: the pivots beyond k only, then (None, the lower bound of A_k)."""
+        memo, top = {} if memo is None else memo, self.n - 1 if top is None else top
+        marks = tuple((c.p, c.q, r.p, r.q) for c, r in box)  # fmpq hashes slowly
+        start = next((l for l in range(stop or 0, top + 1) if (l, marks[l + 1:]) in memo), top)
+        lower, smallest = memo.get((start, marks[start + 1:]), (inertias[top], None))
         for l in range(start, -1, -1):
             if l == stop:
                 return None, lower
-            if memo is not None:
-                memo[l, marks[l + 1:]] = (lower, smallest)
+            memo[l, marks[l + 1:]] = lower, smallest
             joint, (centre, radius) = self.joints[l], box[l]
-            s = joint.subspace
-            u = lower * s
-            d = (s.transpose() * u)[0, 0] + shift
+            u = lower * joint.subspace
+            d = (joint.subspace.transpose() * u)[0, 0] + shift
             if not d > 0:
                 return l, d
-            smallest = d if smallest is None or d.mid() < smallest.mid() else smallest
+            smallest = _least(d, smallest)
             if not l:
-                break
+                return None, smallest
             t = _congruence(lower - u * u.transpose() / d, joint.after_map)
-            if l == 1:
+            if l == 1:  # joint 0's pivot: joint 1's turn seen along joint 0's column only, a scalar
                 base = self.joints[0].subspace
-                w = twist_map(joint.motion(arb(centre))) * joint.before_map * base
+                w = joint.turn(arb(centre)) * joint.before_map * base
                 d = (base.transpose() * inertias[0] * base)[0, 0] + _turned_form(joint, t, w, radius) + shift
-                return (0, d) if not d > 0 else (None, d if d.mid() < smallest.mid() else smallest)
-            pieces = memo.setdefault(("loss", l, marks[l + 1:], _near(joint, radius)), {}) if memo is not None else {}
-            t = _congruence(t - _turn_loss(joint, t, radius, metric, pieces), twist_map(joint.motion(arb(centre))))
+                return (0, d) if not d > 0 else (None, _least(d, smallest))
+            pieces = memo.setdefault(("loss", l, marks[l + 1:], _near(joint, radius)), {})
+            t = _congruence(t - _turn_loss(joint, t, radius, metric, pieces), joint.turn(arb(centre)))
             lower = inertias[l - 1] + _congruence(t, joint.before_map)
-        return None, smallest
 
 
 def definite(a):
@@ -143,14 +120,26 @@ def definite(a):
     return unproved_pivot([[a[min(i, j), max(i, j)] for j in range(a.ncols())] for i in range(a.nrows())]) is None
 
 
-def _blocks(a, b, c, d):
-    return arb_mat([[a[i, j] for j in range(3)] + [b[i, j] for j in range(3)] for i in range(3)]
-                   + [[c[i, j] for j in range(3)] + [d[i, j] for j in range(3)] for i in range(3)])
+def _least(d, smallest):
+    return d if smallest is None or d.mid() < smallest.mid() else smallest
 
 
-def twist_map(transform):
-    """The map of twists (v, omega) of a parent frame to those of a child frame at (R, p) in it:
-    [[R^T, -R^T S(p)], [0, R^T]]."""
+def _skew(v):
+    """S(v): S(v) x = v x x."""
+    return arb_mat(3, 3, [0, -v[2, 0], v[1, 0], v[2, 0], 0, -v[0, 0], -v[1, 0], v[0, 0], 0])
+
+
+def _diagonal(values):
+    return arb_mat([[v if i == j else 0 for j in range(len(values))] for i, v in enumerate(values)])
+
+
+def _blocks(*quarters):
+    """The 6 x 6 matrix [[a, b], [c, d]] of the 3 x 3 ``quarters`` a, b, c, d."""
+    return arb_mat([[quarters[2 * (i // 3) + j // 3][i % 3, j % 3] for j in range(6)] for i in range(6)])
+
+
+def _twist_map(transform):
+    """[[R^T, -R^T S(p)], [0, R^T]]: twists (v, omega) of a parent frame to those of a child frame at (R, p)."""
     r, p = transform
     rt = r.transpose()
     return _blocks(rt, -(rt * _skew(p)), arb_mat(3, 3), rt)
@@ -166,8 +155,8 @@ def _near(joint, radius):
 
 
 def _turn_matrices(joint, t, near):
-    """(kind, M) of the terms of :func:`_turn_weights`: X(delta)^T t X(delta) - t >= -sum weight W(M) for |delta|
-    <= radius, W(M) >= +-M (kind "abs") or W(M) >= M, 0 ("pos").
+    """(kind, M) of the terms of X(delta)^T t X(delta) - t >= -sum_i w_i W(M_i) for |delta| <= radius, with the
+    weights w_i of :func:`_turn_weights` and W(M) >= +-M (kind "abs") or W(M) >= M, 0 ("pos").
 
     The twist map by delta is I + s N + c N^2, s = sin delta, c = 1 - cos delta (N = -blockdiag(K, K), K =
     S(axis)); with s^2 = 2 c - c^2 the turned t is t + s G + c A + c^2 B + s c J, G = N^T t + t N, A = N^2 t +
@@ -187,7 +176,7 @@ def _turn_matrices(joint, t, near):
 
 
 def _turn_weights(joint, radius):
-    """The weights of :func:`_turn_matrices`' terms for |delta| <= radius, upper ends."""
+    """The weights (upper ends) of :func:`_turn_matrices`' terms for |delta| <= radius."""
     r = arb(radius)
     if not joint.revolute:
         weights = [r, r * r]
@@ -202,20 +191,17 @@ def _turn_weights(joint, radius):
     return [arb(w.abs_upper()) for w in weights]
 
 
-def _turn_loss(joint, t, radius, metric=None, pieces=None):
-    """A bound L with X(delta)^T t X(delta) >= t - L for |delta| <= radius: each term of :func:`_turn_matrices` in a
-    metric H = C C^T (``metric``: C from t's eigen-decomposition, :func:`_metric_factor`; else C = I; any invertible
-    C is sound), W(M) = C Y C^T with Y >= +-X (or X, 0) for X = C^-1 M C^-T (:func:`_bounding`); a term whose loss
-    is below SMALL as ||X||_F C C^T. ``pieces`` (a dict, empty or filled by an earlier call with the same t, metric
-    and branch) keeps C, each X, ||X||_F and Y, which do not depend on the radius."""
-    pieces = {} if pieces is None else pieces
-    if "terms" not in pieces:
-        factor = _metric_factor(t, *metric) if metric else None
+def _turn_loss(joint, t, radius, metric, pieces):
+    """L with X(delta)^T t X(delta) >= t - L for |delta| <= radius: each term M of :func:`_turn_matrices` bounded
+    in a metric C C^T (C from t by :func:`_metric_factor`, or I; any invertible C is sound) as W(M) = C Y C^T, Y >=
+    +-X (or X, 0) for X = C^-1 M C^-T (:func:`_bounding`), or as ||X||_F C C^T where its weight times ||X||_F is
+    below SMALL. ``pieces`` (empty, or filled for the same t, metric and branch) keeps C, X, ||X||_F and Y."""
+    if not pieces:
+        pieces["factor"] = factor = _metric_factor(t, *metric) if metric else None
         inverse = factor.inv() if metric else None
-        pieces["factor"], pieces["terms"] = factor, []
-        for kind, m in _turn_matrices(joint, t, _near(joint, radius)):
-            x = inverse * m * inverse.transpose() if metric else m
-            pieces["terms"].append([kind, x, _frobenius(x), None])
+        whitened = [(kind, inverse * m * inverse.transpose() if metric else m)
+                    for kind, m in _turn_matrices(joint, t, _near(joint, radius))]
+        pieces["terms"] = [[kind, x, _frobenius(x), None] for kind, x in whitened]
     total = arb_mat(6, 6)
     for weight, term in zip(_turn_weights(joint, radius), pieces["terms"]):
         kind, x, frobenius, bounding = term
@@ -230,7 +216,7 @@ def _turn_loss(joint, t, radius, metric=None, pieces=None):
 
 
 def _turned_form(joint, t, w, radius):
-    """A lower bound of w^T X(delta)^T t X(delta) w over |delta| <= radius (:func:`_turn_matrices`, as scalars)."""
+    """A lower bound of w^T X(delta)^T t X(delta) w over |delta| <= radius: :func:`_turn_matrices` as scalars."""
     form = lambda a: (w.transpose() * a * w)[0, 0]  # noqa: E731
     loss = arb(0)
     for weight, (kind, m) in zip(_turn_weights(joint, radius), _turn_matrices(joint, t, _near(joint, radius))):
@@ -244,19 +230,11 @@ def _frobenius(a):
     return arb((a.transpose() * a).trace().abs_upper()).sqrt()
 
 
-def _diagonal(values):
-    out = arb_mat(len(values), len(values))
-    for i, v in enumerate(values):
-        out[i, i] = v
-    return out
-
-
 def eigen(a):
     """Approximate eigenvalues (floats) and eigenvectors (a real ball matrix) of the symmetric a's midpoint."""
     values, vectors = a.mid().eig(right=True, algorithm="approx")
-    n = a.nrows()
-    return [float(v.real.mid()) for v in values], arb_mat([[vectors[i, j].real.mid() for j in range(n)]
-                                                         for i in range(n)])
+    return [float(v.real.mid()) for v in values], arb_mat(a.nrows(), a.ncols(),
+                                                         [x.real.mid() for x in vectors.entries()])
 
 
 def _bounding(x, kind):

@@ -19,27 +19,29 @@ ITERATIONS = 100  # of the float power iteration that picks x (any x > 0 gives a
 def perron_side(chain, domain, bodies):
     """A ball whose upper end bounds lambda_max(M(q, Theta_v)) for every q in ``domain`` and every parameter set
     ``bodies[v]`` (6 x 6 exact rationals per body)."""
-    n, sides = chain.n, []
-    reach = [_reach(chain, domain, k) for k in range(n)]  # reach[k][b - k] = (L, A) of column k in body b
-    for z in bodies:
-        norms = [[_norm2([[arb(m[r + i][c + j]) for j in range(3)] for i in range(3)]) for r, c in
-                  ((0, 0), (0, 3), (3, 3))] for m in z]
-        own = []  # (|(Z s)_v|, |(Z s)_w|, s^T Z s) of body l and joint l's column s
-        for b in range(n):
-            s = chain.joints[b].subspace
-            w = [sum((arb(z[b][i][j]) * s[j, 0] for j in range(6)), arb(0)) for i in range(6)]
-            own.append((_length(w[:3]), _length(w[3:]), sum((s[i, 0] * w[i] for i in range(6)), arb(0))))
-        s = [[arb(0)] * n for _ in range(n)]
-        for i in range(n):
-            for l in range(i, n):
-                (li, ai), (zv, zw, ss) = reach[i][l - i], own[l]
-                total = abs(ss) if i == l else li * zv + ai * zw
-                for b in range(l + 1, n):
-                    (li, ai), (ll, al), (a, bb, c) = reach[i][b - i], reach[l][b - l], norms[b]
-                    total += a * li * ll + bb * (li * al + ai * ll) + c * ai * al
-                s[i][l] = s[l][i] = total
-        sides.append(_collatz_wielandt(s))
-    return ball_max(sides, "a parameter set's side")
+    reach = [_reach(chain, domain, k) for k in range(chain.n)]  # reach[k][b - k] = (L, A) of column k in body b
+    return ball_max((_collatz_wielandt(_sizes(chain, reach, z)) for z in bodies), "a parameter set's side")
+
+
+def _sizes(chain, reach, z):
+    """S_il >= |M_il(q)| for the bodies' matrices ``z``."""
+    n = chain.n
+    s = [[arb(0)] * n for _ in range(n)]
+    norms = [[_norm2([[arb(m[r + i][c + j]) for j in range(3)] for i in range(3)]) for r, c in
+              ((0, 0), (0, 3), (3, 3))] for m in z]
+    own = []  # (|(Z s)_v|, |(Z s)_w|, s^T Z s) of body l and joint l's column s
+    for b, joint in enumerate(chain.joints):
+        w = [sum((arb(z[b][i][j]) * joint.subspace[j, 0] for j in range(6)), arb(0)) for i in range(6)]
+        own.append((_length(w[:3]), _length(w[3:]), sum((joint.subspace[i, 0] * w[i] for i in range(6)), arb(0))))
+    for i in range(n):
+        for l in range(i, n):
+            (li, ai), (zv, zw, ss) = reach[i][l - i], own[l]
+            total = abs(ss) if i == l else li * zv + ai * zw
+            for b in range(l + 1, n):
+                (li, ai), (ll, al), (a, bb, c) = reach[i][b - i], reach[l][b - l], norms[b]
+                total += a * li * ll + bb * (li * al + ai * ll) + c * ai * al
+            s[i][l] = s[l][i] = total
+    return s
 
 
 def _reach(chain, domain, k):
@@ -62,8 +64,8 @@ def _length(xs):
 
 def _norm2(rows):
     """sqrt(||B||_1 ||B||_inf) >= ||B||_2, as a ball."""
-    one = ball_max((sum((abs(rows[i][j]) for i in range(3)), arb(0)) for j in range(3)), "a column sum")
-    inf = ball_max((sum((abs(x) for x in row), arb(0)) for row in rows), "a row sum")
+    one, inf = (ball_max((sum((abs(x) for x in line), arb(0)) for line in lines), "a line sum")
+                for lines in (zip(*rows), rows))
     return (one * inf).sqrt()
 
 

@@ -22,8 +22,8 @@ A matrix condition linear in the row, holding at every set, holds on their hull;
 
 from flint import arb, fmpq
 
-from .bodies import parameter_sets, pseudo_inertia, spatial_inertia
-from .exact import above, dyadic, finite, need, rational, rational_matrix, vector
+from .bodies import first_failure, parameter_sets, pseudo_inertia, spatial_inertia
+from .exact import dyadic, finite, need, rational, semidefinite, symmetric, vector
 from .outcome import REPROVED, UNPROVED, Outcome
 
 PEAKS = {  # sup |s'| and sup |s''| of the ramps s(x) on [0, 1], x = (t - start) / T (times 1/T and 1/T^2)
@@ -58,7 +58,8 @@ def _path(data, where):
         a, b = vector(data.get("start"), 3, f"{where}.start"), vector(data.get("end"), 3, f"{where}.end")
         return max(norm2(a), norm2(b)), arb(norm2([y - x for x, y in zip(a, b)])).sqrt(), arb(0)
     need(shape == "circle", f"{where}.shape: 'line' or 'circle'")
-    centre2, r = norm2(vector(data.get("center"), 3, f"{where}.center")), rational(data.get("radius"), f"{where}.radius")
+    centre2 = norm2(vector(data.get("center"), 3, f"{where}.center"))
+    r = rational(data.get("radius"), f"{where}.radius")
     need(r >= 0, f"{where}.radius: must be >= 0")
     reach = dyadic(((arb(centre2).sqrt() + arb(r)) ** 2).upper())
     while not (reach - centre2 - r * r >= 0 and (reach - centre2 - r * r) ** 2 >= 4 * r * r * centre2):
@@ -67,6 +68,7 @@ def _path(data, where):
 
 
 def _loads(cert, bodies):
+    """Each load's body, m, its row (0, 0, I_c) of Phi without the mass, C^2, |cdot| <= speed, |cddot| <= acc."""
     items = cert.get("loads")
     need(isinstance(items, list) and items, "loads: a nonempty list of moving loads")
     loads = []
@@ -75,27 +77,19 @@ def _loads(cert, bodies):
         need(isinstance(item, dict) and type(item.get("body")) is int and 1 <= item["body"] <= bodies,
              f"{where}.body: a body from 1 to {bodies}")
         m = rational(item.get("mass"), f"{where}.mass")
-        inertia = rational_matrix(item.get("inertia_com"), (3, 3), f"{where}.inertia_com")
-        row = [m] + [fmpq(0)] * 3 + [inertia[i][j] for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))]
-        need(m > 0 and all(inertia[i][j] == inertia[j][i] for i in range(3) for j in range(i))
-             and above(pseudo_inertia(row), 1, 0), f"{where}: not a consistent rigid body (m > 0, symmetric I_c, "
+        c = symmetric(item.get("inertia_com"), 3, f"{where}.inertia_com")
+        inertia = [fmpq(0)] * 4 + [c[a][b] for a, b in ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))]
+        need(m > 0 and semidefinite(pseudo_inertia(inertia)), f"{where}: not a consistent rigid body (m > 0, "
              "Sigma_c >= 0)")
         reach, d1, d2 = _path(item.get("path"), f"{where}.path")
         rate, acc = _profile(item.get("profile"), f"{where}.profile")
-        loads.append({"body": item["body"] - 1, "m": m, "row": row, "reach": reach,
-                      "speed": d1 * rate, "acc": None if acc is None else d1 * acc + d2 * rate * rate})
+        loads.append({"body": item["body"] - 1, "m": m, "inertia": inertia, "reach": reach, "speed": d1 * rate,
+                      "acc": None if acc is None else d1 * acc + d2 * rate * rate})
     return loads
 
 
-def _extra(load, matrix):
-    """diag(Sigma_c, 0) (f) or diag(0, I_c) (Z), the load's own matrix about its centre less its mass's share, plus
-    m (1 + C^2) I: above the load's matrix at every time."""
-    own, share, lift = matrix(load["row"]), matrix([load["m"]] + [fmpq(0)] * 9), load["m"] * (1 + load["reach"])
-    return [[a - b + (lift if i == j else 0) for j, (a, b) in enumerate(zip(r, t))]
-            for i, (r, t) in enumerate(zip(own, share))]
-
-
 def _rate(load, quantity):
+    """The load's term of the bound on sigma_max of the rate or on ||Psi|| (``psi_dot``: ||Psidot||), a ball."""
     lever, m = arb(1 + load["reach"]).sqrt(), arb(load["m"])
     if quantity == "sigma_max_fdot":
         return m * load["speed"] * (arb(load["reach"]).sqrt() + lever)
@@ -106,30 +100,27 @@ def _rate(load, quantity):
 
 
 def prove(cert):
-    """The :class:`Outcome` of the claim, decided exactly (the matrices) or in ball arithmetic (the sums)."""
+    """The :class:`Outcome` of the claim: each body's matrix condition decided exactly, the loads' sums in balls."""
     quantity, bound = cert["claim"].get("quantity"), rational(cert["claim"].get("bound"), "claim.bound")
     need(quantity in QUANTITIES, f"claim.quantity: one of {list(QUANTITIES)}")
-    sets = parameter_sets(cert)
-    psi = quantity.startswith("psi")
+    sets, psi = parameter_sets(cert), quantity.startswith("psi")
     need(len(sets) == 1 or not psi, "parameters: one set, the bodies' constant rows")
     loads = _loads(cert, len(sets[0]))
     matrix = pseudo_inertia if quantity.endswith(("_f", "fdot")) else spatial_inertia
-    if quantity.startswith("lambda"):
-        for v, rows in enumerate(sets):
-            for l, row in enumerate(rows):
-                f, lower = matrix(row), quantity.startswith("lambda_min")
-                extra = [_extra(load, matrix) for load in loads if load["body"] == l and not lower]
-                if not above([[x + sum(e[i][j] for e in extra) for j, x in enumerate(r)] for i, r in enumerate(f)],
-                             1 if lower else -1, -bound if lower else bound):
-                    return Outcome(UNPROVED, f"body {l + 1} of set {v + 1}: the bound fails for its own row and its "
-                                   "loads' bounds (exact rational arithmetic)", 0, {"quantity": quantity})
-        return Outcome(REPROVED, f"{len(sets)} set(s), {len(loads)} moving load(s): decided exactly", 0)
-    for l in range(1 if psi else len(sets[0])):
-        total = sum((_rate(load, quantity) for load in loads if psi or load["body"] == l), arb(0))
-        r = dyadic(finite(total, "the loads' sum").upper())
-        for v, rows in enumerate(sets):
-            f = [[fmpq(0)]] if psi else matrix(rows[l])
-            if not (above(f, -1, bound - r) and above(f, 1, bound - r)):
-                return Outcome(UNPROVED, f"{'Psi' if psi else f'body {l + 1} of set {v + 1}'}: sigma_max(F) + the "
-                               f"loads' {total.str(10)} is not <= {float(bound):.10g}", 0, {"quantity": quantity})
-    return Outcome(REPROVED, f"{len(loads)} moving load(s) on {len(sets)} set(s): the sums decided", 0)
+
+    def conditions(l, row):
+        mine = [load for load in loads if psi or load["body"] == l]
+        if quantity.startswith("lambda_min"):
+            return [("F - bound I", matrix(row), 1, -bound)]
+        if quantity.startswith("lambda_max"):  # F(row + the loads' (0, 0, I_c)) + m (1 + C^2) I: F is linear
+            f = matrix([x + sum(load["inertia"][i] for load in mine) for i, x in enumerate(row)])
+            return [("bound I - F - the loads' bounds", f, -1, bound - sum(p["m"] * (1 + p["reach"]) for p in mine))]
+        total = finite(sum((_rate(load, quantity) for load in mine), arb(0)), "the loads' sum")
+        f, r, what = [[fmpq(0)]] if psi else matrix(row), dyadic(total.upper()), f"sigma_max(F) + {total.str(10)}"
+        return [(f"{what} <= bound", f, -1, bound - r), (f"{what} <= bound", f, 1, bound - r)]
+
+    fail, _ = first_failure([[None]] if psi else sets, conditions)
+    if fail:
+        return Outcome(UNPROVED, f"{'Psi' if psi else f'body {fail[1] + 1} of set {fail[0] + 1}'}: {fail[2]} fails "
+                       "(exact rational arithmetic)", 0, {"quantity": quantity})
+    return Outcome(REPROVED, f"{len(sets)} set(s), {len(loads)} moving load(s): decided exactly", 0)

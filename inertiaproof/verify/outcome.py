@@ -1,18 +1,12 @@
 """The outcome of re-proving one claim: re-proved; refuted, only with a witness at which both sides are enclosed
 and the claim fails; or not re-proved, a step of the proof that did not go through (the claim may still be true)."""
 
+from collections import namedtuple
+
 REPROVED, REFUTED, UNPROVED = "re-proved", "refuted", "not re-proved"
-
-
-class Outcome:
-    """``status`` (:data:`REPROVED`, :data:`REFUTED`, :data:`UNPROVED`); ``why`` in words; ``boxes`` tested;
-    ``where`` (data: the refuting witness, or the box where the proof did not go through)."""
-
-    def __init__(self, status, why, boxes=0, where=None):
-        self.status, self.why, self.boxes, self.where = status, why, boxes, where
-
-    def to_json(self):
-        return {"status": self.status, "why": self.why, "boxes": self.boxes, "where": self.where}
+# status, one of the three; why, in words; boxes tested; where (data: the refuting witness, or the box where the
+# proof did not go through)
+Outcome = namedtuple("Outcome", "status why boxes where", defaults=(0, None))
 
 
 def refuted(why, witness, sides, boxes=0):

@@ -11,6 +11,8 @@ sqrt(r) P - bound has the sign of r P^2 - bound^2 where bound >= 0. Short of it:
 refutes the certificate. ``sum``: sum_i x_i ``relation`` bound from ``terms`` bounding x_i by b_i.
 """
 
+from math import prod
+
 from flint import arb, fmpq
 
 from .exact import BadCertificate, known, need, rational
@@ -73,73 +75,53 @@ def key(sub):
     return base + (claim.get("matrix"),) if kind == "body-spectrum" else base
 
 
-def _parse(cert):
+def _joints(subs):
+    """N, the joints of the one chain (and domain) that every ingredient concerning a chain concerns."""
+    chains = [(sub.get("chain"), sub.get("domain")) for sub in subs if "chain" in sub]
+    joints = chains[0][0].get("joints") if chains and isinstance(chains[0][0], dict) else None
+    need(isinstance(joints, list) and all(c == chains[0] for c in chains),
+         "ingredients: of one chain (with a list of joints) and one domain")
+    return len(joints)
+
+
+def _bounds(cert):
+    """The claim's relation and bound, r, and each ingredient's twice-power and bound b_i (clamped at 0), checked
+    against the formula."""
     known(cert, ("schema", "claim", "ingredients", "provenance"))
     claim = cert["claim"]
     need(claim.get("formula") in FORMULAS, f"claim.formula: one of {sorted(FORMULAS)}")
     relation, factor, slots, _ = FORMULAS[claim["formula"]]
     need(claim.get("relation") == relation, f"claim.relation: {claim['formula']} is a {relation!r} claim")
-    bound = rational(claim.get("bound"), "claim.bound")
-    need(("declared" in claim) == (claim["formula"] in DECLARED),
-         f"claim.declared: the r of {sorted(DECLARED)}, and only theirs")
     rate = rational(claim.get("declared", "0"), "claim.declared")
-    need(rate >= 0, "claim.declared: must be >= 0")
+    need(("declared" in claim) == (claim["formula"] in DECLARED) and rate >= 0,
+         f"claim.declared: the r >= 0 of {sorted(DECLARED)}, and only theirs")
     subs = cert.get("ingredients")
     need(isinstance(subs, list) and len(subs) == len(slots),
          f"ingredients: {len(slots)} certificates, of {', '.join(s for s, _ in slots)}")
-    parsed = []
+    powers = []
     for i, (sub, (slot, twice)) in enumerate(zip(subs, slots)):
-        keys, nonnegative = SLOTS[slot]
-        need(key(sub) in keys, f"ingredients[{i}]: {slot} is bounded by one of {sorted(keys)}, not {key(sub)}")
+        kinds, nonnegative = SLOTS[slot]
+        need(key(sub) in kinds, f"ingredients[{i}]: {slot} is bounded by one of {sorted(kinds)}, not {key(sub)}")
         b = rational(sub["claim"].get("bound"), f"ingredients[{i}].claim.bound")
-        need(relation == "<=" or b >= 0, f"ingredients[{i}]: lower bound {b} < 0 says nothing of x^p")
-        need(relation == ">=" or not nonnegative or b >= 0,
-             f"ingredients[{i}]: upper bound {b} < 0 of a nonnegative quantity")
-        parsed.append((sub, twice, b if relation == ">=" or nonnegative else max(b, fmpq(0))))
-    chains = [(s.get("chain"), s.get("domain")) for s in subs if "chain" in s]
-    n = 0
-    if chains:  # N, the joints of the one chain the ingredients concern
-        need(all(c == chains[0] for c in chains), "ingredients: not all of one chain and one domain")
-        joints = chains[0][0].get("joints") if isinstance(chains[0][0], dict) else None
-        n = len(joints) if isinstance(joints, list) else 0
-        for i, (sub, (slot, _)) in enumerate(zip(subs, slots)):
-            need(not slot.startswith("QJ") or sub.get("parameters") == [[UNIT] * n],
-                 f"ingredients[{i}]: (QJ)^T QJ is M of one set of unit bodies (Z = I6)")
-            sets = sub.get("parameters", [])
-            need(isinstance(sets, list) and all(isinstance(rows, list) and len(rows) == n for rows in sets),
-                 f"ingredients[{i}]: its parameter sets are not of the chain's {n} bodies")
-    return relation, bound, fmpq(factor(n, rate)), parsed
+        need(b >= 0 or relation == "<=" and not nonnegative, f"ingredients[{i}]: bound {b} < 0 of {slot}, which the "
+             "formula needs >= 0")
+        powers.append((twice, max(b, fmpq(0))))
+    n = _joints(subs)
+    for i, (sub, (slot, _)) in enumerate(zip(subs, slots)):
+        sets = sub.get("parameters", [])
+        of_chain = isinstance(sets, list) and all(isinstance(rows, list) and len(rows) == n for rows in sets)
+        need(sets == [[UNIT] * n] if slot.startswith("QJ") else of_chain, f"ingredients[{i}]: parameter sets of "
+             f"the chain's {n} bodies; of (QJ)^T QJ, one set of unit bodies (Z = I6)")
+    return relation, rational(claim.get("bound"), "claim.bound"), fmpq(factor(n, rate)), powers
 
 
 def prove(cert, prove_any):
     """The :class:`Outcome` of the product claim: the arithmetic decided exactly, then each ingredient re-proved by
     ``prove_any`` (:func:`.claims.prove`, passed in: this module does not import it back)."""
-    relation, bound, r, parsed = _parse(cert)
-    square = fmpq(1)  # (prod b_i^p_i)^2, exact for half powers too
-    for _, twice, b in parsed:
-        square *= b ** twice
-    holds = (bound <= 0 or r * square >= bound**2) if relation == ">=" else (bound >= 0 and r * square <= bound**2)
-    if not holds:
-        value = arb(r * square).sqrt().str(10, radius=False)
-        return Outcome(UNPROVED, f"the ingredients' bounds give factor * prod b_i^p_i = {value}, not {relation} the "
-                       "bound (exact arithmetic)", 0, {"product": value})
-    return _parts([sub for sub, _, _ in parsed], "ingredient", prove_any,
-                  f"{len(parsed)} ingredient(s) re-proved; factor * prod b_i^p_i {relation} bound decided exactly")
-
-
-def _parts(parts, label, prove_any, done):
-    """Each part re-proved by ``prove_any``: one refuted refutes the certificate, one not re-proved leaves it so."""
-    boxes, unproved = 0, []
-    for i, sub in enumerate(parts):
-        try:
-            out = prove_any(sub)
-        except BadCertificate as exc:
-            raise BadCertificate(f"{label}s[{i}]: {exc}") from None
-        boxes += out.boxes
-        if out.status == REFUTED:
-            return Outcome(REFUTED, f"the claim of {label} {i} is refuted: {out.why}", boxes, out.where)
-        unproved += [f"{label} {i}: {out.why}"] if out.status != REPROVED else []
-    return Outcome(UNPROVED, "; ".join(unproved), boxes) if unproved else Outcome(REPROVED, done, boxes)
+    relation, bound, r, powers = _bounds(cert)
+    square = r * prod(b**twice for twice, b in powers)  # r (prod b_i^p_i)^2: exact for half powers too
+    holds = (bound <= 0 or square >= bound**2) if relation == ">=" else (bound >= 0 and square <= bound**2)
+    return _parts(cert, holds, "factor * prod b_i^p_i", arb(square).sqrt().str(10, radius=False), prove_any)
 
 
 def prove_sum(cert, prove_any):
@@ -151,10 +133,30 @@ def prove_sum(cert, prove_any):
     need(isinstance(terms, list) and terms, "terms: a nonempty list of certificates")
     total = fmpq(0)
     for i, sub in enumerate(terms):
-        need(key(sub)[0] in ("product", "sum") and key(sub)[1] == relation,
-             f"terms[{i}]: a {relation} product or sum, not {key(sub)}")
+        need(key(sub) in (("product", relation), ("sum", relation)), f"terms[{i}]: a {relation} product or sum, "
+             f"not {key(sub)}")
         total += rational(sub["claim"].get("bound"), f"terms[{i}].claim.bound")
-    if not (total >= bound if relation == ">=" else total <= bound):
-        return Outcome(UNPROVED, f"the terms' bounds sum to {float(total):.10g}, not {relation} the bound (exact "
-                       "arithmetic)", 0, {"sum": str(total)})
-    return _parts(terms, "term", prove_any, f"{len(terms)} term(s) re-proved; sum b_i {relation} bound decided exactly")
+    return _parts(cert, total >= bound if relation == ">=" else total <= bound, "sum b_i", str(total), prove_any)
+
+
+def _parts(cert, holds, what, value, prove_any):
+    """The outcome of a product (sum) whose bounds give ``what`` = ``value``: not re-proved unless that ``holds``,
+    then each ingredient (term) re-proved by ``prove_any``: one refuted refutes the certificate, one not re-proved
+    leaves it so."""
+    kind, relation = cert["claim"]["kind"], cert["claim"]["relation"]
+    label = "ingredient" if kind == "product" else "term"
+    if not holds:
+        return Outcome(UNPROVED, f"the {label}s' bounds give {what} = {value}, not {relation} the bound (exact "
+                       "arithmetic)", 0, {kind: value})
+    boxes, unproved = 0, []
+    for i, sub in enumerate(cert[label + "s"]):
+        try:
+            out = prove_any(sub)
+        except BadCertificate as exc:
+            raise BadCertificate(f"{label}s[{i}]: {exc}") from None
+        boxes += out.boxes
+        if out.status == REFUTED:
+            return Outcome(REFUTED, f"the claim of {label} {i} is refuted: {out.why}", boxes, out.where)
+        unproved += [f"{label} {i}: {out.why}"] if out.status != REPROVED else []
+    done = f"{len(cert[label + 's'])} {label}(s) re-proved; {what} {relation} bound decided exactly"
+    return Outcome(UNPROVED, "; ".join(unproved), boxes) if unproved else Outcome(REPROVED, done, boxes)

@@ -1,10 +1,15 @@
-"""A certificate's partition of its domain: a prefix code of tokens, "." a leaf and an integer k a cut of the box
-at the middle of coordinate k followed by its lower and upper halves, so the leaves cover the domain exactly by
-construction; and the walk that tests each box once."""
+"""A claim proved on a certificate's partition of its domain, and the walk that tests each box once.
+
+The ``tree`` is a prefix code of tokens, "." a leaf and an integer k a cut of the box at the middle of coordinate k
+followed by its lower and upper halves: the leaves cover the domain exactly by construction.
+"""
 
 from collections import deque
 
-from .exact import need
+from flint import arb
+
+from .exact import known, need, rational, vector
+from .kinematics import Chain
 from .outcome import REPROVED, UNPROVED, Outcome
 
 LEAVES = 1_000_000  # the most leaves a certificate's tree may have
@@ -25,6 +30,10 @@ class Node:
         self.k, self.children = k, [Node(lower), Node(upper)]
         return self.children
 
+    def balls(self):
+        """The box as (centre, radius) per coordinate."""
+        return [((lo + hi) / 2, (hi - lo) / 2) for lo, hi in self.box]
+
 
 def parse(tree, domain):
     """The root :class:`Node` of the prefix code ``tree`` over ``domain``."""
@@ -42,6 +51,38 @@ def parse(tree, domain):
     return root
 
 
+class Claim:
+    """The fields a claim on a tree of boxes shares: ``claim`` (its quantity one of ``quantities``, its bound),
+    ``chain``, ``domain``, ``witness`` (a configuration in the domain, or none) and ``tree``, none beyond ``keys``.
+    The domain, one [lo, hi] per joint, must cover every q the chain allows: each joint's limits, a full turn (2 pi)
+    of a revolute joint without them (M is periodic in its angle), anything for the first joint (body twists are
+    seen from the bodies: nothing depends on q_1)."""
+
+    def __init__(self, cert, keys, quantities):
+        known(cert, keys)
+        self.quantity = cert["claim"].get("quantity")
+        need(self.quantity in quantities, f"claim.quantity: one of {sorted(quantities)}")
+        self.bound = rational(cert["claim"].get("bound"), "claim.bound")
+        self.chain = chain = Chain(cert.get("chain"))
+        domain = cert.get("domain")
+        need(isinstance(domain, list) and len(domain) == chain.n, f"domain: one [lo, hi] per joint ({chain.n})")
+        self.domain = [tuple(vector(edge, 2, f"domain[{k}]")) for k, edge in enumerate(domain)]
+        for k, ((lo, hi), joint) in enumerate(zip(self.domain, chain.joints)):
+            turn = joint.revolute and arb(hi - lo) >= 2 * arb.pi()
+            need(lo <= hi and (not k or turn or joint.limits and lo <= joint.limits[0] and hi >= joint.limits[1]),
+                 f"domain[{k}]: does not cover joint {k + 1}'s limits (or a full turn)")
+        witness = cert.get("witness")
+        self.witness = None if witness is None else vector(witness, chain.n, "witness")
+        need(witness is None or all(lo <= x <= hi for x, (lo, hi) in zip(self.witness, self.domain)),
+             "witness: outside the domain")
+        self.root = parse(cert.get("tree", "."), self.domain)
+
+
+def widest(weights, among):
+    """The coordinates ``among`` of positive weight, the largest first: where a cut could help."""
+    return sorted((k for k in among if weights[k] > 0), key=lambda k: -weights[k])
+
+
 def prove(problem, walks):
     """The :class:`.outcome.Outcome` of walking every tree of ``walks`` ((label, name, root, test)) once, breadth
     first (an inner box that passes needs none of its own): re-proved where every leaf is proved; refuted where
@@ -53,20 +94,20 @@ def prove(problem, walks):
         while queue:
             node = queue.popleft()
             boxes += 1
-            cuts, why = test([((lo + hi) / 2, (hi - lo) / 2) for lo, hi in node.box])
-            if cuts is not None and node.children is None:
-                failed.append((label, name, node, why))
-            elif cuts is not None:
+            cuts, why = test(node.balls())
+            if cuts is not None and node.children:
                 queue.extend(node.children)
+            elif cuts is not None:
+                failed.append((label, name, node, why))
     for label, _, node, _ in failed[:TRIES]:
-        found = problem.refute([(lo + hi) / 2 for lo, hi in node.box], f"{label}: at the centre q of a leaf", boxes)
+        found = problem.refute([c for c, _ in node.balls()], f"{label}: at the centre q of a leaf", boxes)
         if found:
             return found
     if not failed:
         return Outcome(REPROVED, f"every leaf proved: {boxes} boxes tested", boxes)
     leaves = {}
-    for _, name, node, _ in failed[:REPORTED]:
+    for _, name, node, _ in failed if len(failed) <= REPORTED else []:
         leaves.setdefault(name, []).append([[str(lo), str(hi)] for lo, hi in node.box])
     label, _, node, why = failed[0]
     return Outcome(UNPROVED, f"{len(failed)} leaf box(es) not proved; the first: {label} ({why})", boxes,
-                   {"leaves": leaves if len(failed) <= REPORTED else {}})
+                   {"leaves": leaves})
