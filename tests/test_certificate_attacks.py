@@ -13,6 +13,7 @@ import shutil
 import subprocess
 import sys
 from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -26,7 +27,7 @@ from inertiaproof.result import Result, Verdict
 from inertiaproof.scene import robots
 from inertiaproof.suite.certificates import certificate_name, settle
 from inertiaproof.verify import claims
-from inertiaproof.verify.cli import check, verify_file
+from inertiaproof.verify.cli import check, results_problems, verify_file
 
 REJECTED = ("not re-proved", "refuted", "bad certificate")
 
@@ -297,3 +298,25 @@ def test_a_certificate_is_about_its_source_file_as_written(tmp_path):
     claims.PROVED.clear()  # a checker's process proves a certificate once; this one saw the file before
     out = check(cert)
     assert out["status"] == "bad certificate" and "SHA-256" in out["why"], out
+
+
+def test_results_json_reads_a_claims_side_from_its_kind_not_a_stray_relation(tmp_path):
+    """A lambda_max claim given a stray ``relation`` ">=" is still an upper claim: a lower bound in results.json
+    citing it is a problem; so is a citation whose file is not a name (a list): reported, not a crash."""
+    cert = json.loads((Path(__file__).parent / "golden" / "mass-matrix-spectrum-lambda_max.reproved.json").read_text())
+    cert["claim"]["relation"] = ">="
+    name, text = certificate_name(cert)
+    (tmp_path / "certificates").mkdir()
+    (tmp_path / "certificates" / name).write_text(text)
+    row = verify_file(tmp_path / "certificates" / name)
+    assert row["status"] == "re-proved", row
+    entry = {"file": f"certificates/{name}", "claim": row["claim"]}
+    number = {"kind": "lower_bound", "value": float(Fraction(cert["claim"]["bound"])) / 2, "certificate": entry}
+    rows = {f"certificates/{name}": row}
+    (tmp_path / "results.json").write_text(json.dumps({"checks": [{"id": "X", "evidence": {"n": number}}]}))
+    problems, count = results_problems(tmp_path, rows)
+    assert count == 1 and problems == ["X/n: a lower_bound cites a <= claim"], problems
+    number["certificate"] = {"file": [entry["file"]], "claim": row["claim"]}
+    (tmp_path / "results.json").write_text(json.dumps({"checks": [{"id": "X", "evidence": {"n": number}}]}))
+    problems, _ = results_problems(tmp_path, rows)
+    assert len(problems) == 1 and "not among the certificates" in problems[0], problems
