@@ -20,7 +20,7 @@ from inertiaproof.citation import Certificate, Citation, Settled, cite
 from inertiaproof.dynamics import composite
 from inertiaproof.result import Result, Verdict, quantity
 from inertiaproof.scene import robots
-from inertiaproof.suite.certificates import settle
+from inertiaproof.suite.certificates import _chunks, settle
 
 CERTIFIED = "certified_constant"
 
@@ -193,3 +193,18 @@ def test_a_brackets_certificate_is_made_once_and_again_when_its_side_changes():
     assert second is not first and second["claim"]["bound"] == "3/2" and made == [1.0, 1.5]
     b.certify = None
     assert b.certificate() is None
+
+
+def test_a_certificate_embedded_in_several_goes_to_one_checker_process():
+    """The run's chunks of files for the checker's processes: the products sharing an ingredient, and the ingredient's
+    own file, in one chunk (a checker process proves it once), the largest other work in the other."""
+    def spectrum(tag, size):
+        return {"claim": {"kind": "mass-matrix-spectrum", "tag": tag}, "tree": "." * size}
+
+    shared = spectrum("shared", 1000)
+    contents = {"a": {"claim": {"kind": "product"}, "ingredients": [shared, spectrum("a", 10)]},
+                "b": {"claim": {"kind": "product"}, "ingredients": [shared, spectrum("b", 10)]},
+                "c": shared, "d": spectrum("d", 1500)}
+    assert _chunks(contents, 2) == [["d"], ["a", "b", "c"]]
+    assert _chunks(contents, 1) == [["d", "a", "b", "c"]]
+    assert _chunks({}, 2) == []

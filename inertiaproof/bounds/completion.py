@@ -90,7 +90,7 @@ def _grow(problem, walks, boxes, leaves=None):
         queue, tested = deque(start), 0
         while queue:
             node = queue.popleft()
-            cuts, _ = test([((lo + hi) / 2, (hi - lo) / 2) for lo, hi in node.box])
+            cuts, _ = test(node.balls())
             if cuts is None:
                 continue
             if node.children is not None:

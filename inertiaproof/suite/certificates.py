@@ -59,13 +59,36 @@ def _written(folder, certs):
 
 def _verified(executor, folder, certs, memo):
     """Write ``certs`` into ``folder`` and re-prove the files not yet in ``memo`` (names to the checker's rows), in
-    chunks over the executor's workers, one checker process each; their names."""
+    chunks over the executor's workers (:func:`_chunks`), one checker process each; their names."""
     names = _written(folder, certs)
-    todo = sorted(set(names) - set(memo))
-    chunks = [[folder / n for n in todo[i::executor.workers]] for i in range(min(executor.workers, len(todo)))]
+    by_name = {cert.name: cert.content for cert in certs}
+    chunks = [[folder / n for n in chunk] for chunk in _chunks({n: by_name[n] for n in sorted(set(names) - set(memo))},
+                                                                executor.workers)]
     for chunk, rows in zip(chunks, executor.map(check_files, chunks, kind="verify", label="certificates")):
         memo.update({path.name: row for path, row in zip(chunk, rows)})
     return names
+
+
+def _chunks(contents, workers):
+    """The names of ``contents`` (file names to certificates) in at most ``workers`` chunks, balanced by what a
+    checker process proves: each certificate it meets once (an ingredient embedded in several products, or also a
+    file of its own, once per process), its cost the characters of its own part (a tree's size stands for its
+    checking time). The largest first, each to the chunk it adds least to."""
+    def parts(cert):  # {canonical text: own characters} of a certificate and those it embeds
+        own = {k: v for k, v in cert.items() if k not in ("ingredients", "terms")}
+        out = {json.dumps(cert, sort_keys=True): len(json.dumps(own))}
+        for part in cert.get("ingredients", []) + cert.get("terms", []):
+            out.update(parts(part))
+        return out
+
+    costs = {name: parts(cert) for name, cert in contents.items()}
+    chunks = [([], {}) for _ in range(min(workers, len(contents)))]
+    for name in sorted(contents, key=lambda n: (-sum(costs[n].values()), n)):
+        added = [sum(c for t, c in costs[name].items() if t not in seen) + sum(seen.values()) for _, seen in chunks]
+        names, seen = chunks[added.index(min(added))]
+        names.append(name)
+        seen.update(costs[name])
+    return [names for names, _ in chunks if names]
 
 
 def _complete(task, boxes):

@@ -1,8 +1,10 @@
 """How long each check took the last time it ran, kept in the cache: lanes start the longest groups first.
 
 One file, ``cache_dir()/check_seconds.json``: {profile / scene: {check: seconds}}. It orders the work only (which
-group a free lane takes next), never what a check answers; a run without it (an empty cache) orders groups by how
-many of their checks work on chains.
+group a free lane takes next), never what a check answers. A check this machine has not run takes its seconds from
+the file of that name beside this module (a ci and a deep run of the whole suite, as bench/results/ has them), so a
+fresh clone's deep run starts the payload envelope first; a check in neither is ordered by whether it works on
+chains.
 """
 
 from __future__ import annotations
@@ -12,7 +14,9 @@ import os
 
 from .paths import cache_dir, cache_unwritable
 
-__all__ = ["last_seconds", "remember_seconds"]
+from pathlib import Path
+
+__all__ = ["expected_seconds", "last_seconds", "remember_seconds"]
 
 FILE = "check_seconds.json"
 
@@ -33,6 +37,15 @@ def last_seconds(profile, scene=None):
     """{check: seconds} of the last run of ``profile`` (on ``scene``), {} when there was none."""
     found = _read().get(_key(profile, scene), {})
     return {k: float(v) for k, v in found.items() if isinstance(v, (int, float))} if isinstance(found, dict) else {}
+
+
+def expected_seconds(profile, scene=None):
+    """{check: seconds}: :func:`last_seconds`, and for the checks it lacks those shipped with the package."""
+    try:
+        shipped = json.loads((Path(__file__).with_name(FILE)).read_text()).get(_key(profile, scene), {})
+    except (OSError, ValueError):
+        shipped = {}
+    return {**shipped, **last_seconds(profile, scene)}
 
 
 def remember_seconds(profile, scene, seconds):

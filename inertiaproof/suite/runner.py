@@ -43,7 +43,7 @@ from .context import Context
 from .discovery import load_checks
 from .environment import versions
 from .execution import Executor
-from .history import last_seconds, remember_seconds
+from .history import expected_seconds, remember_seconds
 from .lanes import side_by_side
 from .outputs import Outputs, journal_path
 from .profiles import PROFILES
@@ -182,7 +182,7 @@ def run_checks(*, profile="ci", seed=0, only=None, scene=None, symbolic=False, o
             return (sum(last.get(specs[i].name, 0.0) for i in group), sum("chain" in specs[i].needs for i in group),
                     len(group))
 
-        last = last_seconds(profile.name, scene_name)
+        last = expected_seconds(profile.name, scene_name)
 
         side_by_side(sorted(groups.values(), key=weight, reverse=True), lanes, one, arrived, crashed)
         run.results.extend(found[i] for i in range(len(specs)))
