@@ -18,6 +18,7 @@ import json
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 from inertiaproof.bounds.completion import complete
@@ -92,28 +93,33 @@ def _chunks(contents, workers):
 
 
 def _complete(task, boxes):
-    """The certificate completed, growing the leaves the checker named (``where["leaves"]``) where it named them."""
+    """(the certificate completed, growing the leaves the checker named (``where["leaves"]``) where it named them,
+    the seconds that took)."""
     cert, where = task
-    return Certificate(complete(cert.content, boxes, (where or {}).get("leaves")))
+    start = time.perf_counter()
+    grown = Certificate(complete(cert.content, boxes, (where or {}).get("leaves")))
+    return grown, time.perf_counter() - start
 
 
 def _filed(executor, folder, certs, boxes, memo):
-    """The certificates as written and re-proved: each of ``certs``, or its completion where the checker did not
-    re-prove it as written and re-proves the completion (:func:`inertiaproof.bounds.completion.complete`, ``boxes``
-    beyond each tree), so the checker walks every tree once and cuts nothing."""
-    filed = list(certs)
+    """The certificates as written and re-proved, and the prover's seconds completing each (None: not needed): each
+    of ``certs``, or its completion where the checker did not re-prove it as written and re-proves the completion
+    (:func:`inertiaproof.bounds.completion.complete`, ``boxes`` beyond each tree), so the checker walks every tree
+    once and cuts nothing."""
+    filed, spent = list(certs), [None] * len(certs)
     names = _verified(executor, folder, filed, memo)
     again = [i for i, name in enumerate(names) if memo[name]["status"] == "not re-proved"]
     grown = executor.map(functools.partial(_complete, boxes=boxes), [(certs[i], memo[names[i]]["where"])
                                                                      for i in again],
                          kind="verify", label="certificate trees")
-    for i, cert, name in zip(again, grown, _verified(executor, folder, grown, memo)):
+    for i, (cert, seconds), name in zip(again, grown, _verified(executor, folder, [c for c, _ in grown], memo)):
         better = memo[name]["status"] != "not re-proved"  # else the prover's own tree stays cited
         if name != names[i]:
             (folder / (names[i] if better else name)).unlink(missing_ok=True)  # the file no one cites
         if better:
             filed[i] = cert
-    return filed
+        spent[i] = round(seconds, 4)
+    return filed, spent
 
 
 def settle(result, *, out_dir, boxes, verify, memo, executor=None):
@@ -131,10 +137,10 @@ def settle(result, *, out_dir, boxes, verify, memo, executor=None):
             settled = [Settled(c, f"certificates/{c.name}", "not verified",
                                "the run was asked not to verify (--no-verify)") for c in certs]
             return dataclasses.replace(result, certificates=settled)
-        filed = _filed(executor, folder, certs, boxes, memo)
+        filed, spent = _filed(executor, folder, certs, boxes, memo)
     settled = [Settled(c, f"certificates/{f.name}", memo[f.name]["status"], memo[f.name]["why"], memo[f.name]["claim"],
-                       memo[f.name]["boxes"], memo[f.name]["seconds"], None if f is c else f)
-               for c, f in zip(certs, filed)]
+                       memo[f.name]["boxes"], memo[f.name]["seconds"], None if f is c else f, completion)
+               for c, f, completion in zip(certs, filed, spent)]
     return dataclasses.replace(result, certificates=settled, **_verdict(result, settled, memo))
 
 
