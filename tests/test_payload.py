@@ -74,6 +74,25 @@ def test_the_checker_does_not_reprove_a_flange_bound_too_small(found):
     assert verify(flange)["status"] == "not re-proved"
 
 
+def test_a_flange_bound_below_a_body_without_the_payload_is_refuted(found):
+    """A body that carries no payload with lambda_max(f(Phi_1)) above the bound: refuted at that body (the cover is
+    not in its way); the payload's body past the bound is only its cover's failure (not re-proved)."""
+    chi = found["chi"]["paper"]["certificate"]
+    flange = copy.deepcopy(next(i for i in chi["ingredients"] if i["claim"]["kind"] == "payload-envelope"))
+    assert flange["payload"]["body"] == 2
+    flange.pop("formation", None)
+    for rows in flange["parameters"]:
+        rows[0] = ["4", "0", "0", "0", "1", "1", "1", "0", "0", "0"]  # f = diag(1/2, 1/2, 1/2, 4)
+    flange["claim"]["bound"] = "3"  # above beta = 2.02, below 4
+    out = verify(flange)
+    assert out["status"] == "refuted" and out["where"]["witness"]["body"] == 1, out
+    flange["claim"]["bound"] = "2"  # below beta = 2.02: body 2 fails with its cover, body 1 (f <= I4) holds
+    for rows in flange["parameters"]:
+        rows[0] = ["1", "0", "0", "0", "1", "1", "1", "0", "0", "0"]  # f = diag(1/2, 1/2, 1/2, 1)
+    out = verify(flange)
+    assert out["status"] == "not re-proved" and "cover" in out["why"], out
+
+
 def test_a_cover_below_the_payloads_is_violated(monkeypatch):
     """Young's term dropped: the certified sup lies below a point mass of the set, which the check sees (VIOLATED)
     and the checker does not re-prove (a witness below the claim refutes the cover it is proved on, not the

@@ -13,7 +13,8 @@ LMI set of Wensing, Kim and Slotine 2017); each quantity is convex in Phi_p, so 
   beta I4, y = (x, 1), when beta >= m ((|c| + R)^2 + 1) (decided exactly by squaring): the ``body-spectrum`` claim
   with Phi_beta, f(Phi_beta) = beta I4, added to body k.
 
-A refutation of a claim with a cover added refutes only the cover: the payload claim is then not re-proved.
+A refutation of a claim with a cover added refutes only the cover (the payload claim is then not re-proved); one at a
+body without it (``lambda_max_f``) refutes the claim.
 """
 
 from . import bodies, spectrum
@@ -52,9 +53,10 @@ def prove(cert):
     if inner is None:
         return Outcome(UNPROVED, f"beta = {cert['beta']} is below m ((|c| + R)^2 + 1) (exact arithmetic)", 0)
     out = (bodies.prove if quantity == "lambda_max_f" else spectrum.prove)(inner)
-    if quantity != "lambda_min" and out.status == REFUTED:
-        return Outcome(UNPROVED, f"the cover is refuted, not the payloads: {out.why}", out.boxes,
-                       (out.where or {}).get("witness"))
+    witness = (out.where or {}).get("witness") or {}
+    carries = quantity == "lambda_max" or witness.get("body") == cert["payload"]["body"]
+    if quantity != "lambda_min" and out.status == REFUTED and carries:
+        return Outcome(UNPROVED, f"the cover is refuted, not the payloads: {out.why}", out.boxes, witness)
     return out
 
 
