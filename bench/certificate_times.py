@@ -1,5 +1,5 @@
 """The prover's and the checker's seconds side by side, per check of a run's OUT folder: each check's own runtime
-and the prover's seconds completing its certificates' trees for the checker (results.json's ``completion_s``)
+and the prover's seconds completing its certificates' trees for the checker (results.json's ``completion_seconds``)
 against the seconds the independent checker spent on the certificates it cites, and at the end every certificate
 counted once. A check that cites certificates another check proved (its prover reuses them) shows their checking
 seconds again.
@@ -23,13 +23,14 @@ def table(out):
     for check in results["checks"]:
         entries = cited_entries(check)
         files = {e["file"]: e.get("seconds", 0.0) for e in entries}
-        completion = sum(e.get("completion_s") or 0.0 for e in entries)
+        completion = sum(e.get("completion_seconds") or 0.0 for e in entries)
         if files:
             prover, grown = prover + check["runtime_s"], grown + completion
             seen.update(files)
             rows.append(f"| {check['id']} | {check['runtime_s']:.1f} | {completion:.1f} | {len(files)} | "
                         f"{sum(files.values()):.1f} |")
-    rows.append(f"| all (each certificate once) | {prover:.1f} | {grown:.1f} | {len(seen)} | {sum(seen.values()):.1f} |")
+    rows.append(f"| all (each certificate once) | {prover:.1f} | {grown:.1f} | {len(seen)} | "
+                f"{sum(seen.values()):.1f} |")
     return "\n".join(rows) + "\n"
 
 

@@ -150,7 +150,7 @@ class Settled:
     boxes: int | None = None
     seconds: float | None = None
     filed: Certificate | None = None  # the certificate written, where it is not the one cited
-    completion_s: float | None = None  # the prover's seconds growing its tree for the checker (None: not needed)
+    completion_seconds: float | None = None  # the prover's seconds growing its tree for the checker (None: not needed)
 
     @property
     def hash(self):
@@ -162,9 +162,9 @@ class Settled:
         return self.filed or self.certificate
 
     def entry(self):
-        """{file, claim, status, why, boxes, seconds, completion_s}: what results.json says of it."""
+        """{file, claim, status, why, boxes, seconds, completion_seconds}: what results.json says of it."""
         answer = {"claim": self.claim, "status": self.status, "why": self.why, "boxes": self.boxes,
-                  "seconds": self.seconds, "completion_s": self.completion_s}
+                  "seconds": self.seconds, "completion_seconds": self.completion_seconds}
         return {"file": self.file, **{k: v for k, v in answer.items() if v is not None}}
 
 
