@@ -39,6 +39,7 @@ import os
 import pickle
 import queue
 import sys
+import threading
 import time
 from contextlib import contextmanager
 
@@ -171,6 +172,21 @@ class Executor:
         self.close()
 
 
+TERMINATE_S = 10.0  # how long Pool.terminate may take before its workers are killed (a safety net, not a verdict)
+
+
+def _terminate(pool):
+    """``pool.terminate()``, which can hang for good in CPython (a worker ended while it held the task queue's lock
+    leaves the pool's handler threads waiting): after :data:`TERMINATE_S` its workers are killed and it is left."""
+    ender = threading.Thread(target=pool.terminate, daemon=True)
+    ender.start()
+    ender.join(TERMINATE_S)
+    if ender.is_alive():
+        for process in getattr(pool, "_pool", []):
+            process.kill()
+        ender.join(TERMINATE_S)
+
+
 class ForkExecutor(Executor):
     """``workers`` tokens on this machine: checks in as many lanes, tasks in forked processes (see the module)."""
 
@@ -239,7 +255,7 @@ class ForkExecutor(Executor):
                     stopped = stop is not None and stop(deliver, results[deliver])
                     deliver += 1
         finally:
-            pool.terminate()  # the tasks not needed (after a stop), or all of them on an error
+            _terminate(pool)  # the tasks not needed (after a stop), or all of them on an error
             for _ in running:
                 self.tokens.release()
             _BATCH[:] = []
