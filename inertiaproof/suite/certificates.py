@@ -83,10 +83,10 @@ def _chunks(contents, workers):
         return out
 
     costs = {name: parts(cert) for name, cert in contents.items()}
-    chunks = [([], {}) for _ in range(min(workers, len(contents)))]
+    chunks = [([], {}) for _ in range(min(workers, len(contents)))]  # (names, {text: cost} proved there)
     for name in sorted(contents, key=lambda n: (-sum(costs[n].values()), n)):
-        added = [sum(c for t, c in costs[name].items() if t not in seen) + sum(seen.values()) for _, seen in chunks]
-        names, seen = chunks[added.index(min(added))]
+        after = [sum({**seen, **costs[name]}.values()) for _, seen in chunks]
+        names, seen = chunks[after.index(min(after))]
         names.append(name)
         seen.update(costs[name])
     return [names for names, _ in chunks if names]

@@ -176,8 +176,8 @@ TERMINATE_S = 10.0  # how long Pool.terminate may take before its workers are ki
 
 
 def _terminate(pool):
-    """``pool.terminate()``, which can hang for good in CPython (a worker ended while it held the task queue's lock
-    leaves the pool's handler threads waiting): after :data:`TERMINATE_S` its workers are killed and it is left."""
+    """``pool.terminate()``, which can hang for good in CPython (seen once in .ci/run: ``_terminate_pool`` joining a
+    handler thread after a stop, its workers already ended): after :data:`TERMINATE_S` its workers are killed."""
     ender = threading.Thread(target=pool.terminate, daemon=True)
     ender.start()
     ender.join(TERMINATE_S)

@@ -11,10 +11,9 @@ from __future__ import annotations
 
 import json
 import os
+from pathlib import Path
 
 from .paths import cache_dir, cache_unwritable
-
-from pathlib import Path
 
 __all__ = ["expected_seconds", "last_seconds", "remember_seconds"]
 
@@ -25,32 +24,32 @@ def _key(profile, scene):
     return f"{profile}/{scene or 'suite'}"
 
 
-def _read():
+def _read(folder):
     try:
-        data = json.loads((cache_dir() / FILE).read_text())
+        data = json.loads((folder / FILE).read_text())
     except (OSError, ValueError):
         return {}
     return data if isinstance(data, dict) else {}
 
 
+def _seconds(data, profile, scene):
+    found = data.get(_key(profile, scene), {})
+    return {k: float(v) for k, v in found.items() if isinstance(v, (int, float))} if isinstance(found, dict) else {}
+
+
 def last_seconds(profile, scene=None):
     """{check: seconds} of the last run of ``profile`` (on ``scene``), {} when there was none."""
-    found = _read().get(_key(profile, scene), {})
-    return {k: float(v) for k, v in found.items() if isinstance(v, (int, float))} if isinstance(found, dict) else {}
+    return _seconds(_read(cache_dir()), profile, scene)
 
 
 def expected_seconds(profile, scene=None):
     """{check: seconds}: :func:`last_seconds`, and for the checks it lacks those shipped with the package."""
-    try:
-        shipped = json.loads((Path(__file__).with_name(FILE)).read_text()).get(_key(profile, scene), {})
-    except (OSError, ValueError):
-        shipped = {}
-    return {**shipped, **last_seconds(profile, scene)}
+    return {**_seconds(_read(Path(__file__).parent), profile, scene), **last_seconds(profile, scene)}
 
 
 def remember_seconds(profile, scene, seconds):
     """Keep ``seconds`` ({check: seconds}) as the last run's of ``profile`` (on ``scene``), beside the others."""
-    data = _read()
+    data = _read(cache_dir())
     data[_key(profile, scene)] = {**data.get(_key(profile, scene), {}), **seconds}
     path = cache_dir() / FILE
     partial = path.with_name(f"{FILE}.{os.getpid()}")
