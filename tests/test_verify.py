@@ -1,7 +1,7 @@
 """The independent checker (inertiaproof.verify): it re-proves what holds, refutes what does not, rejects a
 malformed certificate with a one-line reason, and imports nothing of inertiaproof. It walks a certificate's tree
-once and cuts nothing beyond it: a tree that does not prove every leaf is "not re-proved" until the prover completes
-it (inertiaproof.bounds.completion.complete)."""
+once, testing every leaf and no inner box, and cuts nothing: a tree that does not prove every leaf is "not
+re-proved" until the prover completes it (inertiaproof.bounds.completion.complete)."""
 
 from __future__ import annotations
 
@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 from inertiaproof.bounds.certificate import spectrum_certificate
-from inertiaproof.bounds.completion import complete
+from inertiaproof.bounds.written import exact
+from inertiaproof.bounds.completion import complete, pruned
 from inertiaproof.citation import cite
 from inertiaproof.dynamics import composite
 from inertiaproof.result import Result, Verdict
@@ -128,14 +129,7 @@ def test_malformed_certificates_are_rejected_with_the_field(planar, tamper, fiel
 
 def leaves(tree, domain):
     """The leaves of the checker's reading of ``tree`` over ``domain``, lower halves first."""
-    out, stack = [], [parse(tree, domain)]
-    while stack:
-        node = stack.pop()
-        if node.children is None:
-            out.append(node.box)
-        else:
-            stack.extend(reversed(node.children))
-    return out
+    return [node.box for node in parse(tree, domain).leaves()]
 
 
 def test_the_tree_covers_the_domain_exactly():
@@ -144,6 +138,20 @@ def test_the_tree_covers_the_domain_exactly():
     assert boxes == [[(0, Fraction(1, 2)), (-1, 0)], [(0, Fraction(1, 2)), (0, 1)], [(Fraction(1, 2), 1), (-1, 1)]]
     with pytest.raises(BadCertificate):
         leaves("0 1 . .", domain)
+
+
+def test_the_checker_tests_every_leaf_and_no_inner_box_and_pruning_cuts_back_what_it_proves(planar):
+    """A tree 32 times as fine as its claim needs costs the checker a test per leaf (its ``boxes``); pruned (as
+    the prover makes every certificate), that tree under a claim far below the true inf keeps no more leaves than it
+    had before it was refined, and is still re-proved."""
+    cert, inf = planar
+    finer = cert["tree"]
+    for k in (0, 1, 0, 1, 0):
+        finer = " ".join(f"{k} . ." if t == "." else t for t in finer.split())
+    count = cert["tree"].split().count(".")
+    assert check(cert)["boxes"] == count and check({**cert, "tree": finer})["boxes"] == 32 * count
+    cut = pruned({**cert, "tree": finer, "claim": {**cert["claim"], "bound": exact(0.3 * inf)}})
+    assert check(cut)["status"] == "re-proved" and cut["tree"].split().count(".") <= count, cut["tree"]
 
 
 def test_a_statement_writes_a_number_by_its_rounded_value():

@@ -1,11 +1,12 @@
-"""The prover's last step on a certificate: its trees grown until every leaf passes the checker's own test of a
-box, so that the checker walks them once and cuts nothing (:func:`inertiaproof.verify.tree.prove`).
+"""The prover's last steps on a certificate: its trees fitted to the checker's own test of a box, which the
+checker applies once to every leaf and to nothing else (:func:`inertiaproof.verify.tree.prove`).
 
 The prover's partitions are proved by its own numerics, which the checker's pivots in ball arithmetic do not
-always match; here each leaf the checker's test does not prove (those the checker named, where it named them) is
-halved at the coordinate that test names, within a count of boxes. A leaf still unproved when the count is spent stays a leaf: the checker then says "not re-proved"
-and the run INCONCLUSIVE. An upper spectrum claim that the chain's lengths prove at once names ``method``
-"lengths" and needs no tree.
+always match. :func:`pruned`, as a certificate is made, makes a leaf of an inner box that test proves;
+:func:`complete`, where the checker did not re-prove a certificate, halves each leaf that test does not prove
+(those the checker named, where it named them) at the coordinate it names, within a count of boxes. A leaf still
+unproved when the count is spent stays a leaf: the checker then says "not re-proved" and the run INCONCLUSIVE. An
+upper spectrum claim that the chain's lengths prove at once names ``method`` "lengths" and needs no tree.
 """
 
 from __future__ import annotations
@@ -13,38 +14,60 @@ from __future__ import annotations
 from collections import deque
 
 from inertiaproof.verify import payload as checked_payload
+from inertiaproof.verify.exact import BadCertificate
 from inertiaproof.verify import skew, spectrum
 from inertiaproof.verify.lengths import perron_side
 
-__all__ = ["complete"]
+__all__ = ["complete", "pruned"]
+
+PRUNE_SHARE = 16  # leaves of a tree per inner node pruning tests before it has removed any
 
 
 def complete(cert, boxes, leaves=None):
     """``cert`` (a new dict) with its trees completed, and those of its ingredients and terms, testing at most
     ``boxes`` boxes beyond each tree as given; ``leaves``: the failing leaves by tree, as the checker named them
-    (``where["leaves"]``: only those are grown), or None (every tree is walked from its root)."""
+    (``where["leaves"]``: only those are grown), or None (every leaf is tested)."""
     kind = cert["claim"]["kind"]
     if kind == "product":
         return {**cert, "ingredients": [complete(c, boxes) for c in cert["ingredients"]]}
     if kind == "sum":
         return {**cert, "terms": [complete(c, boxes) for c in cert["terms"]]}
+    return _reshaped(cert, lambda problem, walks: _grow(problem, walks, boxes, leaves))
+
+
+def pruned(cert):
+    """``cert`` (None, or a new dict) with its own trees cut back where the checker's test proves an inner box
+    (:func:`_prune`): the checker tests every leaf, and a prover that closed its bracket, or widened its certified
+    side, made leaves finer than the checker's bound needs. A certificate the checker cannot read stays as it is
+    (the checker says why)."""
+    if cert is None or cert["claim"]["kind"] in ("product", "sum"):
+        return cert
+    try:
+        return _reshaped(cert, _prune)
+    except (BadCertificate, ArithmeticError):
+        return cert
+
+
+def _reshaped(cert, reshape):
+    """``cert`` with the trees of its claim reshaped in place by ``reshape(problem, walks)``."""
+    kind = cert["claim"]["kind"]
     if kind == "mass-matrix-spectrum":
-        return {**cert, **_spectrum(cert, boxes, leaves)}
+        return {**cert, **_spectrum(cert, reshape)}
     if kind == "payload-envelope" and cert["claim"]["quantity"] != "lambda_max_f":
-        return {**cert, **_spectrum(checked_payload.inner_spectrum(cert), boxes, leaves)}
+        return {**cert, **_spectrum(checked_payload.inner_spectrum(cert), reshape)}
     if kind == "skew-partials":
         problem = skew.Problem(cert)
-        _grow(problem, problem.walks(), boxes, leaves)
+        reshape(problem, problem.walks())
         return {**cert, "tree": encode(problem.root)}
     return cert
 
 
-def _spectrum(cert, boxes, leaves):
+def _spectrum(cert, reshape):
     """The fields of a spectrum certificate that say how it is proved: ``method`` and ``tree``, or ``split``."""
     problem = spectrum.Problem(cert)
     if problem.sign < 0 and _lengths_prove(problem):
         return {"method": "lengths", "tree": "."}
-    _grow(problem, problem.walks(), boxes, leaves)
+    reshape(problem, problem.walks())
     if problem.split is None:
         return {"method": "tree", "tree": encode(problem.root)}
     k, _, tail, head = problem.split
@@ -64,13 +87,7 @@ def encode(root):
 def leaf_nodes(root, boxes):
     """The leaves of the tree below ``root`` whose boxes (as an outcome writes them) are among ``boxes``."""
     wanted = {tuple(map(tuple, box)) for box in boxes}
-    leaves, stack = [], [root]
-    while stack:
-        node = stack.pop()
-        if node.children is None and tuple((str(lo), str(hi)) for lo, hi in node.box) in wanted:
-            leaves.append(node)
-        stack.extend(node.children or [])
-    return leaves
+    return [node for node in root.leaves() if tuple((str(lo), str(hi)) for lo, hi in node.box) in wanted]
 
 
 def _lengths_prove(problem):
@@ -82,19 +99,35 @@ def _lengths_prove(problem):
 
 
 def _grow(problem, walks, boxes, leaves=None):
-    """Each tree of ``walks`` (label, name, root, test) grown in place from its root, or from the ``leaves`` named
-    for it: a leaf its test does not prove is cut at the coordinate the test names first, until ``boxes`` boxes
-    beyond the given tree are tested, or a leaf's centre refutes the claim (no cut helps then)."""
+    """Each tree of ``walks`` (label, name, root, test) grown in place at its leaves, or at the ``leaves`` named for
+    it: a leaf its test does not prove is cut at the coordinate the test names first, until ``boxes`` boxes beyond
+    the given tree are tested, or a leaf's centre refutes the claim (no cut helps then)."""
     for _, name, root, test in walks:
-        start = [root] if not leaves else leaf_nodes(root, leaves.get(name, []))
-        queue, tested = deque(start), 0
+        queue, tested = deque(root.leaves() if not leaves else leaf_nodes(root, leaves.get(name, []))), 0
         while queue:
             node = queue.popleft()
             cuts, _ = test(node.balls())
-            if cuts is None:
-                continue
-            if node.children is not None:
-                queue.extend(node.children)
-            elif cuts and tested < boxes and not problem.refute([(lo + hi) / 2 for lo, hi in node.box], ""):
+            if cuts and tested < boxes and not problem.refute([(lo + hi) / 2 for lo, hi in node.box], ""):
                 tested += 2
                 queue.extend(node.cut(cuts[0]))
+
+
+def _prune(problem, walks):
+    """Each tree of ``walks`` (label, name, root, test) cut back in place, breadth first: an inner node that every
+    test of its tree proves becomes a leaf. Pruning tests one inner node per :data:`PRUNE_SHARE` leaves, and half a
+    node more per leaf it removes: it costs the prover at most a share of what it saves the checker."""
+    trees = {}
+    for _, _, root, test in walks:
+        trees.setdefault(id(root), (root, []))[1].append(test)
+    for root, tests in trees.values():
+        budget, queue = len(list(root.leaves())) / PRUNE_SHARE, deque([root])
+        while queue and budget >= 1:
+            node = queue.popleft()
+            if node.children is None:
+                continue
+            budget -= 1
+            if all(test(node.balls())[0] is None for test in tests):
+                budget += (len(list(node.leaves())) - 1) / 2
+                node.children = None
+            else:
+                queue.extend(node.children)

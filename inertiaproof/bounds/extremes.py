@@ -24,6 +24,8 @@ import numpy as np
 
 from inertiaproof.citation import Certificate
 
+from .completion import pruned
+
 __all__ = ["Bracket", "bracket_extreme", "GUARD", "LOCAL_ROUNDS_PER_ROUND", "local_search"]
 
 GUARD = (1.0, 0.1)  # the refinement's wall-clock safety net, seconds: the first plus the second per round of its budget
@@ -94,14 +96,16 @@ class Bracket:
 
     def certificate(self):
         """The certificate of the certified side (a :class:`inertiaproof.citation.Certificate`), or None: made once
-        from the claim ``certify`` (with the certified side, note, witness and ``proof``) and kept while those stay."""
+        from the claim ``certify`` (with the certified side, note, witness and ``proof``), its trees cut back to what
+        the checker needs (:func:`.completion.pruned`), and kept while those stay."""
         if not self.certify or self.certified is None:
             return None
         witness = np.asarray(self.witness, float)
         sources, values = (self.certify, self.proof), (self.certified, self.note, witness.tobytes())
         kept = self._made
         if kept is None or any(a is not b for a, b in zip(kept[0], sources)) or kept[1] != values:
-            self._made = (sources, values, Certificate.of(self.certify(self.certified, self.note, witness, self.proof)))
+            self._made = (sources, values, Certificate.of(pruned(self.certify(
+                self.certified, self.note, witness, self.proof))))
         return self._made[2]
 
 

@@ -1,10 +1,9 @@
-"""A claim proved on a certificate's partition of its domain, and the walk that tests each box once.
+"""A claim proved on a certificate's partition of its domain, and the walk that tests each leaf once.
 
 The ``tree`` is a prefix code of tokens, "." a leaf and an integer k a cut of the box at the middle of coordinate k
-followed by its lower and upper halves: the leaves cover the domain exactly by construction.
+followed by its lower and upper halves: the leaves cover the domain exactly by construction. The leaves are what is
+proved; a cut is never tested (the prover writes no finer a tree than its proof needs).
 """
-
-from collections import deque
 
 from flint import arb
 
@@ -33,6 +32,16 @@ class Node:
     def balls(self):
         """The box as (centre, radius) per coordinate."""
         return [((lo + hi) / 2, (hi - lo) / 2) for lo, hi in self.box]
+
+    def leaves(self):
+        """The leaves below this node, in the tree's order."""
+        stack = [self]
+        while stack:
+            node = stack.pop()
+            if node.children is None:
+                yield node
+            else:
+                stack.extend(reversed(node.children))
 
 
 def parse(tree, domain):
@@ -84,20 +93,16 @@ def widest(weights, among):
 
 
 def prove(problem, walks):
-    """The :class:`.outcome.Outcome` of walking every tree of ``walks`` ((label, name, root, test)) once, breadth
-    first (an inner box that passes needs none of its own): re-proved where every leaf is proved; refuted where
-    ``problem.refute`` finds a witness at one of the first :data:`TRIES` failing leaves' centres; else not re-proved,
-    ``where`` naming the failing leaves by tree (up to :data:`REPORTED`, for the prover to grow them)."""
+    """The :class:`.outcome.Outcome` of testing every leaf of every tree of ``walks`` ((label, name, root, test))
+    once: re-proved where every leaf is proved; refuted where ``problem.refute`` finds a witness at one of the first
+    :data:`TRIES` failing leaves' centres; else not re-proved, ``where`` naming the failing leaves by tree (up to
+    :data:`REPORTED`, for the prover to grow them)."""
     boxes, failed = 0, []
     for label, name, root, test in walks:
-        queue = deque([root])
-        while queue:
-            node = queue.popleft()
+        for node in root.leaves():
             boxes += 1
             cuts, why = test(node.balls())
-            if cuts is not None and node.children:
-                queue.extend(node.children)
-            elif cuts is not None:
+            if cuts is not None:
                 failed.append((label, name, node, why))
     for label, _, node, _ in failed[:TRIES]:
         found = problem.refute([c for c, _ in node.balls()], f"{label}: at the centre q of a leaf", boxes)
