@@ -14,8 +14,8 @@ from __future__ import annotations
 from collections import deque
 
 from inertiaproof.verify import payload as checked_payload
-from inertiaproof.verify.exact import BadCertificate
 from inertiaproof.verify import skew, spectrum
+from inertiaproof.verify.exact import BadCertificate
 from inertiaproof.verify.lengths import perron_side
 
 __all__ = ["complete", "pruned"]
@@ -101,21 +101,28 @@ def _lengths_prove(problem):
 def _grow(problem, walks, boxes, leaves=None):
     """Each tree of ``walks`` (label, name, root, test) grown in place at its leaves, or at the ``leaves`` named for
     it: a leaf its test does not prove is cut at the coordinate the test names first, until ``boxes`` boxes beyond
-    the given tree are tested, or a leaf's centre refutes the claim (no cut helps then)."""
+    the given tree are tested, or the centre of a failing leaf refutes the claim (no cut helps then: tried at the
+    1st, 2nd, 4th, 8th, ... failing leaf, for a refutation costs a test or more)."""
     for _, name, root, test in walks:
-        queue, tested = deque(root.leaves() if not leaves else leaf_nodes(root, leaves.get(name, []))), 0
-        while queue:
+        queue = deque(root.leaves() if not leaves else leaf_nodes(root, leaves.get(name, [])))
+        tested = failed = 0
+        while queue and tested < boxes:
             node = queue.popleft()
             cuts, _ = test(node.balls())
-            if cuts and tested < boxes and not problem.refute([(lo + hi) / 2 for lo, hi in node.box], ""):
-                tested += 2
-                queue.extend(node.cut(cuts[0]))
+            if not cuts:
+                continue
+            failed += 1
+            if failed & (failed - 1) == 0 and problem.refute([(lo + hi) / 2 for lo, hi in node.box], ""):
+                break
+            tested += 2
+            queue.extend(node.cut(cuts[0]))
 
 
 def _prune(problem, walks):
     """Each tree of ``walks`` (label, name, root, test) cut back in place, breadth first: an inner node that every
-    test of its tree proves becomes a leaf. Pruning tests one inner node per :data:`PRUNE_SHARE` leaves, and half a
-    node more per leaf it removes: it costs the prover at most a share of what it saves the checker."""
+    test of its tree proves becomes a leaf. It tests one inner node per :data:`PRUNE_SHARE` leaves, and half a node
+    more per leaf it removes (a test the checker no longer makes): on a tree the checker's test needs whole, it
+    spends 1/PRUNE_SHARE of the checker's work."""
     trees = {}
     for _, _, root, test in walks:
         trees.setdefault(id(root), (root, []))[1].append(test)
