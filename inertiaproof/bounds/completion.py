@@ -20,7 +20,8 @@ from inertiaproof.verify.lengths import perron_side
 
 __all__ = ["complete", "pruned"]
 
-PRUNE_SHARE = 16  # leaves of a tree per inner node pruning tests before it has removed any
+PRUNE_SHARE = 2  # leaves of a tree per inner node pruning tests before it has removed any
+PRUNE_TESTS = 4096  # and at most this many inner nodes before it has removed any
 
 
 def complete(cert, boxes, leaves=None):
@@ -120,14 +121,14 @@ def _grow(problem, walks, boxes, leaves=None):
 
 def _prune(problem, walks):
     """Each tree of ``walks`` (label, name, root, test) cut back in place, breadth first: an inner node that every
-    test of its tree proves becomes a leaf. It tests one inner node per :data:`PRUNE_SHARE` leaves, and half a node
-    more per leaf it removes (a test the checker no longer makes): on a tree the checker's test needs whole, it
-    spends 1/PRUNE_SHARE of the checker's work."""
+    test of its tree proves becomes a leaf. It tests one inner node per :data:`PRUNE_SHARE` leaves, at most
+    :data:`PRUNE_TESTS`, and half a node more per leaf it removes (a test the checker no longer makes): on a tree the
+    checker's test needs whole, it spends at most PRUNE_TESTS tests and 1/PRUNE_SHARE of the checker's work."""
     trees = {}
     for _, _, root, test in walks:
         trees.setdefault(id(root), (root, []))[1].append(test)
     for root, tests in trees.values():
-        budget, queue = len(list(root.leaves())) / PRUNE_SHARE, deque([root])
+        budget, queue = min(len(list(root.leaves())) / PRUNE_SHARE, PRUNE_TESTS), deque([root])
         while queue and budget >= 1:
             node = queue.popleft()
             if node.children is None:
