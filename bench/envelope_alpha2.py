@@ -50,7 +50,7 @@ def main():
         verdict = check(cert)
         if verdict["status"] == "not re-proved":  # as the suite does: complete the leaves the checker named
             start = time.perf_counter()
-            cert = complete(cert, profile.tree_boxes, verdict["where"].get("leaves"))
+            cert = complete(cert, profile.tree_boxes, verdict["where"])
             row["completion_s"] = round(time.perf_counter() - start, 1)
             verdict = check(cert)
         row["checker"] = {k: verdict[k] for k in ("status", "boxes", "seconds")}

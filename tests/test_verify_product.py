@@ -31,12 +31,12 @@ STACK = np.array([[[2.0, 0.1, -0.2, 0.05, 0.3, 0.25, 0.2, 0.01, 0.0, -0.02],
                    [1.0, 0.0, 0.03, 0.0, 0.15, 0.12, 0.08, 0.0, 0.0, 0.0]]])  # 2 vertices, the 2R arm's 2 bodies
 
 
-def _ingredient(name, slack=1e-6):
+def _ingredient(name, slack=1e-6, stack=STACK):
     build, kind, _ = BODY_FUNCTIONS[name]
-    w = np.linalg.eigvalsh(build(STACK))
+    w = np.linalg.eigvalsh(build(stack))
     value = {"lmin": w[..., 0].min(), "lmax": w[..., -1].max(), "absmax": np.abs(w).max()}[kind]
     bound = value * (1 - slack) if kind == "lmin" else value * (1 + slack)
-    return body_spectrum_certificate(STACK, name, bound), Fraction(float(bound))
+    return body_spectrum_certificate(stack, name, bound), Fraction(float(bound))
 
 
 def _qj(quantity):
@@ -116,6 +116,21 @@ def test_a_product_that_departs_from_its_formula_is_a_bad_certificate(tamper, wh
     tamper(cert)
     out = check(cert)
     assert out["status"] == "bad certificate" and out["why"].startswith(why), out
+
+
+def test_the_checker_names_the_ingredient_it_does_not_reprove_and_the_prover_completes_only_it():
+    (xi, b1), chain = _ingredient("lmin_f", stack=STACK[:, [0, 1, 1]]), robots.spatial_3r().chain
+    unit, (lo, hi) = unit_bodies(chain), chain.coordinate_box()
+    q = lo + (hi - lo) * np.random.default_rng(0).random((2000, chain.n))
+    inf = np.linalg.eigvalsh(composite.mass_matrix(chain, q[:, None], unit[None]))[..., 0].min()
+    bare = spectrum_certificate(chain, unit, "lambda_min", 0.99 * inf)  # one box: the checker's pivots fall short
+    cert = product_certificate(">=", float(b1 * Fraction(bare["claim"]["bound"])) * (1 - 1e-12), "alpha1",
+                               [xi, bare])
+    out = check(cert)
+    assert out["status"] == "not re-proved" and set(out["where"]["ingredients"]) == {"1"}, out
+    grown = complete(cert, 2000, out["where"])
+    assert grown["ingredients"][0] is xi and grown["ingredients"][1]["tree"] != "."
+    assert check(grown)["status"] == "re-proved"
 
 
 def test_a_product_is_no_ingredient_of_a_product():

@@ -24,16 +24,18 @@ PRUNE_SHARE = 2  # leaves of a tree per inner node pruning tests before it has r
 PRUNE_TESTS = 4096  # and at most this many inner nodes before it has removed any
 
 
-def complete(cert, boxes, leaves=None):
+def complete(cert, boxes, where=None):
     """``cert`` (a new dict) with its trees completed, and those of its ingredients and terms, testing at most
-    ``boxes`` boxes beyond each tree as given; ``leaves``: the failing leaves by tree, as the checker named them
-    (``where["leaves"]``: only those are grown), or None (every leaf is tested)."""
-    kind = cert["claim"]["kind"]
-    if kind == "product":
-        return {**cert, "ingredients": [complete(c, boxes) for c in cert["ingredients"]]}
-    if kind == "sum":
-        return {**cert, "terms": [complete(c, boxes) for c in cert["terms"]]}
-    return _reshaped(cert, lambda problem, walks: _grow(problem, walks, boxes, leaves))
+    ``boxes`` boxes beyond each tree as given; ``where``: the checker's ``where`` of it (its failing leaves by tree,
+    ``leaves``, and a product's or sum's failing parts by index, ``ingredients`` or ``terms``: only those are grown),
+    or None (every leaf of every part is tested)."""
+    kind, where = cert["claim"]["kind"], where or {}
+    if kind in ("product", "sum"):
+        label = "ingredients" if kind == "product" else "terms"
+        named = where.get(label)
+        return {**cert, label: [c if named is not None and str(i) not in named else
+                                complete(c, boxes, (named or {}).get(str(i))) for i, c in enumerate(cert[label])]}
+    return _reshaped(cert, lambda problem, walks: _grow(problem, walks, boxes, where.get("leaves")))
 
 
 def pruned(cert):

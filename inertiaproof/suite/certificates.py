@@ -93,11 +93,11 @@ def _chunks(contents, workers):
 
 
 def _complete(task, boxes):
-    """(the certificate completed, growing the leaves the checker named (``where["leaves"]``) where it named them,
-    the seconds that took)."""
+    """(the certificate completed, growing the leaves and parts the checker named (its ``where``) where it named
+    them, the seconds that took)."""
     cert, where = task
     start = time.perf_counter()
-    grown = Certificate(complete(cert.content, boxes, (where or {}).get("leaves")))
+    grown = Certificate(complete(cert.content, boxes, where))
     return grown, time.perf_counter() - start
 
 

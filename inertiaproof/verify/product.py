@@ -142,13 +142,13 @@ def prove_sum(cert, prove_any):
 def _parts(cert, holds, what, value, prove_any):
     """The outcome of a product (sum) whose bounds give ``what`` = ``value``: not re-proved unless that ``holds``,
     then each ingredient (term) re-proved by ``prove_any``: one refuted refutes the certificate, one not re-proved
-    leaves it so."""
+    leaves it so, ``where`` naming it by its index with its own ``where`` (for the prover to complete only it)."""
     kind, relation = cert["claim"]["kind"], cert["claim"]["relation"]
     label = "ingredient" if kind == "product" else "term"
     if not holds:
         return Outcome(UNPROVED, f"the {label}s' bounds give {what} = {value}, not {relation} the bound (exact "
                        "arithmetic)", 0, {kind: value})
-    boxes, unproved = 0, []
+    boxes, unproved, where = 0, [], {}
     for i, sub in enumerate(cert[label + "s"]):
         try:
             out = prove_any(sub)
@@ -157,6 +157,10 @@ def _parts(cert, holds, what, value, prove_any):
         boxes += out.boxes
         if out.status == REFUTED:
             return Outcome(REFUTED, f"the claim of {label} {i} is refuted: {out.why}", boxes, out.where)
-        unproved += [f"{label} {i}: {out.why}"] if out.status != REPROVED else []
+        if out.status != REPROVED:
+            unproved.append(f"{label} {i}: {out.why}")
+            where[str(i)] = out.where
     done = f"{len(cert[label + 's'])} {label}(s) re-proved; {what} {relation} bound decided exactly"
-    return Outcome(UNPROVED, "; ".join(unproved), boxes) if unproved else Outcome(REPROVED, done, boxes)
+    if unproved:
+        return Outcome(UNPROVED, "; ".join(unproved), boxes, {label + "s": where})
+    return Outcome(REPROVED, done, boxes)
