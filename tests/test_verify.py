@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 from inertiaproof.bounds.certificate import spectrum_certificate
-from inertiaproof.bounds.written import exact
 from inertiaproof.bounds.completion import complete, pruned
+from inertiaproof.bounds.written import exact
 from inertiaproof.citation import cite
 from inertiaproof.dynamics import composite
 from inertiaproof.result import Result, Verdict

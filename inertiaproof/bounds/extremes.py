@@ -104,8 +104,8 @@ class Bracket:
         sources, values = (self.certify, self.proof), (self.certified, self.note, witness.tobytes())
         kept = self._made
         if kept is None or any(a is not b for a, b in zip(kept[0], sources)) or kept[1] != values:
-            self._made = (sources, values, Certificate.of(pruned(self.certify(
-                self.certified, self.note, witness, self.proof))))
+            cert = pruned(self.certify(self.certified, self.note, witness, self.proof))
+            self._made = (sources, values, Certificate.of(cert))
         return self._made[2]
 
 

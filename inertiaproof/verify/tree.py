@@ -2,7 +2,7 @@
 
 The ``tree`` is a prefix code of tokens, "." a leaf and an integer k a cut of the box at the middle of coordinate k
 followed by its lower and upper halves: the leaves cover the domain exactly by construction. The leaves are what is
-proved; a cut is never tested (the prover writes no finer a tree than its proof needs).
+proved; a cut is never tested (a tree finer than its proof needs only costs more leaves).
 """
 
 from flint import arb
